@@ -1,0 +1,302 @@
+//! Quaternion rod elements: Lagrange interpolation of the nodal quaternions, the bending
+//! and twisting energy (DESIGN.md §1) and the element's inextensibility integral
+//! `∫ d3 ds` (DESIGN.md §5), with exact first and second derivatives.
+//!
+//! The interpolated quaternion need not be unit between nodes; curvatures and directors
+//! are evaluated for the normalised rotation (`u = 2 Im(q̄ q')/|q|²`, `d3 = R(q) e3/|q|²`),
+//! so every point of the element carries a proper rotation.
+
+use nalgebra::Vector3;
+
+/// Largest number of quaternion nodes of an element (quadratic elements).
+pub const MAX_NODES: usize = 3;
+/// Largest number of quaternion unknowns of an element.
+pub const MAX_Q: usize = 4 * MAX_NODES;
+
+/// Bending stiffnesses `B1`, `B2` and torsional stiffness `B3` (N m²).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stiffness {
+    pub b1: f64,
+    pub b2: f64,
+    pub b3: f64,
+}
+
+impl Stiffness {
+    fn as_array(&self) -> [f64; 3] {
+        [self.b1, self.b2, self.b3]
+    }
+}
+
+/// Polynomial order of the quaternion interpolation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Order {
+    Linear,
+    Quadratic,
+}
+
+impl Order {
+    /// Polynomial degree `p`.
+    pub fn degree(self) -> usize {
+        match self {
+            Order::Linear => 1,
+            Order::Quadratic => 2,
+        }
+    }
+    /// Quaternion nodes per element, `p + 1`.
+    pub fn nodes(self) -> usize {
+        self.degree() + 1
+    }
+}
+
+/// One quadrature point on the reference element `ξ ∈ [0, 1]`: weight, shape functions
+/// and their `ξ`-derivatives.
+#[derive(Clone, Copy, Debug)]
+pub struct QuadraturePoint {
+    pub xi: f64,
+    pub weight: f64,
+    pub n: [f64; MAX_NODES],
+    pub dn: [f64; MAX_NODES],
+}
+
+/// Lagrange shape functions on equally spaced nodes `ξ_a = a/p` and their derivatives.
+pub fn shape(order: Order, xi: f64) -> ([f64; MAX_NODES], [f64; MAX_NODES]) {
+    match order {
+        Order::Linear => ([1.0 - xi, xi, 0.0], [-1.0, 1.0, 0.0]),
+        Order::Quadratic => (
+            [
+                (1.0 - xi) * (1.0 - 2.0 * xi),
+                4.0 * xi * (1.0 - xi),
+                xi * (2.0 * xi - 1.0),
+            ],
+            [4.0 * xi - 3.0, 4.0 - 8.0 * xi, 4.0 * xi - 1.0],
+        ),
+    }
+}
+
+/// Gauss–Legendre rule on `[0, 1]` used for an element of the given order: 2 points for
+/// linear and 3 for quadratic elements (exact for polynomials of degree 3 and 5).
+pub fn quadrature(order: Order) -> Vec<QuadraturePoint> {
+    let rule: &[(f64, f64)] = match order {
+        Order::Linear => &[
+            (-0.577_350_269_189_625_8, 1.0),
+            (0.577_350_269_189_625_8, 1.0),
+        ],
+        Order::Quadratic => &[
+            (-0.774_596_669_241_483_4, 5.0 / 9.0),
+            (0.0, 8.0 / 9.0),
+            (0.774_596_669_241_483_4, 5.0 / 9.0),
+        ],
+    };
+    rule.iter()
+        .map(|&(x, w)| {
+            let xi = 0.5 * (x + 1.0);
+            let (n, dn) = shape(order, xi);
+            QuadraturePoint {
+                xi,
+                weight: 0.5 * w,
+                n,
+                dn,
+            }
+        })
+        .collect()
+}
+
+/// `u_i = 2 qᵀ C_i p / |q|²` with `p = q'`: the non-zero entries `(j, k, sign)` of `C_i`,
+/// from `Im(q̄ ∘ p) = q4 p_v − p4 q_v − q_v × p_v`.
+const DARBOUX: [[(usize, usize, f64); 4]; 3] = [
+    [(3, 0, 1.0), (0, 3, -1.0), (1, 2, -1.0), (2, 1, 1.0)],
+    [(3, 1, 1.0), (1, 3, -1.0), (2, 0, -1.0), (0, 2, 1.0)],
+    [(3, 2, 1.0), (2, 3, -1.0), (0, 1, -1.0), (1, 0, 1.0)],
+];
+
+/// Body curvatures `(κ1, κ2, Ω)` of the rotation field at a point from `q` and `q' = p`.
+pub fn curvature(q: &[f64; 4], p: &[f64; 4]) -> Vector3<f64> {
+    let d: f64 = q.iter().map(|x| x * x).sum();
+    let mut u = Vector3::zeros();
+    for i in 0..3 {
+        for &(j, k, sg) in &DARBOUX[i] {
+            u[i] += 2.0 * sg * q[j] * p[k];
+        }
+        u[i] /= d;
+    }
+    u
+}
+
+/// Energy density `W = ½ Σ B_i (u_i − u*_i)²` (J/m) at a point and its gradient and
+/// Hessian with respect to `x = (q, p)`, `p = q'`.
+pub fn energy_density(
+    q: &[f64; 4],
+    p: &[f64; 4],
+    stiffness: &Stiffness,
+    natural: &Vector3<f64>,
+) -> (f64, [f64; 8], [[f64; 8]; 8]) {
+    let bs = stiffness.as_array();
+    let d: f64 = q.iter().map(|x| x * x).sum();
+    let mut w = 0.0;
+    let mut grad = [0.0; 8];
+    let mut hess = [[0.0; 8]; 8];
+    // ∇D = (2q, 0), ∇²D = diag(2I, 0)
+    let mut gd = [0.0; 8];
+    for j in 0..4 {
+        gd[j] = 2.0 * q[j];
+    }
+    for i in 0..3 {
+        // N_i = 2 qᵀ C_i p and its derivatives
+        let mut n = 0.0;
+        let mut gn = [0.0; 8];
+        let mut hn = [[0.0; 8]; 8];
+        for &(j, k, sg) in &DARBOUX[i] {
+            n += 2.0 * sg * q[j] * p[k];
+            gn[j] += 2.0 * sg * p[k];
+            gn[4 + k] += 2.0 * sg * q[j];
+            hn[j][4 + k] += 2.0 * sg;
+            hn[4 + k][j] += 2.0 * sg;
+        }
+        let u = n / d;
+        let e = u - natural[i];
+        let mut gu = [0.0; 8];
+        for a in 0..8 {
+            gu[a] = gn[a] / d - n * gd[a] / (d * d);
+        }
+        w += 0.5 * bs[i] * e * e;
+        for a in 0..8 {
+            grad[a] += bs[i] * e * gu[a];
+        }
+        for a in 0..8 {
+            for b in 0..8 {
+                let mut hu = hn[a][b] / d - (gn[a] * gd[b] + gd[a] * gn[b]) / (d * d)
+                    + 2.0 * n * gd[a] * gd[b] / (d * d * d);
+                if a == b && a < 4 {
+                    hu -= n * 2.0 / (d * d);
+                }
+                hess[a][b] += bs[i] * (gu[a] * gu[b] + e * hu);
+            }
+        }
+    }
+    (w, grad, hess)
+}
+
+/// `d3_j = qᵀ M_j q / |q|²`: the non-zero entries `(k, l, value)` of the symmetric `M_j`,
+/// from the third column of `R(q)`.
+const TANGENT: [&[(usize, usize, f64)]; 3] = [
+    &[(0, 2, 1.0), (2, 0, 1.0), (1, 3, 1.0), (3, 1, 1.0)],
+    &[(1, 2, 1.0), (2, 1, 1.0), (0, 3, -1.0), (3, 0, -1.0)],
+    &[(0, 0, -1.0), (1, 1, -1.0), (2, 2, 1.0), (3, 3, 1.0)],
+];
+
+/// Unit tangent `d3` of the normalised rotation of `q`, with its gradient `[j][k] = ∂d3_j/∂q_k`
+/// and Hessians `[j][k][l]`.
+#[allow(clippy::type_complexity)]
+pub fn tangent(q: &[f64; 4]) -> ([f64; 3], [[f64; 4]; 3], [[[f64; 4]; 4]; 3]) {
+    let d: f64 = q.iter().map(|x| x * x).sum();
+    let mut t = [0.0; 3];
+    let mut g = [[0.0; 4]; 3];
+    let mut h = [[[0.0; 4]; 4]; 3];
+    for j in 0..3 {
+        let mut mq = [0.0; 4];
+        for &(k, l, v) in TANGENT[j] {
+            mq[k] += v * q[l];
+        }
+        let qmq: f64 = (0..4).map(|k| q[k] * mq[k]).sum();
+        t[j] = qmq / d;
+        for k in 0..4 {
+            g[j][k] = 2.0 * mq[k] / d - 2.0 * qmq * q[k] / (d * d);
+        }
+        for &(k, l, v) in TANGENT[j] {
+            h[j][k][l] += 2.0 * v / d;
+        }
+        for k in 0..4 {
+            for l in 0..4 {
+                h[j][k][l] += -4.0 * (mq[k] * q[l] + q[k] * mq[l]) / (d * d)
+                    + 8.0 * qmq * q[k] * q[l] / (d * d * d);
+            }
+            h[j][k][k] -= 2.0 * qmq / (d * d);
+        }
+    }
+    (t, g, h)
+}
+
+/// What one element contributes, in its local quaternion unknowns `4a + k` (node `a`,
+/// component `k`).
+#[derive(Clone, Debug)]
+pub struct ElementTerms {
+    /// Elastic energy of the element (J).
+    pub energy: f64,
+    /// `∂E/∂q` (J).
+    pub energy_gradient: [f64; MAX_Q],
+    /// `∂²E/∂q²` plus `Σ_j λ_j ∂²gap_j/∂q²` (the inextensibility term of the Lagrangian).
+    pub hessian: [[f64; MAX_Q]; MAX_Q],
+    /// `∫ d3 ds` over the element (m); the gap is `r_end − r_start − chord`.
+    pub chord: [f64; 3],
+    /// `∂chord_j/∂q` (m).
+    pub chord_gradient: [[f64; MAX_Q]; 3],
+}
+
+/// Evaluates an element of length `h` (m) with nodal quaternions `q` (only the first
+/// `order.nodes()` used), natural curvature `natural` (1/m) and the inextensibility
+/// multiplier `lambda` (N) that weights the chord's Hessian.
+pub fn element_terms(
+    order: Order,
+    rule: &[QuadraturePoint],
+    h: f64,
+    q: &[[f64; 4]; MAX_NODES],
+    stiffness: &Stiffness,
+    natural: &Vector3<f64>,
+    lambda: &[f64; 3],
+) -> ElementTerms {
+    let nn = order.nodes();
+    let mut out = ElementTerms {
+        energy: 0.0,
+        energy_gradient: [0.0; MAX_Q],
+        hessian: [[0.0; MAX_Q]; MAX_Q],
+        chord: [0.0; 3],
+        chord_gradient: [[0.0; MAX_Q]; 3],
+    };
+    for gp in rule {
+        let jw = gp.weight * h;
+        let mut qg = [0.0; 4];
+        let mut pg = [0.0; 4];
+        let mut b = [0.0; MAX_NODES];
+        for a in 0..nn {
+            b[a] = gp.dn[a] / h;
+            for k in 0..4 {
+                qg[k] += gp.n[a] * q[a][k];
+                pg[k] += b[a] * q[a][k];
+            }
+        }
+        let (w, gw, hw) = energy_density(&qg, &pg, stiffness, natural);
+        let (t, gt, ht) = tangent(&qg);
+        out.energy += jw * w;
+        for j in 0..3 {
+            out.chord[j] += jw * t[j];
+        }
+        // λ·(−∂²chord) Hessian at the point, in q only
+        let mut hl = [[0.0; 4]; 4];
+        for k in 0..4 {
+            for l in 0..4 {
+                hl[k][l] = -(0..3).map(|j| lambda[j] * ht[j][k][l]).sum::<f64>();
+            }
+        }
+        for a in 0..nn {
+            for k in 0..4 {
+                let ia = 4 * a + k;
+                out.energy_gradient[ia] += jw * (gp.n[a] * gw[k] + b[a] * gw[4 + k]);
+                for j in 0..3 {
+                    out.chord_gradient[j][ia] += jw * gp.n[a] * gt[j][k];
+                }
+                for c in 0..nn {
+                    for l in 0..4 {
+                        let ic = 4 * c + l;
+                        let v = gp.n[a] * gp.n[c] * (hw[k][l] + hl[k][l])
+                            + gp.n[a] * b[c] * hw[k][4 + l]
+                            + b[a] * gp.n[c] * hw[4 + k][l]
+                            + b[a] * b[c] * hw[4 + k][4 + l];
+                        out.hessian[ia][ic] += jw * v;
+                    }
+                }
+            }
+        }
+    }
+    out
+}

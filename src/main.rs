@@ -1,0 +1,190 @@
+//! `spira`: the command-line face. With no arguments it opens the explorer on the built-in
+//! thesis case (n = 8).
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use spira::case::Case;
+use spira::results::euler_load;
+use spira::run::run_path;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(
+    name = "spira",
+    version,
+    about = "Mechanics of tubular assemblies of helical rods"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve a case's load path and write load.csv, reactions.csv and state.csv.
+    Run {
+        /// Case file (TOML).
+        case: PathBuf,
+        /// Target compression ratio (default: the case's loading.target).
+        #[arg(long = "to", allow_negative_numbers = true)]
+        to: Option<f64>,
+        /// Number of equally spaced output steps in (0, target] (default: the case's).
+        #[arg(long)]
+        steps: Option<usize>,
+        /// Output folder.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Open the terminal explorer on a case (default: the built-in thesis n = 8 case).
+    Tui {
+        /// Case file (TOML).
+        case: Option<PathBuf>,
+    },
+    /// Time the load path of a case (default: thesis n = 8 to eps = 0.5).
+    Bench {
+        /// Case file (TOML).
+        case: Option<PathBuf>,
+        /// Timed repetitions after one warm-up run.
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+    },
+}
+
+fn load_case(path: Option<&Path>) -> Result<Case> {
+    Ok(match path {
+        Some(p) => Case::from_file(p)?,
+        None => Case::default_case(),
+    })
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => spira::tui::run(Case::default_case()),
+        Some(Command::Tui { case }) => load_case(case.as_deref()).and_then(spira::tui::run),
+        Some(Command::Run {
+            case,
+            to,
+            steps,
+            out,
+        }) => run(&case, to, steps, &out),
+        Some(Command::Bench { case, repeats }) => bench(case.as_deref(), repeats),
+    };
+    if let Err(e) = result {
+        eprintln!("spira: error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result<()> {
+    let case = Case::from_file(path)?;
+    let target = to.unwrap_or(case.loading.target);
+    if let Err(msg) = case.check_target(target) {
+        bail!("--to: {msg}");
+    }
+    let steps = steps.unwrap_or(case.loading.steps);
+    if steps == 0 {
+        bail!("--steps: expected at least 1 output step, found 0");
+    }
+    let n = case.geometry.helices;
+    println!(
+        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), eps 0 -> {target} in {steps} steps",
+        case.name,
+        case.geometry.length,
+        case.geometry.height0(),
+        euler_load(case.stiffness.b1, case.geometry.length)
+    );
+    println!(
+        "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10}",
+        "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)"
+    );
+    let eps = case.output_eps(target, steps);
+    let t0 = Instant::now();
+    let outcome = run_path(&case, &eps, |p, dt| {
+        println!(
+            "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2}",
+            p.step,
+            p.eps,
+            p.load[2],
+            p.iterations,
+            p.residual,
+            dt.as_secs_f64() * 1e3
+        );
+    })
+    .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
+    let files = spira::output::write_run(out, &case.name, &outcome.points, &outcome.snapshot)
+        .with_context(|| format!("writing results into {}", out.display()))?;
+    let last = outcome.points.last().expect("step 0 is always there");
+    println!(
+        "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
+        last.eps,
+        t0.elapsed().as_secs_f64() * 1e3,
+        outcome.stats.steps,
+        outcome.stats.rejected,
+        outcome.stats.iterations,
+        outcome.stats.factorisations,
+        outcome.unknowns,
+        last.load[2],
+        last.energy
+    );
+    let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    println!("wrote {}", names.join(", "));
+    if let Some(err) = outcome.error {
+        bail!(
+            "{err}; the converged steps up to eps = {:.6} were written",
+            err.reached
+        );
+    }
+    Ok(())
+}
+
+fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
+    let case = load_case(path)?;
+    let eps = case.output_eps(case.loading.target, case.loading.steps);
+    println!(
+        "spira bench: case {} (n = {}, {} {:?} elements per rod), eps 0 -> {} in {} output steps, {} timed runs after a warm-up",
+        case.name,
+        case.geometry.helices,
+        case.discretisation.elements,
+        case.discretisation.order,
+        case.loading.target,
+        case.loading.steps,
+        repeats.max(1)
+    );
+    let mut best = f64::INFINITY;
+    let mut times = Vec::new();
+    let mut last = None;
+    for r in 0..=repeats.max(1) {
+        let t = Instant::now();
+        let outcome = run_path(&case, &eps, |_, _| {})?;
+        let dt = t.elapsed().as_secs_f64();
+        if r > 0 {
+            best = best.min(dt);
+            times.push(dt);
+        }
+        if let Some(e) = &outcome.error {
+            bail!("{e}");
+        }
+        last = Some(outcome);
+    }
+    let o = last.expect("at least one run");
+    let mean = times.iter().sum::<f64>() / times.len() as f64;
+    println!("unknowns (incl. multipliers): {}", o.unknowns);
+    println!(
+        "internal steps: {} ({} rejected), Newton iterations: {}, factorisations: {}",
+        o.stats.steps, o.stats.rejected, o.stats.iterations, o.stats.factorisations
+    );
+    println!(
+        "time per path: best {:.1} ms, mean {:.1} ms",
+        best * 1e3,
+        mean * 1e3
+    );
+    println!(
+        "time per output step: {:.2} ms; per internal step: {:.2} ms; per Newton iteration: {:.2} ms",
+        best * 1e3 / eps.len() as f64,
+        best * 1e3 / o.stats.steps.max(1) as f64,
+        best * 1e3 / o.stats.iterations.max(1) as f64
+    );
+    Ok(())
+}
