@@ -152,18 +152,25 @@ impl DiscreteModel {
 
     /// The natural state: nodal quaternions and positions of the free helices.
     pub fn natural_state(&self) -> Vec<f64> {
+        let helices: Vec<Helix> = self.rods.iter().map(|r| r.helix).collect();
+        self.helix_state(&helices)
+    }
+
+    /// The primal state in which rod `i` lies on `helices[i]` (nodal quaternions of its
+    /// directors and vertex positions), e.g. to prescribe ends on other helices.
+    pub fn helix_state(&self, helices: &[Helix]) -> Vec<f64> {
         let mut x = vec![0.0; self.n_primal];
-        for rod in &self.rods {
+        for (rod, helix) in self.rods.iter().zip(helices) {
             let s: Vec<f64> = (0..rod.mesh.quaternion_nodes())
                 .map(|k| rod.mesh.node_arc_length(k))
                 .collect();
-            for (k, q) in rod.helix.quaternion_field(&s).iter().enumerate() {
+            for (k, q) in helix.quaternion_field(&s).iter().enumerate() {
                 for c in 0..4 {
                     x[rod.q_dof(k, c)] = q[c];
                 }
             }
             for (v, &sv) in rod.mesh.vertices.iter().enumerate() {
-                let r = rod.helix.position(sv);
+                let r = helix.position(sv);
                 for c in 0..3 {
                     x[rod.r_dof(v, c)] = r[c];
                 }

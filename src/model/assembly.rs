@@ -56,6 +56,26 @@ impl Assembly {
         }
     }
 
+    /// The same assembly rotated rigidly by `angle` (rad) about the z axis: right-handed
+    /// base angles grow by `angle`, left-handed ones shrink by it (their azimuth runs
+    /// backwards). Joints are recomputed from the geometry.
+    pub fn rotated(&self, angle: f64) -> Assembly {
+        let rods: Vec<Helix> = self
+            .rods
+            .iter()
+            .map(|h| Helix {
+                base_angle: h.base_angle + h.chirality.sign() * angle,
+                ..*h
+            })
+            .collect();
+        let joints = crossings(&rods, self.length);
+        Assembly {
+            rods,
+            length: self.length,
+            joints,
+        }
+    }
+
     /// Initial height `h0` of the tips (m).
     pub fn height(&self) -> f64 {
         self.rods[0].position(self.length)[2]

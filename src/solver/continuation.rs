@@ -80,9 +80,23 @@ impl Simulation {
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
         let x0 = model.natural_state();
-        let h0 = model.height0();
-        let system = System::new(&model, bc, &x0, h0);
-        let mut x = x0;
+        Simulation::from_state(model, bc, x0, settings)
+    }
+
+    /// Starts from a given primal state `x` (nodal quaternions and positions, e.g. of
+    /// other helices than the natural ones) and solves it: the supports hold the ends
+    /// where `x` puts them, and `ε` is that of `x`'s tip height.
+    pub fn from_state(
+        model: DiscreteModel,
+        bc: BoundaryConditions,
+        mut x: Vec<f64>,
+        settings: ContinuationSettings,
+    ) -> Result<Simulation, SolveError> {
+        x.truncate(model.n_primal);
+        let tip = model.rods[0].end_vertex(crate::discretisation::system::End::Tip);
+        let height = model.vertex(&x, 0, tip)[2];
+        let eps = 1.0 - height / model.height0();
+        let system = System::new(&model, bc, &x, height);
         x.resize(system.n, 0.0);
         let ws = Workspace::new(&system);
         let mut sim = Simulation {
@@ -90,7 +104,7 @@ impl Simulation {
             system,
             ws,
             x,
-            eps: 0.0,
+            eps,
             tangent: None,
             step: settings.initial_step,
             last: NewtonReport {
@@ -101,7 +115,7 @@ impl Simulation {
             settings,
             stats: Statistics::default(),
         };
-        sim.correct_in_place(0.0)?;
+        sim.correct_in_place(eps)?;
         Ok(sim)
     }
 

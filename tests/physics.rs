@@ -1,0 +1,631 @@
+//! Physics checks of the core against numbers that do not come from spira: the analytic
+//! helix of DESIGN.md §2, the joint list of thesis §3.2, finite differences, Love's
+//! helical equilibria (DESIGN.md §6), the thesis's qualitative findings, and invariance.
+
+use nalgebra::Vector3;
+use spira::case::Case;
+use spira::discretisation::element::{self, Order, Stiffness};
+use spira::discretisation::system::{DiscreteModel, End, System};
+use spira::model::assembly::Assembly;
+use spira::model::boundary::BoundaryConditions;
+use spira::model::helix::{Chirality, Helix};
+use spira::model::quaternion;
+use spira::solver::continuation::{ContinuationSettings, Simulation};
+use std::f64::consts::PI;
+
+const A: f64 = 0.06;
+const B: f64 = 0.025;
+
+fn c() -> f64 {
+    A.hypot(B)
+}
+
+fn thesis(n: usize) -> Case {
+    Case::from_file(std::path::Path::new(&format!("cases/thesis-n{n}.toml"))).unwrap()
+}
+
+// ---------------------------------------------------------------- geometry
+
+/// The 8 thesis helices (§3.2): right-handed at 0, π/2, π, −π/2; left-handed at
+/// 0, −π/2, π, π/2 (thesis eqs. 3.15–3.30).
+fn thesis_helices() -> Vec<Helix> {
+    let h = |chirality, base_angle| Helix {
+        radius: A,
+        pitch: B,
+        chirality,
+        base_angle,
+    };
+    let mut v: Vec<Helix> = [0.0, PI / 2.0, PI, -PI / 2.0]
+        .iter()
+        .map(|&t| h(Chirality::Right, t))
+        .collect();
+    v.extend(
+        [0.0, -PI / 2.0, PI, PI / 2.0]
+            .iter()
+            .map(|&t| h(Chirality::Left, t)),
+    );
+    v
+}
+
+/// Directors of DESIGN.md §2 written out component by component (right-handed) and
+/// their mirror (left-handed).
+fn analytic_directors(h: &Helix, s: f64) -> [Vector3<f64>; 3] {
+    let (a, b, c) = (A, B, c());
+    let phi = s / c + h.base_angle;
+    let (sp, cp) = phi.sin_cos();
+    match h.chirality {
+        Chirality::Right => [
+            Vector3::new(-(b / c) * sp, (b / c) * cp, -a / c),
+            Vector3::new(-cp, -sp, 0.0),
+            Vector3::new(-(a / c) * sp, (a / c) * cp, b / c),
+        ],
+        Chirality::Left => {
+            let d2 = Vector3::new(-cp, sp, 0.0);
+            let d3 = Vector3::new(-(a / c) * sp, -(a / c) * cp, b / c);
+            [d2.cross(&d3), d2, d3]
+        }
+    }
+}
+
+#[test]
+fn quaternion_fields_reproduce_the_directors_of_all_thesis_helices() {
+    let length = 7.0 * PI * c();
+    let s: Vec<f64> = (0..=400).map(|k| length * k as f64 / 400.0).collect();
+    for h in thesis_helices() {
+        let field = h.quaternion_field(&s);
+        for (k, q) in field.iter().enumerate() {
+            assert!((q.norm() - 1.0).abs() < 1e-14);
+            let r = quaternion::rotation(q);
+            let d = analytic_directors(&h, s[k]);
+            for i in 0..3 {
+                assert!(
+                    (r.column(i) - d[i]).norm() < 1e-12,
+                    "{:?} at s = {}: d{} off by {:e}",
+                    h,
+                    s[k],
+                    i + 1,
+                    (r.column(i) - d[i]).norm()
+                );
+            }
+            // the centreline's tangent is d3
+            let dr = (h.position(s[k] + 1e-6) - h.position(s[k] - 1e-6)) / 2e-6;
+            assert!((dr - d[2]).norm() < 1e-8);
+            // continuity: neighbours differ by the small rotation of one sample
+            if k > 0 {
+                assert!(
+                    (q - field[k - 1]).norm() < 0.1,
+                    "jump in the field at s = {}",
+                    s[k]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn natural_curvatures_come_out_of_the_quaternion_field() {
+    // (κ1, κ2, Ω) = 2 Im(q̄ q'), with q' by central differences of the analytic field
+    let (c, ds) = (c(), 1e-6);
+    for h in thesis_helices() {
+        let expected = Vector3::new(-A / (c * c), 0.0, h.chirality.sign() * B / (c * c));
+        assert!((h.natural_curvature() - expected).norm() < 1e-14);
+        for k in 0..20 {
+            let s = 0.05 + 0.07 * k as f64;
+            let q = h.quaternion(s, None);
+            let qp = h.quaternion(s + ds, Some(&q));
+            let qm = h.quaternion(s - ds, Some(&q));
+            let u = quaternion::darboux(&q, &((qp - qm) / (2.0 * ds)));
+            assert!(
+                (u - expected).norm() < 1e-7,
+                "{:?}: {u:?} vs {expected:?}",
+                h
+            );
+            // and d_i' = u × d_i in the body frame: d3' = κ2 d1 − κ1 d2 ... check d3'.d1 = κ2
+            let d = analytic_directors(&h, s);
+            let dp = analytic_directors(&h, s + ds);
+            let dm = analytic_directors(&h, s - ds);
+            let d3p = (dp[2] - dm[2]) / (2.0 * ds);
+            let d2p = (dp[1] - dm[1]) / (2.0 * ds);
+            let d1p = (dp[0] - dm[0]) / (2.0 * ds);
+            assert!((d2p.dot(&d[2]) - expected[0]).abs() < 1e-6, "κ1 = d2'·d3");
+            assert!((d3p.dot(&d[0]) - expected[1]).abs() < 1e-6, "κ2 = d3'·d1");
+            assert!((d1p.dot(&d[1]) - expected[2]).abs() < 1e-6, "Ω = d1'·d2");
+        }
+    }
+}
+
+#[test]
+fn joint_list_for_eight_helices_equals_thesis_section_3_2() {
+    // thesis §3.2: crossing of right helix i with left helix j at s/c = offset + kπ,
+    // rows: right θ0 = 0, π/2, π, −π/2; columns: left θ0 = 0, −π/2, π, π/2
+    let q = PI / 4.0;
+    let table = [
+        [0.0, q, 2.0 * q, 3.0 * q],
+        [3.0 * q, 0.0, q, 2.0 * q],
+        [2.0 * q, 3.0 * q, 0.0, q],
+        [q, 2.0 * q, 3.0 * q, 0.0],
+    ];
+    let thesis = thesis_helices();
+    let length = 7.0 * PI * c();
+    let asm = Assembly::new(8, A, B, length);
+    let same_angle =
+        |a: f64, b: f64| ((a - b).rem_euclid(2.0 * PI)).min((b - a).rem_euclid(2.0 * PI)) < 1e-12;
+    let find = |h: &Helix| {
+        asm.rods
+            .iter()
+            .position(|r| r.chirality == h.chirality && same_angle(r.base_angle, h.base_angle))
+            .expect("thesis helix present in the assembly")
+    };
+    let mut expected_count = 0;
+    for i in 0..4 {
+        for j in 0..4 {
+            let (ri, lj) = (find(&thesis[i]), find(&thesis[4 + j]));
+            let mut expected: Vec<f64> = (0..8)
+                .map(|k| (table[i][j] + k as f64 * PI) * c())
+                .filter(|&s| s <= length * (1.0 + 1e-12))
+                .collect();
+            expected_count += expected.len();
+            let mut got: Vec<f64> = asm
+                .joints
+                .iter()
+                .filter(|jt| jt.right == ri && jt.left == lj)
+                .map(|jt| jt.s)
+                .collect();
+            got.sort_by(f64::total_cmp);
+            expected.sort_by(f64::total_cmp);
+            assert_eq!(got.len(), expected.len(), "right {i} / left {j}");
+            for (g, e) in got.iter().zip(&expected) {
+                assert!((g - e).abs() < 1e-12, "right {i} / left {j}: {g} vs {e}");
+                // the two rods really meet there
+                let (pr, pl) = (asm.rods[ri].position(*g), asm.rods[lj].position(*g));
+                assert!((pr - pl).norm() < 1e-12);
+            }
+        }
+    }
+    assert_eq!(asm.joints.len(), expected_count);
+    // every rod meets a joint every π/4 in s/c: 29 arc lengths on [0, 7π c]
+    for id in 0..8 {
+        assert_eq!(asm.joint_arc_lengths(id).len(), 29);
+    }
+}
+
+// ---------------------------------------------------------------- derivatives
+
+fn fd_check(f: impl Fn(&[f64]) -> f64, x: &[f64], grad: &[f64], tol: f64, what: &str) {
+    for i in 0..x.len() {
+        let h = 1e-6 * (1.0 + x[i].abs());
+        let mut xp = x.to_vec();
+        let mut xm = x.to_vec();
+        xp[i] += h;
+        xm[i] -= h;
+        let fd = (f(&xp) - f(&xm)) / (2.0 * h);
+        let scale = 1.0 + grad[i].abs();
+        assert!(
+            (fd - grad[i]).abs() < tol * scale,
+            "{what}: component {i}: analytic {} vs finite difference {fd}",
+            grad[i]
+        );
+    }
+}
+
+#[test]
+fn energy_density_and_tangent_derivatives_match_finite_differences() {
+    let st = Stiffness {
+        b1: 1.0,
+        b2: 1.3,
+        b3: 2.0,
+    };
+    let nat = Vector3::new(-12.0, 0.5, 5.0);
+    let x0 = [0.3, -0.5, 0.7, 0.4, 2.0, -1.0, 3.0, 0.5];
+    let w = |x: &[f64]| {
+        element::energy_density(
+            &[x[0], x[1], x[2], x[3]],
+            &[x[4], x[5], x[6], x[7]],
+            &st,
+            &nat,
+        )
+        .0
+    };
+    let (_, g, h) = element::energy_density(
+        &[x0[0], x0[1], x0[2], x0[3]],
+        &[x0[4], x0[5], x0[6], x0[7]],
+        &st,
+        &nat,
+    );
+    fd_check(w, &x0, &g, 1e-6, "∂W");
+    for a in 0..8 {
+        let ga = |x: &[f64]| {
+            element::energy_density(
+                &[x[0], x[1], x[2], x[3]],
+                &[x[4], x[5], x[6], x[7]],
+                &st,
+                &nat,
+            )
+            .1[a]
+        };
+        fd_check(ga, &x0, &h[a], 1e-5, "∂²W");
+    }
+    let q0 = [0.3, -0.5, 0.7, 0.4];
+    let (_, gt, ht) = element::tangent(&q0);
+    for j in 0..3 {
+        fd_check(
+            |q: &[f64]| element::tangent(&[q[0], q[1], q[2], q[3]]).0[j],
+            &q0,
+            &gt[j],
+            1e-7,
+            "∂d3",
+        );
+        for k in 0..4 {
+            fd_check(
+                |q: &[f64]| element::tangent(&[q[0], q[1], q[2], q[3]]).1[j][k],
+                &q0,
+                &ht[j][k],
+                1e-6,
+                "∂²d3",
+            );
+        }
+    }
+    // the tangent is that of the normalised rotation
+    let t = element::tangent(&q0).0;
+    let r = quaternion::rotation(&q0.into());
+    assert!((Vector3::from(t) - r.column(2)).norm() < 1e-14);
+}
+
+/// Small model with joints, both orders, a perturbed state and random multipliers.
+fn perturbed_system(order: Order) -> (DiscreteModel, System, Vec<f64>) {
+    let asm = Assembly::new(2, A, B, 2.0 * PI * c());
+    let model = DiscreteModel::new(
+        asm,
+        Stiffness {
+            b1: 1.0,
+            b2: 1.5,
+            b3: 2.0,
+        },
+        4,
+        order,
+    );
+    let bc = BoundaryConditions::default();
+    let x0 = model.natural_state();
+    let sys = System::new(&model, bc, &x0, model.height0());
+    let mut x = x0;
+    x.resize(sys.n, 0.0);
+    for (i, v) in x.iter_mut().enumerate() {
+        let noise = ((i * 7919 + 13) % 1009) as f64 / 1009.0 - 0.5;
+        if i < model.n_primal {
+            *v += 0.02 * noise;
+        } else {
+            *v = 3.0 * noise;
+        }
+    }
+    (model, sys, x)
+}
+
+#[test]
+fn global_residual_is_the_gradient_of_the_lagrangian() {
+    for order in [Order::Linear, Order::Quadratic] {
+        let (model, sys, x) = perturbed_system(order);
+        let mut r = vec![0.0; sys.n];
+        sys.residual(&model, &x, &mut r);
+        // L = E + Σ multiplier · constraint value (the constraint rows of the residual)
+        let lagrangian = |y: &[f64]| {
+            let mut ry = vec![0.0; sys.n];
+            let e = sys.residual(&model, y, &mut ry).energy;
+            e + (model.n_primal..sys.n).map(|k| y[k] * ry[k]).sum::<f64>()
+        };
+        fd_check(lagrangian, &x, &r, 1e-6, "∇L");
+    }
+}
+
+#[test]
+fn kkt_matrix_is_the_jacobian_of_the_residual() {
+    for order in [Order::Linear, Order::Quadratic] {
+        let (model, sys, x) = perturbed_system(order);
+        let mut r = vec![0.0; sys.n];
+        let mut values = sys.new_values();
+        sys.evaluate(&model, &x, &mut r, &mut values);
+        let m = sys.matrix(&values);
+        let mut dense = vec![vec![0.0; sys.n]; sys.n];
+        let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
+        for j in 0..sys.n {
+            for p in cp[j]..cp[j + 1] {
+                dense[ri[p]][j] += m.val()[p];
+            }
+        }
+        for j in 0..sys.n {
+            let h = 1e-6;
+            let (mut xp, mut xm) = (x.clone(), x.clone());
+            xp[j] += h;
+            xm[j] -= h;
+            let (mut rp, mut rm) = (vec![0.0; sys.n], vec![0.0; sys.n]);
+            sys.residual(&model, &xp, &mut rp);
+            sys.residual(&model, &xm, &mut rm);
+            for i in 0..sys.n {
+                let fd = (rp[i] - rm[i]) / (2.0 * h);
+                assert!(
+                    (fd - dense[i][j]).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "{order:?}: K[{i}][{j}] = {} vs finite difference {fd}",
+                    dense[i][j]
+                );
+                // symmetric, as the Hessian of a Lagrangian must be
+                assert!((dense[i][j] - dense[j][i]).abs() < 1e-9 * (1.0 + dense[i][j].abs()));
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------- Love's helices
+
+/// Axial force F (tension positive) and axial couple M on the tip of a rod held as a
+/// perfect helix (a, b) whose natural helix is (a0, b0): DESIGN.md §6, derived there from
+/// the balance laws n' = 0, m' + d3 × n = 0 with n = F e_z.
+fn love(a0: f64, b0: f64, a: f64, b: f64, bend: f64, twist: f64, chi: f64) -> (f64, f64) {
+    let (c0, c) = (a0.hypot(b0), a.hypot(b));
+    let (k0, t0) = (a0 / (c0 * c0), b0 / (c0 * c0));
+    let (k, t) = (a / (c * c), b / (c * c));
+    let f = (twist * (t - t0) * a - bend * (k - k0) * b) / (a * c);
+    let m = chi * (bend * (k - k0) * a + twist * (t - t0) * b) / c;
+    (f, m)
+}
+
+#[test]
+fn love_check_value_of_design_md() {
+    let a = (0.065f64.powi(2) - 0.0125f64.powi(2)).sqrt();
+    assert!((a - 0.0637868).abs() < 5e-8);
+    let (f, _) = love(0.06, 0.025, a, 0.0125, 1.0, 2.0, 1.0);
+    assert!((f - -93.73536).abs() < 1e-4, "F = {f}");
+}
+
+/// Elements per rod for the closed-form checks. Force and couple errors fall as h⁴; the
+/// couple, a small difference of a bending and a twisting term, is the harder one:
+/// 4e-5 relative at 96 elements, 2.6e-6 at 192, 1.9e-7 at 384 (b = 0.0125).
+const LOVE_ELEMENTS: usize = 384;
+
+/// Holds both ends of each rod (right-handed rod 0, left-handed rod 1, no joints) on a
+/// perfect helix of pitch parameter `b` with the same length and number of turns, and
+/// compares the reactions with Love's closed form.
+fn check_perfect_helix(b: f64) {
+    let length = 7.0 * PI * c();
+    let asm = Assembly::new(2, A, B, length);
+    let model = DiscreteModel::new(
+        asm,
+        Stiffness {
+            b1: 1.0,
+            b2: 1.0,
+            b3: 2.0,
+        },
+        LOVE_ELEMENTS,
+        Order::Quadratic,
+    );
+    let a = (c() * c() - b * b).sqrt(); // same c: same arc length per turn
+    let targets: Vec<Helix> = model
+        .rods
+        .iter()
+        .map(|r| Helix {
+            radius: a,
+            pitch: b,
+            ..r.helix
+        })
+        .collect();
+    let bc = BoundaryConditions {
+        joints: false,
+        ..Default::default()
+    };
+    let sim = Simulation::from_state(
+        model,
+        bc,
+        model_state(&targets),
+        ContinuationSettings::default(),
+    )
+    .expect("perfect helix equilibrium converges");
+    let lp = sim.load_point(0);
+    for (rod, target) in lp.reactions.iter().zip(&targets) {
+        let chi = target.chirality.sign();
+        let (f, m) = love(A, B, a, b, 1.0, 2.0, chi);
+        let force = Vector3::from(rod.tip.force);
+        let tip = target.position(length);
+        // moment about the helix axis: the couple plus the moment of the tip force
+        let moment =
+            Vector3::from(rod.tip.moment) + Vector3::new(tip[0], tip[1], 0.0).cross(&force);
+        let tol = 1e-6 * f.abs();
+        assert!(
+            (force[2] - f).abs() < tol,
+            "{:?} b = {b}: Fz = {} vs Love {f}",
+            target.chirality,
+            force[2]
+        );
+        assert!(
+            force[0].abs() < tol && force[1].abs() < tol,
+            "lateral force {force:?}"
+        );
+        assert!(
+            (moment[2] - m).abs() < 1e-6 * m.abs(),
+            "Mz = {} vs Love {m}",
+            moment[2]
+        );
+        assert!(
+            moment[0].abs() < tol * a && moment[1].abs() < tol * a,
+            "lateral moment {moment:?}"
+        );
+        // the base carries the opposite wrench
+        assert!((rod.base.force[2] + f).abs() < tol);
+    }
+    // and the solution is that helix: curvatures constant and equal to its own
+    let snap = sim.snapshot();
+    let cc = a.hypot(b);
+    for (shape, target) in snap.rods.iter().zip(&targets) {
+        let expected = [-a / (cc * cc), 0.0, target.chirality.sign() * b / (cc * cc)];
+        for node in &shape.nodes {
+            let p = target.position(node.s);
+            assert!((Vector3::from(node.position) - p).norm() < 1e-6 * length);
+            for k in 0..3 {
+                assert!(
+                    (node.curvature[k] - expected[k]).abs() < 1e-3 * (1.0 / cc),
+                    "curvature {k} at s = {}",
+                    node.s
+                );
+            }
+        }
+    }
+}
+
+fn model_state(targets: &[Helix]) -> Vec<f64> {
+    let length = 7.0 * PI * c();
+    let asm = Assembly::new(2, A, B, length);
+    DiscreteModel::new(
+        asm,
+        Stiffness {
+            b1: 1.0,
+            b2: 1.0,
+            b3: 2.0,
+        },
+        LOVE_ELEMENTS,
+        Order::Quadratic,
+    )
+    .helix_state(targets)
+}
+
+#[test]
+fn perfect_helix_in_compression_is_held_by_loves_axial_force_and_couple() {
+    check_perfect_helix(0.0125);
+}
+
+#[test]
+fn perfect_helix_in_extension_is_held_by_loves_axial_force_and_couple() {
+    check_perfect_helix(0.04);
+}
+
+// ---------------------------------------------------------------- thesis cases
+
+fn reaction_norm_at_rest(n: usize, elements: usize) -> f64 {
+    let mut case = thesis(n);
+    case.discretisation.elements = elements;
+    let sim = case.simulation().unwrap();
+    sim.load_point(0)
+        .reactions
+        .iter()
+        .map(|r| Vector3::from(r.tip.force).norm())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn natural_state_carries_no_force_up_to_discretisation_error_that_falls_at_fourth_order() {
+    for n in [1, 8] {
+        let case = thesis(n);
+        let pcrit = spira::results::euler_load(1.0, case.geometry.length);
+        let sim = case.simulation().unwrap();
+        let lp = sim.load_point(0);
+        assert_eq!(lp.eps, 0.0);
+        for k in 0..3 {
+            assert!(
+                lp.load[k].abs() < 1e-4,
+                "n = {n}: averaged load {:?} at eps = 0",
+                lp.load
+            );
+        }
+        // per rod: the interpolated helix is not exactly stress-free; the force is a
+        // discretisation error and must vanish like h^4 for quadratic elements
+        let (f1, f2) = (reaction_norm_at_rest(n, 56), reaction_norm_at_rest(n, 112));
+        assert!(f1 < 5e-3 * pcrit, "n = {n}: {f1} N at rest");
+        let order = (f1 / f2).log2();
+        assert!(order > 3.7, "n = {n}: force at rest falls at order {order}");
+    }
+}
+
+#[test]
+fn eight_helices_share_the_load_equally_with_no_sideways_force() {
+    let mut case = thesis(8);
+    case.loading.target = 0.3;
+    let mut sim = case.simulation().unwrap();
+    sim.advance_to(0.3).unwrap();
+    let lp = sim.load_point(1);
+    assert!(
+        lp.load[0].abs() < 1e-8 && lp.load[1].abs() < 1e-8,
+        "{:?}",
+        lp.load
+    );
+    // thesis fig. 4.19: almost linear, Fz/(n Pcrit) ≈ −3 at eps = 0.3
+    assert!(lp.load[2] < -2.8 && lp.load[2] > -3.3, "{:?}", lp.load);
+    let fz0 = lp.reactions[0].tip.force[2];
+    for r in &lp.reactions {
+        assert!(
+            (r.tip.force[2] - fz0).abs() < 1e-6 * fz0.abs(),
+            "rod {}: {} vs {fz0}",
+            r.rod,
+            r.tip.force[2]
+        );
+        let (f0, f) = (
+            Vector3::from(lp.reactions[0].tip.force).norm(),
+            Vector3::from(r.tip.force).norm(),
+        );
+        assert!((f - f0).abs() < 1e-6 * f0);
+    }
+}
+
+#[test]
+fn a_single_helix_bows_sideways_under_clamped_compression() {
+    let case = thesis(1);
+    let mut sim = case.simulation().unwrap();
+    sim.advance_to(0.5).unwrap();
+    let lp = sim.load_point(1);
+    // thesis fig. 4.17: Fx reaches about 0.3 Pcrit by eps = 0.5
+    assert!(
+        lp.load[0].abs() > 0.2 && lp.load[0].abs() < 0.4,
+        "{:?}",
+        lp.load
+    );
+    // curvatures far from constant (thesis fig. 4.4)
+    let k1: Vec<f64> = sim.snapshot().rods[0]
+        .nodes
+        .iter()
+        .map(|n| n.curvature[0])
+        .collect();
+    let (lo, hi) = k1
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+    assert!(hi - lo > 0.2 * lo.abs());
+}
+
+#[test]
+fn rotating_the_assembly_about_its_axis_changes_no_force_magnitude_or_curvature() {
+    for n in [1, 4] {
+        let case = thesis(n);
+        let g = case.geometry;
+        let base = Assembly::new(n, g.radius, g.pitch, g.length);
+        let solve = |asm: Assembly| {
+            let model = DiscreteModel::new(asm, case.stiffness, 24, Order::Quadratic);
+            let mut sim = Simulation::new(model, case.boundary, case.solver).unwrap();
+            sim.advance_to(0.3).unwrap();
+            (sim.load_point(1), sim.snapshot())
+        };
+        let (lp0, s0) = solve(base.clone());
+        let (lp1, s1) = solve(base.rotated(0.7));
+        for (r0, r1) in lp0.reactions.iter().zip(&lp1.reactions) {
+            let (f0, f1) = (Vector3::from(r0.tip.force), Vector3::from(r1.tip.force));
+            assert!((f0.norm() - f1.norm()).abs() < 1e-8 * f0.norm(), "n = {n}");
+            assert!((f0[2] - f1[2]).abs() < 1e-8 * f0.norm());
+            let (m0, m1) = (Vector3::from(r0.tip.moment), Vector3::from(r1.tip.moment));
+            assert!((m0.norm() - m1.norm()).abs() < 1e-8 * m0.norm().max(1e-3));
+        }
+        for (a, b) in s0.rods.iter().zip(&s1.rods) {
+            for (na, nb) in a.nodes.iter().zip(&b.nodes) {
+                for k in 0..3 {
+                    assert!((na.curvature[k] - nb.curvature[k]).abs() < 1e-7, "n = {n}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn tip_reactions_balance_base_reactions_and_joint_forces_cancel_in_the_sum() {
+    // overall equilibrium of the assembly: Σ (F_tip + F_base) = 0
+    let mut sim = thesis(4).simulation().unwrap();
+    sim.advance_to(0.2).unwrap();
+    let lp = sim.load_point(1);
+    let mut total = Vector3::zeros();
+    for r in &lp.reactions {
+        total += Vector3::from(r.tip.force) + Vector3::from(r.base.force);
+    }
+    assert!(total.norm() < 1e-8, "{total:?}");
+    let _ = End::Tip;
+}
