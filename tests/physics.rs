@@ -2,6 +2,8 @@
 //! helix of DESIGN.md §2, the joint list of thesis §3.2, finite differences, Love's
 //! helical equilibria (DESIGN.md §6), the thesis's qualitative findings, and invariance.
 
+#![allow(clippy::needless_range_loop)] // the checks index components as the equations do
+
 use nalgebra::Vector3;
 use spira::case::Case;
 use spira::discretisation::element::{self, Order, Stiffness};
