@@ -7,7 +7,7 @@
 use crate::discretisation::element::{Order, Stiffness};
 use crate::discretisation::system::DiscreteModel;
 use crate::model::assembly::Assembly;
-use crate::model::boundary::{BoundaryConditions, EndCondition};
+use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
 use crate::solver::continuation::{ContinuationSettings, Simulation, SolveError};
 use serde::Deserialize;
 use std::f64::consts::PI;
@@ -79,21 +79,45 @@ pub struct Discretisation {
     pub order: Order,
 }
 
-/// A case-file error: where, which key, what was expected.
+/// A case-file error: where, which key, what was expected. Every variant displays as one
+/// line: the file and line, the key (dotted, e.g. `geometry.radius`), what was expected and
+/// what was found.
 #[derive(Debug, thiserror::Error)]
 pub enum CaseError {
-    #[error("cannot read case file {file}: {source}")]
+    /// The file cannot be read.
+    #[error("cannot read case file {file}: {reason}")]
     Io {
         file: String,
-        #[source]
-        source: std::io::Error,
+        /// Kept out of the error chain: the message already says it, and a report that
+        /// walks the chain would say it twice.
+        reason: std::io::Error,
     },
-    #[error("{file}:{line}: {message}")]
+    /// Not TOML: an unclosed bracket, a missing value, a duplicate key.
+    #[error("{file}:{line}: not valid TOML: {message}")]
     Syntax {
         file: String,
         line: usize,
         message: String,
     },
+    /// A key or table that is not part of a case file (usually a typo); `key` is its full
+    /// dotted path.
+    #[error("{file}:{line}: key `{key}`: {message}")]
+    UnknownKey {
+        file: String,
+        line: usize,
+        key: String,
+        message: String,
+    },
+    /// A value of the wrong type (a string for a number, a fraction for a whole number) or
+    /// a name that is not one of the allowed ones.
+    #[error("{file}:{line}: key `{key}`: {message}")]
+    WrongType {
+        file: String,
+        line: usize,
+        key: String,
+        message: String,
+    },
+    /// A value of the right type but outside its physical or numerical range.
     #[error("{file}:{line}: key `{key}`: {message}")]
     Invalid {
         file: String,
@@ -104,20 +128,148 @@ pub enum CaseError {
 }
 
 impl CaseError {
+    /// The file the error is about.
+    pub fn file(&self) -> &str {
+        match self {
+            CaseError::Io { file, .. }
+            | CaseError::Syntax { file, .. }
+            | CaseError::UnknownKey { file, .. }
+            | CaseError::WrongType { file, .. }
+            | CaseError::Invalid { file, .. } => file,
+        }
+    }
     /// Line (1-based) the error points at, if any.
     pub fn line(&self) -> Option<usize> {
         match self {
             CaseError::Io { .. } => None,
-            CaseError::Syntax { line, .. } | CaseError::Invalid { line, .. } => Some(*line),
+            CaseError::Syntax { line, .. }
+            | CaseError::UnknownKey { line, .. }
+            | CaseError::WrongType { line, .. }
+            | CaseError::Invalid { line, .. } => Some(*line),
         }
     }
-    /// The key at fault, if the error is about one.
+    /// The key at fault (dotted path, e.g. `geometry.radius`), if the error is about one.
     pub fn key(&self) -> Option<&str> {
         match self {
-            CaseError::Invalid { key, .. } => Some(key),
-            _ => None,
+            CaseError::UnknownKey { key, .. }
+            | CaseError::WrongType { key, .. }
+            | CaseError::Invalid { key, .. } => Some(key),
+            CaseError::Io { .. } | CaseError::Syntax { .. } => None,
         }
     }
+    /// What was expected and what was found, without the location.
+    pub fn message(&self) -> String {
+        match self {
+            CaseError::Io { reason, .. } => reason.to_string(),
+            CaseError::Syntax { message, .. }
+            | CaseError::UnknownKey { message, .. }
+            | CaseError::WrongType { message, .. }
+            | CaseError::Invalid { message, .. } => message.clone(),
+        }
+    }
+
+    /// Sorts an error of the `toml` crate: grammar errors are [`CaseError::Syntax`];
+    /// errors against the layout of [`RawCase`] name their key.
+    fn from_toml(e: &toml::de::Error, text: &str, file: &str, grammar: bool) -> CaseError {
+        let span = e.span().unwrap_or(0..0);
+        let line = line_of(text, span.start);
+        let file = file.to_string();
+        let message = plain_types(e.message().trim());
+        if grammar {
+            return CaseError::Syntax {
+                file,
+                line,
+                message,
+            };
+        }
+        let mut keys = error_keys(e);
+        if message.starts_with("unknown field") {
+            // the span is the offending key itself; the path held by the error is its table's
+            let name = text.get(span.clone()).unwrap_or("").trim();
+            let name = name.trim_matches(|c| c == '"' || c == '\'');
+            let header = text[..span.start.min(text.len())]
+                .rsplit('\n')
+                .next()
+                .is_some_and(|before| before.trim_start().starts_with('['));
+            keys.push(name.to_string());
+            let key = keys.join(".");
+            let message = if header {
+                message.replacen(
+                    &format!("unknown field `{name}`"),
+                    &format!("unknown table `[{key}]`"),
+                    1,
+                )
+            } else {
+                message
+            };
+            return CaseError::UnknownKey {
+                file,
+                line,
+                key,
+                message,
+            };
+        }
+        let line_text = text.lines().nth(line - 1).unwrap_or("");
+        if line_text.trim_start().starts_with("[[") {
+            // serde would read the array as the fields of the table in order, and complain
+            // about the first field
+            let name = keys.join(".");
+            let message =
+                format!("expected a table `[{name}]`, found an array of tables `[[{name}]]`");
+            return CaseError::WrongType {
+                file,
+                line,
+                key: name,
+                message,
+            };
+        }
+        if keys.is_empty() {
+            return CaseError::Syntax {
+                file,
+                line,
+                message,
+            };
+        }
+        CaseError::WrongType {
+            file,
+            line,
+            key: keys.join("."),
+            message,
+        }
+    }
+}
+
+/// The path of keys down to the value a `toml` error is about. The error keeps it but shows
+/// it only when it has no source text to point into (as a last line ``in `a.b` ``), so it
+/// is rendered that way and read back.
+fn error_keys(e: &toml::de::Error) -> Vec<String> {
+    let mut bare = e.clone();
+    bare.set_input(None);
+    bare.to_string()
+        .lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("in `")?.strip_suffix('`'))
+        .map(|k| k.split('.').map(str::to_string).collect())
+        .unwrap_or_default()
+}
+
+/// serde names Rust types in its messages; a case file has numbers, whole numbers, arrays
+/// and tables.
+fn plain_types(message: &str) -> String {
+    let mut m = message
+        .replace("expected i64", "expected a whole number")
+        .replace("expected f64", "expected a number")
+        .replace("expected a boolean", "expected true or false")
+        .replace("invalid type: map", "invalid type: table")
+        .replace("invalid type: sequence", "invalid type: array");
+    // `expected struct RawGeometry` and the like
+    while let Some(at) = m.find("expected struct Raw") {
+        let end = m[at..]
+            .find(|c: char| !(c.is_alphanumeric() || c == ' '))
+            .map_or(m.len(), |e| at + e);
+        m.replace_range(at..end, "expected a table");
+    }
+    m
 }
 
 // ---- raw file layout (serde) ----
@@ -161,9 +313,29 @@ struct RawStiffness {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawBoundary {
-    base: Option<EndCondition>,
-    tip: Option<EndCondition>,
+    base: Option<RawEnd>,
+    tip: Option<RawEnd>,
     joints: Option<bool>,
+}
+
+/// One end; a missing half keeps the thesis's value (`fixed`, `clamped`).
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawEnd {
+    translation: Option<Translation>,
+    rotation: Option<Rotation>,
+}
+
+impl RawEnd {
+    fn or(end: &Option<RawEnd>, default: EndCondition) -> EndCondition {
+        match end {
+            None => default,
+            Some(e) => EndCondition {
+                translation: e.translation.unwrap_or(default.translation),
+                rotation: e.rotation.unwrap_or(default.rotation),
+            },
+        }
+    }
 }
 
 #[derive(Deserialize, Default)]
@@ -230,13 +402,14 @@ impl Checker<'_> {
         }
     }
 
+    /// A whole number in `min..=max`, or the default; `what` names it in the message.
     fn integer(
         &self,
         key: &str,
         v: &Option<Spanned<i64>>,
         default: usize,
-        min: i64,
-        max: i64,
+        (min, max): (i64, i64),
+        what: &str,
     ) -> Result<usize, CaseError> {
         match v {
             None => Ok(default),
@@ -244,10 +417,7 @@ impl Checker<'_> {
             Some(s) => Err(self.invalid(
                 key,
                 s.span(),
-                format!(
-                    "expected an integer from {min} to {max}, found {}",
-                    s.get_ref()
-                ),
+                format!("expected {what} from {min} to {max}, found {}", s.get_ref()),
             )),
         }
     }
@@ -257,9 +427,9 @@ impl Case {
     /// Reads and validates a case file.
     pub fn from_file(path: &Path) -> Result<Case, CaseError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
+        let text = std::fs::read_to_string(path).map_err(|reason| CaseError::Io {
             file: file.clone(),
-            source,
+            reason,
         })?;
         let stem = path
             .file_stem()
@@ -277,14 +447,20 @@ impl Case {
     /// Parses and validates case text; `file` names it in errors, `stem` is the name used
     /// when the case gives none.
     pub fn parse(text: &str, file: &str, stem: &str) -> Result<Case, CaseError> {
-        let raw: RawCase = toml::from_str(text).map_err(|e| CaseError::Syntax {
-            file: file.to_string(),
-            line: e.span().map(|s| line_of(text, s.start)).unwrap_or(1),
-            message: e.message().trim().to_string(),
-        })?;
+        // grammar first, then the layout: the two kinds of error read differently
+        let document = toml::Deserializer::parse(text)
+            .map_err(|e| CaseError::from_toml(&e, text, file, true))?;
+        let raw = RawCase::deserialize(document)
+            .map_err(|e| CaseError::from_toml(&e, text, file, false))?;
         let ck = Checker { file, text };
         let g = &raw.geometry;
-        let helices = ck.integer("geometry.helices", &g.helices, 1, 1, 1024)?;
+        let helices = ck.integer(
+            "geometry.helices",
+            &g.helices,
+            1,
+            (1, 1024),
+            "a number of helices",
+        )?;
         if helices > 1 && helices % 2 == 1 {
             let span = g.helices.as_ref().map(|s| s.span()).unwrap_or(0..0);
             return Err(ck.invalid(
@@ -368,29 +544,32 @@ impl Case {
         };
         let defaults = BoundaryConditions::default();
         let boundary = BoundaryConditions {
-            base: raw.boundary.base.unwrap_or(defaults.base),
-            tip: raw.boundary.tip.unwrap_or(defaults.tip),
+            base: RawEnd::or(&raw.boundary.base, defaults.base),
+            tip: RawEnd::or(&raw.boundary.tip, defaults.tip),
             joints: raw.boundary.joints.unwrap_or(defaults.joints),
         };
-        // the tip must stay above the base and below the straightened rod: 0 < h < L
-        let h0 = geometry.height0();
-        let (lo, hi) = (1.0 - length / h0, 1.0);
-        let target = ck.number(
-            "loading.target",
-            &raw.loading.target,
-            0.5,
-            |e| e > lo && e < hi,
-            &format!("a compression ratio in ({lo:.4}, 1): the tip height h0 (1 − ε) must stay above the base and below the rod length"),
+        let target = match &raw.loading.target {
+            None => 0.5,
+            Some(t) => match target_problem(&geometry, *t.get_ref()) {
+                None => *t.get_ref(),
+                Some(message) => return Err(ck.invalid("loading.target", t.span(), message)),
+            },
+        };
+        let steps = ck.integer(
+            "loading.steps",
+            &raw.loading.steps,
+            10,
+            (1, 100_000),
+            "a number of output steps",
         )?;
-        let steps = ck.integer("loading.steps", &raw.loading.steps, 10, 1, 100_000)?;
         let loading = Loading { target, steps };
         let discretisation = Discretisation {
             elements: ck.integer(
                 "discretisation.elements",
                 &raw.discretisation.elements,
                 48,
-                1,
-                100_000,
+                (1, 100_000),
+                "a number of elements per rod",
             )?,
             order: raw.discretisation.order.unwrap_or(Order::Quadratic),
         };
@@ -431,12 +610,24 @@ impl Case {
             "solver.max_iterations",
             &sv.max_iterations,
             d.newton.max_iterations,
-            1,
-            1000,
+            (1, 1000),
+            "a number of Newton iterations",
         )?;
         if solver.min_step > solver.max_step {
-            let span = sv.min_step.as_ref().map(|s| s.span()).unwrap_or(0..0);
-            return Err(ck.invalid("solver.min_step", span, "expected min_step ≤ max_step"));
+            // point at whichever of the two the file gives (both defaults are consistent)
+            let (key, span) = match (&sv.min_step, &sv.max_step) {
+                (Some(s), _) => ("solver.min_step", s.span()),
+                (None, Some(s)) => ("solver.max_step", s.span()),
+                (None, None) => ("solver.min_step", 0..0),
+            };
+            return Err(ck.invalid(
+                key,
+                span,
+                format!(
+                    "expected min_step ≤ max_step, found min_step = {} and max_step = {}",
+                    solver.min_step, solver.max_step
+                ),
+            ));
         }
         Ok(Case {
             name: raw.name.unwrap_or_else(|| stem.to_string()),
@@ -473,22 +664,70 @@ impl Case {
     }
 
     /// The output compression ratios: `steps` equal increments from 0 (exclusive) to `target`.
+    /// The fraction is formed first so that the last value is `target` exactly.
     pub fn output_eps(&self, target: f64, steps: usize) -> Vec<f64> {
         (1..=steps)
-            .map(|k| target * k as f64 / steps as f64)
+            .map(|k| target * (k as f64 / steps as f64))
             .collect()
     }
 
-    /// Validates a target compression ratio against the geometry (`0 < h < L`).
+    /// Validates a target compression ratio against the geometry (`0 < h < L`); the error
+    /// says which limit is crossed.
     pub fn check_target(&self, eps: f64) -> Result<(), String> {
-        let h0 = self.geometry.height0();
-        let lo = 1.0 - self.geometry.length / h0;
-        if eps.is_finite() && eps > lo && eps < 1.0 {
-            Ok(())
-        } else {
-            Err(format!(
-                "target compression ratio {eps} is outside ({lo:.4}, 1): the tip height h0 (1 − ε) must stay above the base and below the rod length"
-            ))
+        match target_problem(&self.geometry, eps) {
+            None => Ok(()),
+            Some(message) => Err(message),
         }
+    }
+}
+
+/// Why `eps` is not a reachable compression ratio for `geometry`, if it is not. The tip
+/// height `h = h0 (1 − ε)` must stay above the base (`h > 0`, `ε < 1`) and below the length
+/// of the rod pulled straight (`h < L`, `ε > 1 − L/h0`): both limits are singular states.
+fn target_problem(geometry: &Geometry, eps: f64) -> Option<String> {
+    let h0 = geometry.height0();
+    let length = geometry.length;
+    let lo = 1.0 - length / h0;
+    let range = format!(
+        "expected a compression ratio ε = (h0 − h)/h0 in ({}, 1)",
+        short(lo)
+    );
+    if !eps.is_finite() {
+        return Some(format!("{range}, found {eps}"));
+    }
+    let h = h0 * (1.0 - eps);
+    let at = format!("the tip would be at height h = h0 (1 − ε) = {} m", short(h));
+    let why = if eps >= 1.0 {
+        let place = if eps == 1.0 { "on" } else { "below" };
+        format!("{at}, {place} the base")
+    } else if eps <= lo {
+        let place = if eps == lo { "equal to" } else { "beyond" };
+        format!(
+            "{at}, {place} the rod length L = {} m (the rod pulled straight; h0 = {} m)",
+            short(length),
+            short(h0)
+        )
+    } else {
+        return None;
+    };
+    Some(format!("{range}, found {eps}: {why}"))
+}
+
+/// A number to 6 significant figures without trailing zeros, for messages.
+fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let decimals = (5 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
     }
 }

@@ -1,0 +1,596 @@
+//! Case files: the shipped cases parse to the thesis's values, and every kind of bad file in
+//! `tests/invalid_cases/` is rejected with its own error, pointing at the file, the line and
+//! the key, and saying what was expected.
+
+use spira::case::{Case, CaseError};
+use spira::discretisation::element::Order;
+use spira::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
+use spira::solver::continuation::ContinuationSettings;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+fn manifest_dir() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn fixture(name: &str) -> PathBuf {
+    manifest_dir()
+        .join("tests/invalid_cases")
+        .join(format!("{name}.toml"))
+}
+
+/// The error `Case::from_file` gives for a fixture, checked for what every case error must
+/// carry: one line of text that starts with `file:line:`.
+fn rejected(name: &str) -> CaseError {
+    let path = fixture(name);
+    let err = match Case::from_file(&path) {
+        Ok(case) => panic!("{name}.toml was accepted: {case:?}"),
+        Err(e) => e,
+    };
+    let text = err.to_string();
+    let line = err
+        .line()
+        .unwrap_or_else(|| panic!("{name}: no line in {err:?}"));
+    let file = path.display().to_string();
+    assert_eq!(err.file(), file);
+    assert!(
+        text.starts_with(&format!("{file}:{line}: ")),
+        "{name}: message does not start with file:line: {text}"
+    );
+    assert!(!text.contains('\n'), "{name}: not one line: {text}");
+    err
+}
+
+/// Asserts the line, key and message fragments of an error.
+fn check(err: &CaseError, line: usize, key: &str, fragments: &[&str]) {
+    assert_eq!(err.line(), Some(line), "line of {err}");
+    assert_eq!(err.key(), Some(key), "key of {err}");
+    let text = err.to_string();
+    assert!(
+        text.contains(&format!("key `{key}`")),
+        "key not named in: {text}"
+    );
+    for f in fragments {
+        assert!(text.contains(f), "`{f}` missing from: {text}");
+    }
+}
+
+fn is_unknown_key(e: &CaseError) -> bool {
+    matches!(e, CaseError::UnknownKey { .. })
+}
+fn is_wrong_type(e: &CaseError) -> bool {
+    matches!(e, CaseError::WrongType { .. })
+}
+fn is_invalid(e: &CaseError) -> bool {
+    matches!(e, CaseError::Invalid { .. })
+}
+
+// ---- the folder of broken files ----
+
+/// Every fixture, with the test below that checks its message. A new file in the folder
+/// must be added here (and get a test), so none goes unchecked.
+const FIXTURES: &[&str] = &[
+    "array-of-tables",
+    "bad-order",
+    "bad-translation",
+    "float-for-integer",
+    "infinite-target",
+    "min-step-above-max-step",
+    "nan-radius",
+    "negative-b1",
+    "negative-b3",
+    "negative-radius",
+    "odd-helices",
+    "string-for-bool",
+    "string-for-number",
+    "syntax-error",
+    "target-at-base",
+    "target-at-length",
+    "target-below-base",
+    "target-beyond-length",
+    "turns-and-length",
+    "unknown-key-in-inline-table",
+    "unknown-key-in-table",
+    "unknown-table",
+    "unknown-top-level-key",
+    "zero-elements",
+    "zero-helices",
+    "zero-pitch",
+    "zero-steps",
+];
+
+#[test]
+fn every_invalid_fixture_is_listed_and_rejected() {
+    let mut found: Vec<String> = std::fs::read_dir(manifest_dir().join("tests/invalid_cases"))
+        .expect("tests/invalid_cases exists")
+        .map(|e| e.expect("readable entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    let mut listed: Vec<String> = FIXTURES.iter().map(|s| s.to_string()).collect();
+    listed.sort();
+    assert_eq!(found, listed, "tests/invalid_cases and FIXTURES differ");
+    for name in FIXTURES {
+        rejected(name);
+    }
+}
+
+#[test]
+fn unknown_top_level_key() {
+    let e = rejected("unknown-top-level-key");
+    assert!(is_unknown_key(&e), "{e:?}");
+    check(
+        &e,
+        2,
+        "nmae",
+        &["unknown field `nmae`", "`name`", "`geometry`"],
+    );
+}
+
+#[test]
+fn unknown_key_in_a_table() {
+    let e = rejected("unknown-key-in-table");
+    assert!(is_unknown_key(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "geometry.radios",
+        &["unknown field `radios`", "expected one of", "`radius`"],
+    );
+}
+
+#[test]
+fn unknown_key_in_an_inline_table() {
+    let e = rejected("unknown-key-in-inline-table");
+    assert!(is_unknown_key(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "boundary.tip.rotaton",
+        &["unknown field `rotaton`", "`rotation`"],
+    );
+}
+
+#[test]
+fn unknown_table() {
+    let e = rejected("unknown-table");
+    assert!(is_unknown_key(&e), "{e:?}");
+    check(
+        &e,
+        5,
+        "material",
+        &["unknown table `[material]`", "`stiffness`"],
+    );
+}
+
+#[test]
+fn string_where_a_number_is_expected() {
+    let e = rejected("string-for-number");
+    assert!(is_wrong_type(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "geometry.radius",
+        &["invalid type", "string \"0.06\"", "expected a number"],
+    );
+}
+
+#[test]
+fn fraction_where_a_whole_number_is_expected() {
+    let e = rejected("float-for-integer");
+    assert!(is_wrong_type(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "geometry.helices",
+        &["invalid type", "2.5", "expected a whole number"],
+    );
+}
+
+#[test]
+fn string_where_true_or_false_is_expected() {
+    let e = rejected("string-for-bool");
+    assert!(is_wrong_type(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "boundary.joints",
+        &["\"yes\"", "expected true or false"],
+    );
+}
+
+#[test]
+fn array_of_tables_instead_of_a_table() {
+    let e = rejected("array-of-tables");
+    assert!(is_wrong_type(&e), "{e:?}");
+    check(
+        &e,
+        2,
+        "geometry",
+        &["expected a table `[geometry]`", "array of tables"],
+    );
+}
+
+#[test]
+fn toml_syntax_error() {
+    let e = rejected("syntax-error");
+    assert!(matches!(e, CaseError::Syntax { .. }), "{e:?}");
+    assert_eq!(e.line(), Some(2));
+    assert_eq!(e.key(), None);
+    let text = e.to_string();
+    assert!(text.contains("not valid TOML"), "{text}");
+    assert!(text.contains("expected `]`"), "{text}");
+}
+
+#[test]
+fn negative_radius() {
+    let e = rejected("negative-radius");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "geometry.radius",
+        &["positive radius", "found -0.06"],
+    );
+}
+
+#[test]
+fn not_a_number_radius() {
+    let e = rejected("nan-radius");
+    assert!(is_invalid(&e), "{e:?}");
+    check(&e, 3, "geometry.radius", &["positive radius", "found NaN"]);
+}
+
+#[test]
+fn zero_pitch() {
+    let e = rejected("zero-pitch");
+    assert!(is_invalid(&e), "{e:?}");
+    check(&e, 4, "geometry.pitch", &["positive pitch", "found 0"]);
+}
+
+#[test]
+fn negative_bending_stiffness() {
+    let e = rejected("negative-b1");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "stiffness.b1",
+        &["positive bending stiffness", "found -1"],
+    );
+}
+
+#[test]
+fn negative_torsional_stiffness() {
+    let e = rejected("negative-b3");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        5,
+        "stiffness.b3",
+        &["positive torsional stiffness", "found -2"],
+    );
+}
+
+#[test]
+fn odd_number_of_helices() {
+    let e = rejected("odd-helices");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "geometry.helices",
+        &["1 or an even number", "right- and left-handed", "found 3"],
+    );
+}
+
+#[test]
+fn zero_helices() {
+    let e = rejected("zero-helices");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "geometry.helices",
+        &["number of helices from 1", "found 0"],
+    );
+}
+
+#[test]
+fn zero_steps() {
+    let e = rejected("zero-steps");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "loading.steps",
+        &["number of output steps from 1", "found 0"],
+    );
+}
+
+#[test]
+fn zero_elements() {
+    let e = rejected("zero-elements");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "discretisation.elements",
+        &["number of elements per rod from 1", "found 0"],
+    );
+}
+
+#[test]
+fn unknown_element_order() {
+    let e = rejected("bad-order");
+    assert!(is_wrong_type(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "discretisation.order",
+        &["unknown variant `cubic`", "`linear`", "`quadratic`"],
+    );
+}
+
+#[test]
+fn unknown_translation_in_an_inline_table() {
+    let e = rejected("bad-translation");
+    assert!(is_wrong_type(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "boundary.base.translation",
+        &[
+            "unknown variant `sideways`",
+            "`fixed`",
+            "`slide`",
+            "`radial`",
+        ],
+    );
+}
+
+#[test]
+fn both_turns_and_length() {
+    let e = rejected("turns-and-length");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        5,
+        "geometry.length",
+        &["either `turns` or `length`, not both"],
+    );
+}
+
+#[test]
+fn min_step_above_max_step() {
+    let e = rejected("min-step-above-max-step");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "solver.min_step",
+        &["min_step ≤ max_step", "min_step = 0.05", "max_step = 0.01"],
+    );
+}
+
+#[test]
+fn target_with_the_tip_on_the_base() {
+    let e = rejected("target-at-base");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "loading.target",
+        &["compression ratio", "(-1.6, 1)", "found 1:", "on the base"],
+    );
+}
+
+#[test]
+fn target_with_the_tip_below_the_base() {
+    let e = rejected("target-below-base");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "loading.target",
+        &["compression ratio", "found 1.5", "below the base"],
+    );
+}
+
+#[test]
+fn target_with_the_rod_pulled_straight() {
+    // a = 0.75, b = 1: c = 1.25, h0 = b L / c = 4 for L = 5, so eps = 1 - L/h0 = -0.25 exactly
+    let e = rejected("target-at-length");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        9,
+        "loading.target",
+        &[
+            "compression ratio",
+            "(-0.25, 1)",
+            "found -0.25",
+            "equal to the rod length L = 5 m",
+        ],
+    );
+}
+
+#[test]
+fn target_beyond_the_rod_length() {
+    // thesis geometry: L/h0 = c/b = 2.6, so extension is bounded by eps > -1.6
+    let e = rejected("target-beyond-length");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "loading.target",
+        &[
+            "compression ratio",
+            "(-1.6, 1)",
+            "found -2",
+            "beyond the rod length",
+        ],
+    );
+}
+
+#[test]
+fn infinite_target() {
+    let e = rejected("infinite-target");
+    assert!(is_invalid(&e), "{e:?}");
+    check(&e, 3, "loading.target", &["compression ratio", "found inf"]);
+}
+
+#[test]
+fn missing_file_is_an_io_error_naming_it() {
+    let path = manifest_dir().join("tests/invalid_cases/no-such-case.toml");
+    let e = Case::from_file(&path).expect_err("a missing file is an error");
+    assert!(matches!(e, CaseError::Io { .. }), "{e:?}");
+    assert_eq!(e.line(), None);
+    let text = e.to_string();
+    assert!(text.contains("no-such-case.toml"), "{text}");
+    // said once, not repeated by a report that walks the error chain
+    assert!(std::error::Error::source(&e).is_none());
+}
+
+// ---- valid cases ----
+
+/// The thesis geometry (§4.1): a = 0.06 m, b = 0.025 m, c = 0.065 m, L = 7 π c.
+fn assert_thesis_geometry(case: &Case, name: &str) {
+    let g = &case.geometry;
+    assert_eq!(g.radius, 0.06, "{name}");
+    assert_eq!(g.pitch, 0.025, "{name}");
+    assert!((g.c() - 0.065).abs() < 1e-12, "{name}: c = {}", g.c());
+    let length = 7.0 * PI * 0.065;
+    assert!(
+        (g.length - length).abs() < 1e-12,
+        "{name}: L = {}, expected 7 pi c = {length}",
+        g.length
+    );
+    assert!((g.turns() - 3.5).abs() < 1e-12, "{name}");
+    // h0 = 7 pi b
+    assert!((g.height0() - 7.0 * PI * 0.025).abs() < 1e-12, "{name}");
+    let s = &case.stiffness;
+    assert_eq!((s.b1, s.b2, s.b3), (1.0, 1.0, 2.0), "{name}");
+}
+
+#[test]
+fn every_shipped_case_parses() {
+    let mut count = 0;
+    for entry in std::fs::read_dir(manifest_dir().join("cases")).expect("cases/ exists") {
+        let path = entry.expect("readable entry").path();
+        if path.extension().is_some_and(|x| x == "toml") {
+            Case::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+            count += 1;
+        }
+    }
+    assert!(count >= 4, "expected the four thesis cases, found {count}");
+}
+
+#[test]
+fn thesis_cases_have_the_thesis_values() {
+    for n in [1, 2, 4, 8] {
+        let name = format!("thesis-n{n}");
+        let case = Case::from_file(&manifest_dir().join(format!("cases/{name}.toml")))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(case.name, name);
+        assert_eq!(case.geometry.helices, n, "{name}");
+        assert_thesis_geometry(&case, &name);
+        let clamped = EndCondition {
+            translation: Translation::Fixed,
+            rotation: Rotation::Clamped,
+        };
+        assert_eq!(case.boundary.base, clamped, "{name}");
+        assert_eq!(case.boundary.tip, clamped, "{name}");
+        assert!(case.boundary.joints, "{name}");
+        assert_eq!(case.loading.target, 0.5, "{name}");
+        assert!(case.discretisation.elements >= 48, "{name}");
+        assert_eq!(case.discretisation.order, Order::Quadratic, "{name}");
+    }
+}
+
+#[test]
+fn minimal_case_takes_the_thesis_defaults() {
+    let case = Case::parse("[geometry]\nhelices = 2\n", "minimal.toml", "minimal")
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(case.name, "minimal");
+    assert_eq!(case.geometry.helices, 2);
+    assert_thesis_geometry(&case, "minimal");
+    assert_eq!(case.boundary, BoundaryConditions::default());
+    assert_eq!(case.boundary.base, EndCondition::CLAMPED);
+    assert!(case.boundary.joints);
+    assert_eq!(case.loading.target, 0.5);
+    assert_eq!(case.loading.steps, 10);
+    assert_eq!(case.discretisation.elements, 48);
+    assert_eq!(case.discretisation.order, Order::Quadratic);
+    assert_eq!(case.solver, ContinuationSettings::default());
+}
+
+#[test]
+fn empty_case_is_one_thesis_helix() {
+    let case = Case::parse("", "empty.toml", "empty").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(case.geometry.helices, 1);
+    assert_thesis_geometry(&case, "empty");
+}
+
+#[test]
+fn half_an_end_condition_keeps_the_other_half() {
+    let text = "[boundary]\ntip = { translation = \"slide\" }\nbase = { rotation = \"free\" }\n";
+    let case = Case::parse(text, "ends.toml", "ends").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        case.boundary.tip,
+        EndCondition {
+            translation: Translation::Slide,
+            rotation: Rotation::Clamped
+        }
+    );
+    assert_eq!(
+        case.boundary.base,
+        EndCondition {
+            translation: Translation::Fixed,
+            rotation: Rotation::Free
+        }
+    );
+}
+
+#[test]
+fn length_may_be_given_instead_of_turns() {
+    let text = "[geometry]\nhelices = 4\nlength = 1.5\n";
+    let case = Case::parse(text, "length.toml", "length").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(case.geometry.length, 1.5);
+    assert!((case.geometry.turns() - 1.5 / (2.0 * PI * 0.065)).abs() < 1e-12);
+}
+
+#[test]
+fn default_case_is_the_thesis_n8_case() {
+    let case = Case::default_case();
+    assert_eq!(case.geometry.helices, 8);
+    assert_eq!(case.name, "thesis-n8");
+    assert_thesis_geometry(&case, "default");
+    let file = Case::from_file(&manifest_dir().join("cases/thesis-n8.toml")).unwrap();
+    assert_eq!(case, file);
+}
+
+#[test]
+fn target_check_names_the_limit_crossed() {
+    let case = Case::default_case();
+    assert_eq!(case.check_target(0.5), Ok(()));
+    assert_eq!(case.check_target(-1.5), Ok(()));
+    let base = case.check_target(1.2).unwrap_err();
+    assert!(base.contains("below the base"), "{base}");
+    let length = case.check_target(-2.0).unwrap_err();
+    assert!(length.contains("beyond the rod length"), "{length}");
+    let nan = case.check_target(f64::NAN).unwrap_err();
+    assert!(nan.contains("found NaN"), "{nan}");
+}
+
+#[test]
+fn output_steps_are_equally_spaced_up_to_the_target() {
+    let case = Case::default_case();
+    let eps = case.output_eps(0.3, 3);
+    assert_eq!(eps.len(), 3);
+    for (k, e) in eps.iter().enumerate() {
+        assert!((e - 0.1 * (k + 1) as f64).abs() < 1e-15, "{eps:?}");
+    }
+    assert_eq!(*eps.last().unwrap(), 0.3);
+}

@@ -1,0 +1,475 @@
+//! The `spira run` command end to end: the real binary on small cases, its output files,
+//! its exit status and its messages.
+
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const LOAD_COLUMNS: &str = "step,eps,h,fx,fy,fz,energy,iterations,residual";
+const REACTION_COLUMNS: &str = "step,eps,rod,chirality,fx,fy,fz,mx,my,mz";
+const STATE_COLUMNS: &str = "rod,s,s_over_l,x,y,z,q1,q2,q3,q4,k1,k2,omega";
+const OUTPUTS: [&str; 3] = ["load.csv", "reactions.csv", "state.csv"];
+
+/// Thesis geometry: h0 = 7 π b, L = 7 π c.
+const H0: f64 = 7.0 * PI * 0.025;
+const LENGTH: f64 = 7.0 * PI * 0.065;
+
+/// Two thesis helices on a coarse mesh: quick to solve, still pin-jointed.
+const TINY_CASE: &str = "\
+name = \"tiny\"
+[geometry]
+helices = 2
+[loading]
+target = 0.1
+steps = 2
+[discretisation]
+elements = 6
+";
+
+/// A scratch folder under the system's temporary folder, removed when dropped.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(test: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("spira-cli-{}-{test}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("create scratch folder");
+        Scratch(dir)
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.path(name);
+        std::fs::write(&p, text).expect("write case");
+        p
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Runs `spira` with `args` inside `dir` (so that nothing lands in the source tree).
+fn spira(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spira"))
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("run the spira binary")
+}
+
+/// `spira run CASE --out OUT EXTRA...` inside `dir`.
+fn spira_run(dir: &Scratch, case: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    spira(&dir.0, &args)
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn assert_success(out: &Output) {
+    assert!(
+        out.status.success(),
+        "spira failed ({:?})\nstdout:\n{}\nstderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        stderr(out)
+    );
+}
+
+/// A failure whose report is one paragraph on stderr; returns it.
+fn assert_failure(out: &Output) -> String {
+    assert!(
+        !out.status.success(),
+        "spira succeeded where it should fail\nstdout:\n{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let err = stderr(out);
+    let text = err.trim();
+    assert!(
+        text.starts_with("spira: error: "),
+        "not an error report: {err}"
+    );
+    assert!(!text.contains("\n\n"), "more than one paragraph: {err}");
+    assert!(!text.contains("panicked"), "a panic, not a message: {err}");
+    err
+}
+
+fn assert_no_outputs(dir: &Path) {
+    for name in OUTPUTS {
+        assert!(
+            !dir.join(name).exists(),
+            "{name} written although the run was refused"
+        );
+    }
+}
+
+/// A CSV file: the `#` comment lines, the header, and the rows split into fields.
+struct Csv {
+    comments: Vec<String>,
+    header: String,
+    rows: Vec<Vec<String>>,
+}
+
+impl Csv {
+    fn read(path: &Path) -> Csv {
+        let text = std::fs::read_to_string(path)
+            .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+        let mut lines = text.lines();
+        let mut comments = Vec::new();
+        let header = loop {
+            let line = lines.next().expect("a header line after the comments");
+            match line.strip_prefix('#') {
+                Some(c) => comments.push(c.to_string()),
+                None => break line.to_string(),
+            }
+        };
+        let width = header.split(',').count();
+        let rows: Vec<Vec<String>> = lines
+            .map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>())
+            .collect();
+        for r in &rows {
+            assert_eq!(r.len(), width, "{}: ragged row {r:?}", path.display());
+        }
+        Csv {
+            comments,
+            header,
+            rows,
+        }
+    }
+    fn column(&self, name: &str) -> usize {
+        self.header
+            .split(',')
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("no column {name} in {}", self.header))
+    }
+    fn numbers(&self, name: &str) -> Vec<f64> {
+        let c = self.column(name);
+        self.rows
+            .iter()
+            .map(|r| {
+                r[c].parse::<f64>()
+                    .unwrap_or_else(|e| panic!("{name} = {:?}: {e}", r[c]))
+            })
+            .collect()
+    }
+    fn strings(&self, name: &str) -> Vec<String> {
+        let c = self.column(name);
+        self.rows.iter().map(|r| r[c].clone()).collect()
+    }
+}
+
+/// Checks `load.csv` in `dir` against a path of `steps` equal increments to `target`
+/// (steps 0..=steps), and returns it.
+fn check_load_path(dir: &Path, target: f64, steps: usize) -> Csv {
+    let load = Csv::read(&dir.join("load.csv"));
+    assert_eq!(load.header, LOAD_COLUMNS);
+    assert!(!load.comments.is_empty(), "load.csv has no # comment lines");
+    assert_eq!(load.rows.len(), steps + 1, "rows of load.csv");
+    let step = load.numbers("step");
+    let eps = load.numbers("eps");
+    let h = load.numbers("h");
+    for k in 0..=steps {
+        let expected = target * k as f64 / steps as f64;
+        assert_eq!(step[k], k as f64);
+        assert!(
+            (eps[k] - expected).abs() < 1e-12,
+            "eps at step {k}: {} (expected {expected})",
+            eps[k]
+        );
+        // displacement control: the tip is held at h = h0 (1 - eps)
+        assert!(
+            (h[k] - H0 * (1.0 - eps[k])).abs() < 1e-9,
+            "h at step {k}: {} (expected {})",
+            h[k],
+            H0 * (1.0 - eps[k])
+        );
+    }
+    for (k, r) in load.numbers("residual").iter().enumerate() {
+        assert!(r.is_finite() && *r < 1e-6, "residual at step {k}: {r}");
+    }
+    load
+}
+
+#[test]
+fn run_writes_the_three_files_with_their_columns() {
+    let dir = Scratch::new("files");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let outdir = dir.path("out");
+    assert_success(&spira_run(&dir, &case, &outdir, &[]));
+    for name in OUTPUTS {
+        assert!(outdir.join(name).is_file(), "{name} missing");
+        assert!(
+            !outdir.join(format!("{name}.partial")).exists(),
+            "{name}.partial left behind"
+        );
+    }
+
+    let load = check_load_path(&outdir, 0.1, 2);
+    // compression is resisted: the summed axial reaction is negative once compressed
+    assert!(load.numbers("fz")[2] < 0.0, "fz at eps = 0.1");
+    // stored energy grows along a compression path that starts from the natural state
+    let energy = load.numbers("energy");
+    assert!(energy[1] > energy[0] && energy[2] > energy[1], "{energy:?}");
+
+    let reactions = Csv::read(&outdir.join("reactions.csv"));
+    assert_eq!(reactions.header, REACTION_COLUMNS);
+    assert!(!reactions.comments.is_empty());
+    assert_eq!(reactions.rows.len(), 3 * 2, "one row per rod per step");
+    let mut chirality = reactions.strings("chirality");
+    chirality.sort();
+    chirality.dedup();
+    assert_eq!(
+        chirality,
+        ["left", "right"],
+        "n = 2 is one right, one left helix"
+    );
+    let mut rods = reactions.strings("rod");
+    rods.sort();
+    rods.dedup();
+    assert_eq!(rods.len(), 2);
+
+    let state = Csv::read(&outdir.join("state.csv"));
+    assert_eq!(state.header, STATE_COLUMNS);
+    assert!(
+        state.comments[0].contains("eps = 1.0000000000e-1"),
+        "state.csv is the state at the target: {:?}",
+        state.comments[0]
+    );
+    let mut rods = state.strings("rod");
+    rods.dedup();
+    assert_eq!(rods.len(), 2, "rods appear in blocks");
+    let (s_over_l, s, z) = (
+        state.numbers("s_over_l"),
+        state.numbers("s"),
+        state.numbers("z"),
+    );
+    let (q1, q2, q3, q4) = (
+        state.numbers("q1"),
+        state.numbers("q2"),
+        state.numbers("q3"),
+        state.numbers("q4"),
+    );
+    let tip_height = H0 * (1.0 - 0.1);
+    for i in 0..state.rows.len() {
+        assert!((s[i] / LENGTH - s_over_l[i]).abs() < 1e-9, "row {i}: s/L");
+        let norm = (q1[i] * q1[i] + q2[i] * q2[i] + q3[i] * q3[i] + q4[i] * q4[i]).sqrt();
+        assert!((norm - 1.0).abs() < 1e-6, "row {i}: |q| = {norm}");
+        if s_over_l[i] == 0.0 {
+            assert!(z[i].abs() < 1e-9, "row {i}: base at z = 0, found {}", z[i]);
+        }
+        if s_over_l[i] == 1.0 {
+            assert!(
+                (z[i] - tip_height).abs() < 1e-8,
+                "row {i}: tip at z = h, found {}",
+                z[i]
+            );
+        }
+    }
+    assert_eq!(s_over_l.iter().filter(|&&x| x == 0.0).count(), 2);
+    assert_eq!(s_over_l.iter().filter(|&&x| x == 1.0).count(), 2);
+}
+
+#[test]
+fn to_and_steps_override_the_case() {
+    let dir = Scratch::new("override");
+    let case = dir.write("tiny.toml", TINY_CASE);
+
+    let out1 = dir.path("compress");
+    let out = spira_run(&dir, &case, &out1, &["--to", "0.06", "--steps", "3"]);
+    assert_success(&out);
+    check_load_path(&out1, 0.06, 3);
+
+    // a negative target is extension, and must not be taken for an option
+    let out2 = dir.path("extend");
+    let out = spira_run(&dir, &case, &out2, &["--to", "-0.05", "--steps", "1"]);
+    assert_success(&out);
+    let load = check_load_path(&out2, -0.05, 1);
+    assert!(load.numbers("fz")[1] > 0.0, "extension pulls: fz > 0");
+}
+
+#[test]
+fn bad_case_file_is_refused_naming_file_line_and_key() {
+    // (fixture, line, key, what was expected)
+    let fixtures = [
+        (
+            "unknown-key-in-table",
+            4,
+            "geometry.radios",
+            "unknown field",
+        ),
+        ("negative-radius", 4, "geometry.radius", "positive radius"),
+        (
+            "string-for-number",
+            4,
+            "geometry.radius",
+            "expected a number",
+        ),
+        ("bad-translation", 4, "boundary.base.translation", "`slide`"),
+        ("odd-helices", 3, "geometry.helices", "even number"),
+        (
+            "target-beyond-length",
+            3,
+            "loading.target",
+            "beyond the rod length",
+        ),
+    ];
+    let dir = Scratch::new("bad-case");
+    let out_dir = dir.path("out");
+    for (name, line, key, expected) in fixtures {
+        let case = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/invalid_cases")
+            .join(format!("{name}.toml"));
+        let file = case.display().to_string();
+        let out = spira_run(&dir, &case, &out_dir, &[]);
+        let err = assert_failure(&out);
+        assert!(
+            err.contains(&format!("{file}:{line}: key `{key}`")),
+            "{name}: file, line and key not named: {err}"
+        );
+        assert!(
+            err.contains(expected),
+            "{name}: `{expected}` missing: {err}"
+        );
+        assert!(!out_dir.exists(), "{name}: output folder created");
+    }
+}
+
+#[test]
+fn toml_syntax_error_is_refused_with_its_line() {
+    let dir = Scratch::new("syntax");
+    let case = dir.write("broken.toml", "[geometry]\nhelices = 2\nradius = \n");
+    let out = spira_run(&dir, &case, &dir.path("out"), &[]);
+    let err = assert_failure(&out);
+    assert!(
+        err.contains(&format!("{}:3: not valid TOML", case.display())),
+        "{err}"
+    );
+    assert_no_outputs(&dir.path("out"));
+}
+
+#[test]
+fn target_outside_the_geometric_range_is_refused() {
+    let dir = Scratch::new("target");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let out_dir = dir.path("out");
+    for (to, why) in [
+        ("1.2", "below the base"),
+        ("1", "on the base"),
+        ("-2", "beyond the rod length"),
+        ("nan", "found NaN"),
+    ] {
+        let out = spira_run(&dir, &case, &out_dir, &["--to", to]);
+        let err = assert_failure(&out);
+        assert!(err.contains("--to"), "--to {to}: option not named: {err}");
+        assert!(err.contains("compression ratio"), "--to {to}: {err}");
+        assert!(err.contains(why), "--to {to}: `{why}` missing: {err}");
+        assert_no_outputs(&out_dir);
+    }
+}
+
+#[test]
+fn zero_steps_on_the_command_line_is_refused() {
+    let dir = Scratch::new("steps");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let out_dir = dir.path("out");
+    let out = spira_run(&dir, &case, &out_dir, &["--steps", "0"]);
+    let err = assert_failure(&out);
+    assert!(err.contains("--steps"), "{err}");
+    assert!(err.contains("at least 1"), "{err}");
+    assert_no_outputs(&out_dir);
+}
+
+#[test]
+fn missing_case_file_is_refused() {
+    let dir = Scratch::new("missing");
+    let case = dir.path("no-such-case.toml");
+    let out = spira_run(&dir, &case, &dir.path("out"), &[]);
+    let err = assert_failure(&out);
+    assert!(err.contains("cannot read case file"), "{err}");
+    assert!(err.contains(&case.display().to_string()), "{err}");
+    // the reason is given once
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+    assert_no_outputs(&dir.path("out"));
+}
+
+/// Extension almost to the straight rod (the limit is eps = 1 - L/h0 = -1.6) in three fixed
+/// steps of 0.5333 with no cut-back allowed (`min_step = max_step`) and at most 20 Newton
+/// iterations. The first steps converge in about half of that; the last jumps to within
+/// 1e-4 of the straight rod, where the axial stiffness runs away and the corrector from
+/// the tangent predictor cannot converge.
+const FAILING_CASE: &str = "\
+name = \"overstretched\"
+[geometry]
+helices = 2
+[loading]
+target = -1.5999
+steps = 3
+[discretisation]
+elements = 8
+[solver]
+max_iterations = 20
+initial_step = 0.5333
+min_step = 0.5333
+max_step = 0.5333
+";
+
+#[test]
+fn solver_failure_writes_what_was_reached_and_says_where_and_why() {
+    let dir = Scratch::new("solver-failure");
+    let case = dir.write("overstretched.toml", FAILING_CASE);
+    let out_dir = dir.path("out");
+    let out = spira_run(&dir, &case, &out_dir, &[]);
+    let err = assert_failure(&out);
+
+    // what was reached is written: step 0 and at least one converged step, not the target
+    let load = Csv::read(&out_dir.join("load.csv"));
+    assert_eq!(load.header, LOAD_COLUMNS);
+    let reached_steps = load.rows.len() - 1;
+    assert!(
+        (1..3).contains(&reached_steps),
+        "expected a failure after the first step, got {reached_steps} steps: {err}"
+    );
+    let eps = load.numbers("eps");
+    for (k, e) in eps.iter().enumerate() {
+        let expected = -1.5999 * k as f64 / 3.0;
+        assert!((e - expected).abs() < 1e-12, "eps at step {k}: {e}");
+    }
+    let reached = *eps.last().unwrap();
+    assert!(Csv::read(&out_dir.join("reactions.csv")).rows.len() == 2 * (reached_steps + 1));
+    let state = Csv::read(&out_dir.join("state.csv"));
+    assert!(
+        state.comments[0].contains(&format!("eps = {reached:.10e}")),
+        "state.csv is not the last converged state: {:?}",
+        state.comments[0]
+    );
+
+    // where: the eps reached, as in load.csv, and the target
+    let at = err
+        .find("stopped at eps = ")
+        .unwrap_or_else(|| panic!("where it stopped is not said: {err}"));
+    let said: f64 = err[at + "stopped at eps = ".len()..]
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no number after `stopped at eps = `: {err}"));
+    assert!(
+        (said - reached).abs() < 1e-6,
+        "message says eps = {said}, load.csv ends at {reached}"
+    );
+    assert!(err.contains("-1.5999"), "target not named: {err}");
+    // why: the corrector's failure
+    assert!(err.contains("Newton"), "no reason given: {err}");
+    assert!(err.contains("were written"), "{err}");
+}
