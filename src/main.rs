@@ -40,6 +40,9 @@ enum Command {
     Tui {
         /// Case file (TOML).
         case: Option<PathBuf>,
+        /// Folder for exported CSV files.
+        #[arg(long, default_value = ".")]
+        out: PathBuf,
     },
     /// Time the load path of a case (default: thesis n = 8 to eps = 0.5).
     Bench {
@@ -48,6 +51,9 @@ enum Command {
         /// Timed repetitions after one warm-up run.
         #[arg(long, default_value_t = 5)]
         repeats: usize,
+        /// Measure the explorer instead: key press to redrawn frame while a step solves.
+        #[arg(long)]
+        tui: bool,
     },
 }
 
@@ -62,14 +68,23 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         None => spira::tui::run(Case::default_case()),
-        Some(Command::Tui { case }) => load_case(case.as_deref()).and_then(spira::tui::run),
+        Some(Command::Tui { case, out }) => {
+            load_case(case.as_deref()).and_then(|c| spira::tui::run_in(c, out))
+        }
         Some(Command::Run {
             case,
             to,
             steps,
             out,
         }) => run(&case, to, steps, &out),
-        Some(Command::Bench { case, repeats }) => bench(case.as_deref(), repeats),
+        Some(Command::Bench {
+            case,
+            repeats,
+            tui: true,
+        }) => load_case(case.as_deref())
+            .and_then(|c| spira::tui::measure_responsiveness(c, repeats.max(1), 80, 24))
+            .map(|r| println!("{r}")),
+        Some(Command::Bench { case, repeats, .. }) => bench(case.as_deref(), repeats),
     };
     if let Err(e) = result {
         eprintln!("spira: error: {e:#}");

@@ -1,9 +1,338 @@
 //! The explorer: a ratatui terminal UI around the continuation solver (issue 4).
+//!
+//! [`app`] holds the state and its transitions (no terminal), [`worker`] runs the solver on
+//! its own thread, [`ui`] draws. This module owns the terminal: raw mode and the alternate
+//! screen are set up here and undone on exit, on error and on panic.
+
+pub mod app;
+pub mod stability;
+pub mod ui;
+pub mod worker;
 
 use crate::case::Case;
+use anyhow::Context as _;
+use app::{App, Effect};
+use crossterm::event::{self, Event, KeyCode, KeyEvent, KeyModifiers};
+use crossterm::{cursor, execute, terminal};
+use ratatui::backend::{Backend, CrosstermBackend, TestBackend};
+use ratatui::Terminal;
+use std::fmt;
+use std::io::{self, IsTerminal};
+use std::path::PathBuf;
+use std::sync::mpsc::TryRecvError;
+use std::sync::Once;
+use std::time::{Duration, Instant};
+use worker::{Worker, WorkerEvent};
 
-/// Opens the explorer on `case` and returns when the user quits.
+/// How long the event loop waits for input before looking at the solver again.
+const POLL: Duration = Duration::from_millis(40);
+
+/// Opens the explorer on `case`, exporting into the current directory, and returns when the
+/// user quits.
 pub fn run(case: Case) -> anyhow::Result<()> {
-    let _ = case;
-    anyhow::bail!("the explorer is not built yet")
+    run_in(case, PathBuf::from("."))
+}
+
+/// Opens the explorer on `case`, exporting into `out_dir`.
+pub fn run_in(case: Case, out_dir: PathBuf) -> anyhow::Result<()> {
+    if !io::stdout().is_terminal() || !io::stdin().is_terminal() {
+        anyhow::bail!(
+            "the explorer needs an interactive terminal; for a headless run use `spira run CASE`"
+        );
+    }
+    install_panic_hook();
+    let mut terminal = TerminalGuard::enter().context("setting up the terminal")?;
+    let worker = Worker::spawn().context("starting the solver thread")?;
+    let mut app = App::new(case, out_dir);
+    let result = event_loop(&mut terminal.terminal, &mut app, &worker);
+    drop(terminal);
+    // A solve in progress cannot be interrupted: let the thread go, the process ends it.
+    drop(worker);
+    result
+}
+
+/// Raw mode, alternate screen, hidden cursor while alive; restored when dropped.
+struct TerminalGuard {
+    terminal: Terminal<CrosstermBackend<io::Stdout>>,
+}
+
+impl TerminalGuard {
+    fn enter() -> io::Result<TerminalGuard> {
+        terminal::enable_raw_mode()?;
+        let setup = execute!(io::stdout(), terminal::EnterAlternateScreen, cursor::Hide)
+            .and_then(|()| Terminal::new(CrosstermBackend::new(io::stdout())));
+        match setup {
+            Ok(terminal) => Ok(TerminalGuard { terminal }),
+            Err(e) => {
+                restore_terminal();
+                Err(e)
+            }
+        }
+    }
+}
+
+impl Drop for TerminalGuard {
+    fn drop(&mut self) {
+        restore_terminal();
+    }
+}
+
+/// Undoes the terminal setup; safe to call more than once.
+fn restore_terminal() {
+    let _ = terminal::disable_raw_mode();
+    let _ = execute!(io::stdout(), terminal::LeaveAlternateScreen, cursor::Show);
+}
+
+/// Restores the terminal before the default report of a panic on the UI thread. A panic on
+/// the solver thread is caught there and shown on screen, so it leaves the terminal alone
+/// and prints nothing over the screen.
+fn install_panic_hook() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if std::thread::current().name() == Some(worker::THREAD_NAME) {
+                return;
+            }
+            restore_terminal();
+            previous(info);
+        }));
+    });
+}
+
+/// Sends `effects` out; returns false when the user quits.
+fn apply(effects: Vec<Effect>, app: &mut App, worker: &Worker) -> bool {
+    for effect in effects {
+        match effect {
+            Effect::Solve(request) => {
+                if !worker.send(request) {
+                    app.on_solver_lost();
+                }
+            }
+            Effect::Export => {
+                app.export();
+            }
+            Effect::Quit => return false,
+        }
+    }
+    true
+}
+
+/// Takes every answer the solver has ready; true if there was any.
+fn drain_worker(app: &mut App, worker: &Worker) -> bool {
+    let mut any = false;
+    loop {
+        match worker.events.try_recv() {
+            Ok(event) => {
+                any = true;
+                let effects = app.on_worker_event(event);
+                apply(effects, app, worker);
+            }
+            Err(TryRecvError::Empty) => return any,
+            Err(TryRecvError::Disconnected) => {
+                if !any {
+                    app.on_solver_lost();
+                }
+                return true;
+            }
+        }
+    }
+}
+
+fn event_loop<B: Backend>(
+    terminal: &mut Terminal<B>,
+    app: &mut App,
+    worker: &Worker,
+) -> anyhow::Result<()>
+where
+    B::Error: Send + Sync + 'static,
+{
+    let effects = app.start();
+    apply(effects, app, worker);
+    let mut dirty = true;
+    let mut lost = false;
+    loop {
+        if dirty {
+            terminal.draw(|f| ui::draw(f, app))?;
+            dirty = false;
+        }
+        if event::poll(POLL)? {
+            // take everything typed so far before drawing again
+            loop {
+                match event::read()? {
+                    Event::Key(key) => {
+                        dirty = true;
+                        let effects = app.handle_key(key);
+                        if !apply(effects, app, worker) {
+                            return Ok(());
+                        }
+                    }
+                    Event::Resize(..) => dirty = true,
+                    _ => {}
+                }
+                if !event::poll(Duration::ZERO)? {
+                    break;
+                }
+            }
+        }
+        if !lost {
+            if drain_worker(app, worker) {
+                dirty = true;
+            }
+            if worker.is_finished() {
+                drain_worker(app, worker);
+                app.on_solver_lost();
+                lost = true;
+                dirty = true;
+            }
+        }
+    }
+}
+
+/// Responsiveness of the explorer while the solver works, measured headless on a
+/// [`TestBackend`] with the real [`App`], [`Worker`] and drawing code.
+#[derive(Clone, Debug)]
+pub struct Responsiveness {
+    pub helices: usize,
+    pub width: u16,
+    pub height: u16,
+    /// Key press (rod selection) to the redrawn frame, each measured while a step was
+    /// being solved on the solver thread.
+    pub key_to_frame: Vec<Duration>,
+    /// Wall time of each measured step of `Δε` on the solver thread.
+    pub step_times: Vec<Duration>,
+    pub step: f64,
+}
+
+fn median(v: &[Duration]) -> Duration {
+    let mut v = v.to_vec();
+    v.sort();
+    v.get(v.len() / 2).copied().unwrap_or_default()
+}
+
+impl Responsiveness {
+    pub fn key_to_frame_median(&self) -> Duration {
+        median(&self.key_to_frame)
+    }
+    pub fn key_to_frame_max(&self) -> Duration {
+        self.key_to_frame.iter().max().copied().unwrap_or_default()
+    }
+    pub fn step_median(&self) -> Duration {
+        median(&self.step_times)
+    }
+}
+
+impl fmt::Display for Responsiveness {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        writeln!(
+            f,
+            "explorer, n = {}, {}x{} frame: key press -> redrawn frame while a step solves: median {:.2} ms, max {:.2} ms ({} presses)",
+            self.helices,
+            self.width,
+            self.height,
+            ms(self.key_to_frame_median()),
+            ms(self.key_to_frame_max()),
+            self.key_to_frame.len()
+        )?;
+        let all: Vec<String> = self
+            .step_times
+            .iter()
+            .map(|d| format!("{:.0}", ms(*d)))
+            .collect();
+        write!(
+            f,
+            "one step of Δε = {} on the solver thread: median {:.1} ms (steps: {} ms)",
+            app::fmt_step(self.step),
+            ms(self.step_median()),
+            all.join(", ")
+        )
+    }
+}
+
+/// Drives the explorer headless on `case`: solves the natural state, then takes `steps`
+/// steps of the default `Δε`; while each is being solved, presses "next rod" every few
+/// milliseconds and times key handling plus drawing a `width` x `height` frame.
+pub fn measure_responsiveness(
+    case: Case,
+    steps: usize,
+    width: u16,
+    height: u16,
+) -> anyhow::Result<Responsiveness> {
+    let helices = case.geometry.helices;
+    let worker = Worker::spawn()?;
+    let mut terminal = Terminal::new(TestBackend::new(width, height))?;
+    let mut app = App::new(case, std::env::temp_dir());
+    let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
+    let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
+    let mut result = Responsiveness {
+        helices,
+        width,
+        height,
+        key_to_frame: Vec::new(),
+        step_times: Vec::new(),
+        step: app.step,
+    };
+    let deadline = Instant::now() + Duration::from_secs(600);
+    let wait_idle = |app: &mut App| -> anyhow::Result<()> {
+        while app.busy() {
+            if Instant::now() > deadline {
+                anyhow::bail!("the solver did not answer within 10 minutes");
+            }
+            match worker.events.recv_timeout(Duration::from_millis(100)) {
+                Ok(e) => {
+                    for effect in app.on_worker_event(e) {
+                        if let Effect::Solve(r) = effect {
+                            worker.send(r);
+                        }
+                    }
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+                Err(_) => anyhow::bail!("the solver thread stopped"),
+            }
+        }
+        Ok(())
+    };
+    for effect in app.start() {
+        if let Effect::Solve(r) = effect {
+            worker.send(r);
+        }
+    }
+    wait_idle(&mut app)?;
+    for _ in 0..steps {
+        for effect in app.handle_key(right) {
+            if let Effect::Solve(r) = effect {
+                worker.send(r);
+            }
+        }
+        while app.busy() {
+            if Instant::now() > deadline {
+                anyhow::bail!("the solver did not answer within 10 minutes");
+            }
+            match worker.events.try_recv() {
+                Ok(e) => {
+                    if let WorkerEvent::Solved {
+                        done: true, state, ..
+                    } = &e
+                    {
+                        result.step_times.push(state.time);
+                    }
+                    app.on_worker_event(e);
+                    continue;
+                }
+                Err(TryRecvError::Disconnected) => anyhow::bail!("the solver thread stopped"),
+                Err(TryRecvError::Empty) => {}
+            }
+            let t = Instant::now();
+            app.handle_key(down);
+            terminal.draw(|f| ui::draw(f, &app))?;
+            result.key_to_frame.push(t.elapsed());
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        if let Some(crate::tui::app::Message::Error(e)) = &app.message {
+            anyhow::bail!("step failed: {e}");
+        }
+    }
+    worker.join();
+    Ok(result)
 }

@@ -1,0 +1,588 @@
+//! The explorer's state and its transitions: key presses and solver answers in, solver
+//! requests and other effects out. No terminal and no solver here, so every transition can
+//! be tested headless.
+
+use super::stability;
+use super::worker::{Job, Request, Solved, WorkerEvent};
+use crate::case::Case;
+use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
+use crate::output;
+use crate::results::{LoadPoint, Snapshot};
+use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use std::path::{Path, PathBuf};
+
+/// The numbers of helices `n`/`N` cycle through.
+pub const HELICES: [usize; 5] = [1, 2, 4, 8, 16];
+/// Largest and smallest user step in `ε`.
+pub const MAX_STEP: f64 = 0.5;
+pub const MIN_STEP: f64 = 1.0 / 1024.0;
+
+/// What a transition asks the outside world to do.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Effect {
+    /// Send this request to the solver thread.
+    Solve(Request),
+    /// Write the current state and load path to CSV ([`App::export`]).
+    Export,
+    /// Leave the explorer.
+    Quit,
+}
+
+/// A line for the user under the status line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Message {
+    Info(String),
+    Error(String),
+}
+
+/// The explorer's state.
+#[derive(Debug)]
+pub struct App {
+    /// The case as loaded (its `n` and conditions are what `r` returns to).
+    case: Case,
+    /// Number of helices of the current simulation.
+    pub helices: usize,
+    /// Boundary conditions asked for (those in force are in [`App::state`]).
+    pub boundary: BoundaryConditions,
+    /// User step in `ε` (> 0).
+    pub step: f64,
+    /// `ε` the solver was last asked to reach (the current `ε` when idle).
+    pub requested_eps: f64,
+    /// Continuous loading towards the case's target is on.
+    pub running: bool,
+    pub selected_rod: usize,
+    pub show_help: bool,
+    /// Converged points in the order they were reached (step numbers 0, 1, ...).
+    pub path: Vec<LoadPoint>,
+    /// The last converged state, if any.
+    pub state: Option<Solved>,
+    pub message: Option<Message>,
+    /// What the solver is doing now, if anything.
+    pub solving: Option<String>,
+    /// Mean κ1 (1/m) of the first state of this simulation (the natural state), the centre
+    /// of the colour scale.
+    pub natural_k1: Option<f64>,
+    /// Where exports go.
+    pub out_dir: PathBuf,
+    generation: u64,
+    next_seq: u64,
+    /// Sequence number of the last request sent, and of the last one answered.
+    last_sent: u64,
+    last_done: u64,
+    solver_lost: bool,
+}
+
+impl App {
+    /// A new explorer on `case`, exporting into `out_dir`. Call [`App::start`] for the
+    /// first solver request.
+    pub fn new(case: Case, out_dir: PathBuf) -> App {
+        let helices = case.geometry.helices;
+        let boundary = case.boundary;
+        let step = default_step(&case);
+        App {
+            case,
+            helices,
+            boundary,
+            step,
+            requested_eps: 0.0,
+            running: false,
+            selected_rod: 0,
+            show_help: false,
+            path: Vec::new(),
+            state: None,
+            message: None,
+            solving: None,
+            natural_k1: None,
+            out_dir,
+            generation: 0,
+            next_seq: 0,
+            last_sent: 0,
+            last_done: 0,
+            solver_lost: false,
+        }
+    }
+
+    /// The case as loaded.
+    pub fn case(&self) -> &Case {
+        &self.case
+    }
+
+    /// The case's name, with the number of helices when it was changed from the case's.
+    pub fn case_label(&self) -> String {
+        if self.helices == self.case.geometry.helices {
+            self.case.name.clone()
+        } else {
+            format!("{}-n{}", self.case.name, self.helices)
+        }
+    }
+
+    /// Target of continuous loading (the case's `loading.target`).
+    pub fn target(&self) -> f64 {
+        self.case.loading.target
+    }
+
+    /// True while a request is unanswered.
+    pub fn busy(&self) -> bool {
+        self.last_done < self.last_sent
+    }
+
+    /// Number of rods of the state on screen.
+    pub fn rods(&self) -> usize {
+        self.state
+            .as_ref()
+            .map_or(self.helices, |s| s.snapshot.rods.len())
+    }
+
+    /// Current compression ratio (of the state on screen).
+    pub fn eps(&self) -> Option<f64> {
+        self.state.as_ref().map(|s| s.point.eps)
+    }
+
+    /// Stability of the state on screen.
+    pub fn stability(&self) -> Option<bool> {
+        self.state
+            .as_ref()
+            .and_then(|s| stability::is_unstable(&s.point))
+    }
+
+    fn request(&mut self, job: Job) -> Effect {
+        if matches!(self.message, Some(Message::Error(_))) {
+            self.message = None;
+        }
+        self.next_seq += 1;
+        self.last_sent = self.next_seq;
+        Effect::Solve(Request {
+            generation: self.generation,
+            seq: self.next_seq,
+            job,
+        })
+    }
+
+    /// The first request: solve the case's natural state.
+    pub fn start(&mut self) -> Vec<Effect> {
+        self.restart()
+    }
+
+    /// A new simulation with the current `n` and conditions, from `ε = 0`.
+    fn restart(&mut self) -> Vec<Effect> {
+        self.generation += 1;
+        self.path.clear();
+        self.state = None;
+        self.natural_k1 = None;
+        self.running = false;
+        self.requested_eps = 0.0;
+        self.solving = None;
+        self.selected_rod = self.selected_rod.min(self.helices.saturating_sub(1));
+        let mut case = self.case.with_helices(self.helices);
+        case.boundary = self.boundary;
+        vec![self.request(Job::Start(Box::new(case)))]
+    }
+
+    /// Asks for `ε = eps` if the geometry admits it.
+    fn advance(&mut self, eps: f64) -> Vec<Effect> {
+        // round to 1e-12 so repeated steps land on the decimal values a user expects
+        let eps = (eps * 1e12).round() / 1e12;
+        if let Err(why) = self.case.check_target(eps) {
+            self.running = false;
+            self.message = Some(Message::Error(format!("ε = {eps:.5}: {why}")));
+            return vec![];
+        }
+        self.requested_eps = eps;
+        vec![self.request(Job::Advance(eps))]
+    }
+
+    /// Next request of continuous loading, if the target is not reached.
+    fn run_on(&mut self) -> Vec<Effect> {
+        let target = self.target();
+        let gap = target - self.requested_eps;
+        if gap.abs() < 1e-12 {
+            self.running = false;
+            self.message = Some(Message::Info(format!(
+                "reached the target ε = {target}; r starts over"
+            )));
+            return vec![];
+        }
+        let next = self.requested_eps + gap.signum() * self.step.min(gap.abs());
+        self.advance(next)
+    }
+
+    fn set_boundary(&mut self, bc: BoundaryConditions, what: String) -> Vec<Effect> {
+        self.boundary = bc;
+        self.message = Some(Message::Info(format!(
+            "{what}; the path continues from ε = {:.5} under the new conditions",
+            self.requested_eps
+        )));
+        vec![self.request(Job::SetBoundary(bc))]
+    }
+
+    /// Transition on a key press.
+    pub fn handle_key(&mut self, key: KeyEvent) -> Vec<Effect> {
+        if key.kind == KeyEventKind::Release {
+            return vec![];
+        }
+        let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
+        if ctrl && matches!(key.code, KeyCode::Char('c') | KeyCode::Char('C')) {
+            return vec![Effect::Quit];
+        }
+        if self.show_help {
+            // any key closes the help, q still quits
+            self.show_help = false;
+            return match key.code {
+                KeyCode::Char('q') => vec![Effect::Quit],
+                _ => vec![],
+            };
+        }
+        if self.solver_lost
+            && !matches!(
+                key.code,
+                KeyCode::Char('q') | KeyCode::Esc | KeyCode::Char('?') | KeyCode::Char('e')
+            )
+        {
+            self.message = Some(Message::Error(
+                "the solver thread has stopped; export with e or quit with q".into(),
+            ));
+            return vec![];
+        }
+        match key.code {
+            KeyCode::Char('q') | KeyCode::Esc => vec![Effect::Quit],
+            KeyCode::Char('?') => {
+                self.show_help = true;
+                vec![]
+            }
+            KeyCode::Right | KeyCode::Char('l') => {
+                self.running = false;
+                self.advance(self.requested_eps + self.step)
+            }
+            KeyCode::Left | KeyCode::Char('h') => {
+                self.running = false;
+                self.advance(self.requested_eps - self.step)
+            }
+            KeyCode::Char('+') | KeyCode::Char('=') => {
+                self.step = (self.step * 2.0).min(MAX_STEP);
+                self.message = Some(Message::Info(format!("step Δε = {}", fmt_step(self.step))));
+                vec![]
+            }
+            KeyCode::Char('-') | KeyCode::Char('_') => {
+                self.step = (self.step / 2.0).max(MIN_STEP);
+                self.message = Some(Message::Info(format!("step Δε = {}", fmt_step(self.step))));
+                vec![]
+            }
+            KeyCode::Up | KeyCode::Char('k') => {
+                let n = self.rods().max(1);
+                self.selected_rod = (self.selected_rod + n - 1) % n;
+                vec![]
+            }
+            KeyCode::Down | KeyCode::Char('j') => {
+                let n = self.rods().max(1);
+                self.selected_rod = (self.selected_rod + 1) % n;
+                vec![]
+            }
+            KeyCode::Char(' ') => {
+                if self.running {
+                    self.running = false;
+                    self.message = Some(Message::Info("paused".into()));
+                    return vec![];
+                }
+                self.running = true;
+                self.message = Some(Message::Info(format!(
+                    "loading to ε = {} in steps of {}",
+                    self.target(),
+                    fmt_step(self.step)
+                )));
+                if self.busy() {
+                    // the answer to the request in flight sends the next one
+                    vec![]
+                } else {
+                    self.run_on()
+                }
+            }
+            KeyCode::Char('b') => {
+                let mut bc = self.boundary;
+                bc.base.translation = next_translation(bc.base.translation);
+                let what = format!("base translation {}", translation_name(bc.base.translation));
+                self.set_boundary(bc, what)
+            }
+            KeyCode::Char('B') => {
+                let mut bc = self.boundary;
+                bc.base.rotation = other_rotation(bc.base.rotation);
+                let what = format!("base rotation {}", rotation_name(bc.base.rotation));
+                self.set_boundary(bc, what)
+            }
+            KeyCode::Char('t') => {
+                let mut bc = self.boundary;
+                bc.tip.translation = next_translation(bc.tip.translation);
+                let what = format!("tip translation {}", translation_name(bc.tip.translation));
+                self.set_boundary(bc, what)
+            }
+            KeyCode::Char('T') => {
+                let mut bc = self.boundary;
+                bc.tip.rotation = other_rotation(bc.tip.rotation);
+                let what = format!("tip rotation {}", rotation_name(bc.tip.rotation));
+                self.set_boundary(bc, what)
+            }
+            KeyCode::Char('p') => {
+                let mut bc = self.boundary;
+                bc.joints = !bc.joints;
+                let what = format!("pin joints {}", if bc.joints { "on" } else { "off" });
+                self.set_boundary(bc, what)
+            }
+            KeyCode::Char('n') | KeyCode::Char('N') => {
+                let up = key.code == KeyCode::Char('n');
+                self.helices = cycle_helices(self.helices, up);
+                self.message = Some(Message::Info(format!(
+                    "n = {}: starting over from ε = 0",
+                    self.helices
+                )));
+                self.restart()
+            }
+            KeyCode::Char('r') => {
+                self.boundary = self.case.boundary;
+                self.step = default_step(&self.case);
+                self.message = Some(Message::Info(
+                    "reset: ε = 0 under the case's boundary conditions".into(),
+                ));
+                self.restart()
+            }
+            KeyCode::Char('e') => vec![Effect::Export],
+            _ => vec![],
+        }
+    }
+
+    /// Transition on an answer from the solver thread.
+    pub fn on_worker_event(&mut self, event: WorkerEvent) -> Vec<Effect> {
+        if event.generation() != self.generation {
+            return vec![];
+        }
+        match event {
+            WorkerEvent::Started { seq, job, .. } => {
+                if seq > self.last_done {
+                    self.solving = Some(job);
+                }
+                vec![]
+            }
+            WorkerEvent::Solved {
+                seq, done, state, ..
+            } => {
+                self.path.push(state.point.clone());
+                if self.natural_k1.is_none() {
+                    self.natural_k1 = mean_k1(&state.snapshot);
+                }
+                self.boundary_settled(state.boundary, seq);
+                self.selected_rod = self
+                    .selected_rod
+                    .min(state.snapshot.rods.len().saturating_sub(1));
+                self.state = Some(*state);
+                if done {
+                    self.finish(seq)
+                } else {
+                    vec![]
+                }
+            }
+            WorkerEvent::Unchanged { seq, .. } => self.finish(seq),
+            WorkerEvent::Failed {
+                seq,
+                reason,
+                boundary,
+                ..
+            } => {
+                self.running = false;
+                self.message = Some(Message::Error(reason));
+                if let Some(bc) = boundary {
+                    self.boundary_settled(bc, seq);
+                }
+                self.last_done = self.last_done.max(seq);
+                if !self.busy() {
+                    self.solving = None;
+                    // pending steps start again from the state on screen
+                    if let Some(eps) = self.eps() {
+                        self.requested_eps = eps;
+                    }
+                }
+                vec![]
+            }
+        }
+    }
+
+    /// After the answer to request `seq`: the conditions in force are `bc`; if nothing newer
+    /// was asked for, what is asked for is what is in force.
+    fn boundary_settled(&mut self, bc: BoundaryConditions, seq: u64) {
+        if seq >= self.last_sent {
+            self.boundary = bc;
+        }
+    }
+
+    fn finish(&mut self, seq: u64) -> Vec<Effect> {
+        self.last_done = self.last_done.max(seq);
+        if self.busy() {
+            return vec![];
+        }
+        self.solving = None;
+        if self.running {
+            self.run_on()
+        } else {
+            vec![]
+        }
+    }
+
+    /// The solver thread is gone (it never stops by itself while the app holds its channel).
+    pub fn on_solver_lost(&mut self) {
+        self.solver_lost = true;
+        self.running = false;
+        self.solving = None;
+        self.last_done = self.last_sent;
+        self.message = Some(Message::Error(
+            "the solver thread has stopped; export with e or quit with q".into(),
+        ));
+    }
+
+    /// File names of an export of the current state.
+    pub fn export_names(&self) -> Option<[String; 3]> {
+        let step = self.state.as_ref()?.point.step;
+        let stem = sanitise(&self.case_label());
+        Some([
+            format!("{stem}-step{step}-state.csv"),
+            format!("{stem}-step{step}-load.csv"),
+            format!("{stem}-step{step}-reactions.csv"),
+        ])
+    }
+
+    /// Writes the current state and the load path so far into [`App::out_dir`], in the
+    /// formats of `spira run`, and says so in the message line.
+    pub fn export(&mut self) -> Vec<PathBuf> {
+        match self.write_export(&self.out_dir.clone()) {
+            Ok(files) => {
+                let names: Vec<String> = files
+                    .iter()
+                    .filter_map(|f| f.file_name())
+                    .map(|f| f.to_string_lossy().into_owned())
+                    .collect();
+                let place = if self.out_dir == Path::new(".") {
+                    String::new()
+                } else {
+                    format!(" in {}", self.out_dir.display())
+                };
+                self.message = Some(Message::Info(format!("wrote {}{place}", names.join(", "))));
+                files
+            }
+            Err(e) => {
+                self.message = Some(Message::Error(format!("export failed: {e}")));
+                vec![]
+            }
+        }
+    }
+
+    fn write_export(&self, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+        let (Some(state), Some(names)) = (self.state.as_ref(), self.export_names()) else {
+            return Err(std::io::Error::other("no converged state yet"));
+        };
+        std::fs::create_dir_all(dir)?;
+        let label = self.case_label();
+        let texts = [
+            output::state_csv(&label, &state.snapshot),
+            output::load_csv(&label, &self.path),
+            output::reactions_csv(&label, &self.path),
+        ];
+        let mut files = Vec::new();
+        for (name, text) in names.iter().zip(texts) {
+            let path = dir.join(name);
+            output::write_atomic(&path, &text)?;
+            files.push(path);
+        }
+        Ok(files)
+    }
+}
+
+fn mean_k1(snapshot: &Snapshot) -> Option<f64> {
+    let k1: Vec<f64> = snapshot
+        .rods
+        .iter()
+        .flat_map(|r| r.nodes.iter().map(|n| n.curvature[0]))
+        .filter(|k| k.is_finite())
+        .collect();
+    (!k1.is_empty()).then(|| k1.iter().sum::<f64>() / k1.len() as f64)
+}
+
+/// The case's output spacing: `target / steps`.
+fn default_step(case: &Case) -> f64 {
+    let s = (case.loading.target / case.loading.steps as f64).abs();
+    if s.is_finite() && s > 0.0 {
+        s.clamp(MIN_STEP, MAX_STEP)
+    } else {
+        0.05
+    }
+}
+
+/// A step in `ε` with the digits it needs.
+pub fn fmt_step(step: f64) -> String {
+    let s = format!("{step:.6}");
+    let s = s.trim_end_matches('0');
+    s.trim_end_matches('.').to_string()
+}
+
+fn cycle_helices(n: usize, up: bool) -> usize {
+    if up {
+        HELICES
+            .iter()
+            .copied()
+            .find(|&m| m > n)
+            .unwrap_or(HELICES[0])
+    } else {
+        HELICES
+            .iter()
+            .rev()
+            .copied()
+            .find(|&m| m < n)
+            .unwrap_or(HELICES[HELICES.len() - 1])
+    }
+}
+
+fn next_translation(t: Translation) -> Translation {
+    match t {
+        Translation::Fixed => Translation::Slide,
+        Translation::Slide => Translation::Radial,
+        Translation::Radial => Translation::Fixed,
+    }
+}
+
+fn other_rotation(r: Rotation) -> Rotation {
+    match r {
+        Rotation::Clamped => Rotation::Free,
+        Rotation::Free => Rotation::Pinned,
+        Rotation::Pinned => Rotation::Clamped,
+    }
+}
+
+fn translation_name(t: Translation) -> &'static str {
+    match t {
+        Translation::Fixed => "fixed",
+        Translation::Slide => "slide",
+        Translation::Radial => "radial",
+    }
+}
+
+fn rotation_name(r: Rotation) -> &'static str {
+    match r {
+        Rotation::Clamped => "clamped",
+        Rotation::Free => "free",
+        Rotation::Pinned => "pinned",
+    }
+}
+
+/// A file-name-safe version of a case name.
+fn sanitise(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        "case".into()
+    } else {
+        s
+    }
+}

@@ -1,0 +1,801 @@
+//! Drawing the explorer: one function per panel, each taking the [`App`] read-only. Only the
+//! 16 ANSI colours are used, so the screen reads the same on any terminal and over SSH.
+
+use super::app::{fmt_step, App, Message};
+use super::stability;
+use crate::results::{LoadPoint, NodeState, RodShape, Snapshot};
+use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::canvas::{Canvas, Context, Line as Segment, Points};
+use ratatui::widgets::{Axis, Block, Borders, Chart, Clear, Dataset, GraphType, Paragraph, Wrap};
+use ratatui::Frame;
+
+/// Smallest usable terminal.
+pub const MIN_WIDTH: u16 = 80;
+pub const MIN_HEIGHT: u16 = 24;
+
+/// κ1 colour scale, most negative to most positive (bins of equal width over the state's
+/// range).
+pub const K1_PALETTE: [Color; 5] = [
+    Color::Blue,
+    Color::Cyan,
+    Color::Green,
+    Color::Yellow,
+    Color::Red,
+];
+const SELECTED: Color = Color::White;
+const JOINT: Color = Color::LightMagenta;
+const K1_LINE: Color = Color::LightYellow;
+const K2_LINE: Color = Color::LightCyan;
+const OMEGA_LINE: Color = Color::LightMagenta;
+const FX_LINE: Color = Color::LightRed;
+const FY_LINE: Color = Color::LightGreen;
+const FZ_LINE: Color = Color::LightBlue;
+const DIM: Color = Color::DarkGray;
+
+/// Draws the whole screen (or the too-small message).
+pub fn draw(frame: &mut Frame, app: &App) {
+    let area = frame.area();
+    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        draw_too_small(frame, area);
+        return;
+    }
+    let [main, status] = Layout::vertical([
+        Constraint::Min(0),
+        Constraint::Length(3 + message_lines(app, area.width)),
+    ])
+    .areas(area);
+    let [views, plots] =
+        Layout::vertical([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(main);
+    // the X-Y view square on screen: braille dots are about square, 2 x 4 per cell
+    let xy_width = (views.height.saturating_sub(2) * 2 + 2).min(views.width / 3);
+    let [xy, side] =
+        Layout::horizontal([Constraint::Length(xy_width), Constraint::Min(0)]).areas(views);
+    let [zy, zx] = Layout::vertical([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(side);
+    let [curvature, load] =
+        Layout::horizontal([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(plots);
+    let scale = app
+        .state
+        .as_ref()
+        .map(|s| K1Scale::of(&s.snapshot, app.natural_k1));
+    draw_view(frame, xy, app, View::XY, scale);
+    draw_view(frame, zy, app, View::ZY, scale);
+    draw_view(frame, zx, app, View::ZX, scale);
+    draw_curvature(frame, curvature, app);
+    draw_load_path(frame, load, app);
+    draw_status(frame, status, app);
+    if app.show_help {
+        draw_help(frame, area, app);
+    }
+}
+
+/// The message for a terminal below [`MIN_WIDTH`] x [`MIN_HEIGHT`].
+pub fn draw_too_small(frame: &mut Frame, area: Rect) {
+    let text = vec![
+        Line::from(Span::styled(
+            "terminal too small",
+            Style::new().add_modifier(Modifier::BOLD),
+        )),
+        Line::from(format!(
+            "spira needs {MIN_WIDTH}x{MIN_HEIGHT}, this one is {}x{}.",
+            area.width, area.height
+        )),
+        Line::from("Enlarge the window, or press q to quit."),
+    ];
+    let top = area.height.saturating_sub(text.len() as u16) / 2;
+    let rect = Rect {
+        y: area.y + top,
+        height: area.height - top,
+        ..area
+    };
+    frame.render_widget(
+        Paragraph::new(text)
+            .alignment(Alignment::Center)
+            .wrap(Wrap { trim: true }),
+        rect,
+    );
+}
+
+/// The three projections, named by (horizontal axis)-(vertical axis).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    XY,
+    ZY,
+    ZX,
+}
+
+impl View {
+    fn title(self) -> &'static str {
+        match self {
+            View::XY => "X-Y",
+            View::ZY => "Z-Y",
+            View::ZX => "Z-X",
+        }
+    }
+    /// Global coordinate indices drawn horizontally and vertically.
+    fn axes(self) -> (usize, usize) {
+        match self {
+            View::XY => (0, 1),
+            View::ZY => (2, 1),
+            View::ZX => (2, 0),
+        }
+    }
+    fn project(self, p: [f64; 3]) -> (f64, f64) {
+        let (h, v) = self.axes();
+        (p[h], p[v])
+    }
+}
+
+/// Equal-width bins of κ1 over a state's range, one colour each.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct K1Scale {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl K1Scale {
+    /// The range of κ1 over `snapshot`, widened to at least ±25 % around `natural` (κ1 of
+    /// the natural state, when known), so that the natural state is one colour and the
+    /// colours keep their meaning as the assembly deforms.
+    pub fn of(snapshot: &Snapshot, natural: Option<f64>) -> K1Scale {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for node in snapshot.rods.iter().flat_map(|r| &r.nodes) {
+            let k1 = node.curvature[0];
+            if k1.is_finite() {
+                lo = lo.min(k1);
+                hi = hi.max(k1);
+            }
+        }
+        if let Some(k) = natural.filter(|k| k.is_finite()) {
+            let half = 0.25 * k.abs();
+            lo = lo.min(k - half);
+            hi = hi.max(k + half);
+        }
+        if lo > hi {
+            (lo, hi) = (0.0, 0.0);
+        }
+        K1Scale { lo, hi }
+    }
+
+    /// True when the range is too narrow to split (e.g. the natural state).
+    pub fn is_flat(&self) -> bool {
+        self.hi - self.lo <= 1e-6 * self.hi.abs().max(self.lo.abs()).max(1.0)
+    }
+
+    pub fn color(&self, k1: f64) -> Color {
+        let n = K1_PALETTE.len();
+        if self.is_flat() || !k1.is_finite() {
+            return K1_PALETTE[n / 2];
+        }
+        let t = ((k1 - self.lo) / (self.hi - self.lo) * n as f64).floor();
+        K1_PALETTE[(t.max(0.0) as usize).min(n - 1)]
+    }
+
+    /// The legend: `κ1 (1/m) lo █████ hi`.
+    pub fn legend(&self) -> Line<'static> {
+        let mut spans = vec![Span::raw(format!(" κ1 (1/m) {} ", fmt_num(self.lo)))];
+        if self.is_flat() {
+            spans.push(Span::styled("█", Style::new().fg(self.color(self.lo))));
+            spans.push(Span::raw(" "));
+        } else {
+            for c in K1_PALETTE {
+                spans.push(Span::styled("█", Style::new().fg(c)));
+            }
+            spans.push(Span::raw(format!(" {} ", fmt_num(self.hi))));
+        }
+        Line::from(spans)
+    }
+}
+
+/// A number in a few characters: 3 significant digits.
+pub fn fmt_num(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v.is_finite() {
+            "0".into()
+        } else {
+            format!("{v}")
+        };
+    }
+    let a = v.abs();
+    if !(1e-3..1e4).contains(&a) {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2 - a.log10().floor() as i32).clamp(0, 5) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        if s == "-0" {
+            "0".into()
+        } else {
+            s.to_string()
+        }
+    } else {
+        s
+    }
+}
+
+/// Position on a rod at arc length `s`, linear between its nodes.
+fn position_at(nodes: &[NodeState], s: f64) -> Option<[f64; 3]> {
+    let first = nodes.first()?;
+    let k = nodes.partition_point(|n| n.s < s);
+    if k == 0 {
+        return Some(first.position);
+    }
+    let b = nodes.get(k).unwrap_or(&nodes[nodes.len() - 1]);
+    let a = &nodes[k - 1];
+    let t = if b.s > a.s {
+        ((s - a.s) / (b.s - a.s)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    Some(std::array::from_fn(|i| {
+        a.position[i] + t * (b.position[i] - a.position[i])
+    }))
+}
+
+/// Bounds `[lo, hi]` of `range` grown so that both axes have the same length per braille
+/// dot in an area of `width` x `height` cells, centred on the data.
+pub fn fit_aspect(width: u16, height: u16, x: [f64; 2], y: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+    let (w, h) = (2.0 * width.max(1) as f64, 4.0 * height.max(1) as f64);
+    let (dx, dy) = ((x[1] - x[0]).max(1e-9), (y[1] - y[0]).max(1e-9));
+    let per_dot = (dx / w).max(dy / h);
+    let (cx, cy) = (0.5 * (x[0] + x[1]), 0.5 * (y[0] + y[1]));
+    let (hx, hy) = (0.5 * per_dot * w, 0.5 * per_dot * h);
+    ([cx - hx, cx + hx], [cy - hy, cy + hy])
+}
+
+/// Extent of the data in a view: the natural assembly (so compression shows) and the state.
+fn view_extent(app: &App, snapshot: &Snapshot, view: View) -> ([f64; 2], [f64; 2]) {
+    let g = &app.case().geometry;
+    let natural_lo = [-g.radius, -g.radius, 0.0];
+    let natural_hi = [g.radius, g.radius, g.height0()];
+    let (h, v) = view.axes();
+    let mut x = [natural_lo[h], natural_hi[h]];
+    let mut y = [natural_lo[v], natural_hi[v]];
+    for n in snapshot.rods.iter().flat_map(|r| &r.nodes) {
+        let (px, py) = view.project(n.position);
+        if px.is_finite() && py.is_finite() {
+            x = [x[0].min(px), x[1].max(px)];
+            y = [y[0].min(py), y[1].max(py)];
+        }
+    }
+    let pad = 0.04 * (x[1] - x[0]).max(y[1] - y[0]);
+    ([x[0] - pad, x[1] + pad], [y[0] - pad, y[1] + pad])
+}
+
+fn placeholder(frame: &mut Frame, area: Rect, block: Block, app: &App) {
+    let inner = block.inner(area);
+    let text = match (app.solving.is_some(), inner.width >= 26) {
+        (true, true) => "solving the natural state…",
+        (true, false) => "solving…",
+        (false, true) => "no converged state",
+        (false, false) => "no state",
+    };
+    frame.render_widget(block, area);
+    let y = inner.y + inner.height / 2;
+    if inner.height > 0 {
+        frame.render_widget(
+            Paragraph::new(text)
+                .style(Style::new().fg(DIM))
+                .alignment(Alignment::Center),
+            Rect {
+                y,
+                height: 1,
+                ..inner
+            },
+        );
+    }
+}
+
+fn draw_rod(ctx: &mut Context, rod: &RodShape, view: View, color: impl Fn(f64) -> Color) {
+    for w in rod.nodes.windows(2) {
+        let (x1, y1) = view.project(w[0].position);
+        let (x2, y2) = view.project(w[1].position);
+        let k1 = 0.5 * (w[0].curvature[0] + w[1].curvature[0]);
+        ctx.draw(&Segment {
+            x1,
+            y1,
+            x2,
+            y2,
+            color: color(k1),
+        });
+    }
+}
+
+/// One projection of the assembly: rods coloured by κ1, the selected rod in white on top,
+/// joints in magenta.
+fn draw_view(frame: &mut Frame, area: Rect, app: &App, view: View, scale: Option<K1Scale>) {
+    let mut block = Block::new().borders(Borders::ALL).title(Span::styled(
+        format!(" {} ", view.title()),
+        Style::new().add_modifier(Modifier::BOLD),
+    ));
+    let (Some(state), Some(scale)) = (app.state.as_ref(), scale) else {
+        return placeholder(frame, area, block, app);
+    };
+    let snapshot = &state.snapshot;
+    let highlight = snapshot.rods.len() > 1;
+    match view {
+        View::ZY if highlight => {
+            let sel = snapshot.rods.get(app.selected_rod);
+            let chir = sel.map_or("", |r| r.chirality.name());
+            block = block.title_bottom(Line::from(vec![
+                Span::raw(" "),
+                Span::styled("━", Style::new().fg(SELECTED)),
+                Span::raw(format!(" rod {} ({chir}) ", app.selected_rod + 1)),
+                Span::styled("•", Style::new().fg(JOINT)),
+                Span::raw(" joints "),
+            ]));
+        }
+        View::ZY if snapshot.rods.iter().any(|r| !r.joints.is_empty()) => {
+            block = block.title_bottom(Line::from(vec![
+                Span::styled(" •", Style::new().fg(JOINT)),
+                Span::raw(" joints "),
+            ]));
+        }
+        View::ZX => block = block.title_bottom(scale.legend()),
+        _ => {}
+    }
+    let inner = block.inner(area);
+    let (x, y) = view_extent(app, snapshot, view);
+    let (x_bounds, y_bounds) = fit_aspect(inner.width, inner.height, x, y);
+    let joints: Vec<(f64, f64)> = snapshot
+        .rods
+        .iter()
+        .flat_map(|r| {
+            r.joints
+                .iter()
+                .filter_map(|&s| position_at(&r.nodes, s))
+                .map(move |p| view.project(p))
+        })
+        .collect();
+    let selected = app.selected_rod;
+    let canvas = Canvas::default()
+        .block(block)
+        .marker(Marker::Braille)
+        .x_bounds(x_bounds)
+        .y_bounds(y_bounds)
+        .paint(|ctx| {
+            for (i, rod) in snapshot.rods.iter().enumerate() {
+                if !highlight || i != selected {
+                    draw_rod(ctx, rod, view, |k1| scale.color(k1));
+                }
+            }
+            if let Some(rod) = snapshot.rods.get(selected).filter(|_| highlight) {
+                draw_rod(ctx, rod, view, |_| SELECTED);
+            }
+            ctx.draw(&Points {
+                coords: &joints,
+                color: JOINT,
+            });
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// `[lo, hi]` of finite values with 5 % head room, at least `min_span` wide.
+fn padded_range(values: impl Iterator<Item = f64>, min_span: f64) -> [f64; 2] {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if lo > hi {
+        return [-1.0, 1.0];
+    }
+    let pad = 0.05 * (hi - lo);
+    let (lo, hi) = (lo - pad, hi + pad);
+    let grow = 0.5 * (min_span - (hi - lo)).max(0.0);
+    [lo - grow, hi + grow]
+}
+
+/// `b` widened to round numbers such that its middle is round too: `lo`, `mid`, `hi`
+/// multiples of a 1-2-5 step.
+fn nice_bounds(b: [f64; 2]) -> [f64; 2] {
+    let span = b[1] - b[0];
+    if !(span.is_finite() && span > 0.0) {
+        return b;
+    }
+    let raw = span / 6.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * mag)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * mag);
+    let lo = (b[0] / step).floor();
+    let mut hi = (b[1] / step).ceil();
+    if (hi - lo) as i64 % 2 == 1 {
+        hi += 1.0;
+    }
+    [lo * step, hi * step]
+}
+
+/// Labels at both ends and the middle (a chart spaces its labels evenly).
+fn axis_labels(b: [f64; 2]) -> Vec<Line<'static>> {
+    [b[0], 0.5 * (b[0] + b[1]), b[1]]
+        .into_iter()
+        .map(|v| Line::from(fmt_num(v)))
+        .collect()
+}
+
+fn key_span(mark: &'static str, name: &'static str, color: Color) -> [Span<'static>; 2] {
+    [
+        Span::styled(mark, Style::new().fg(color)),
+        Span::raw(format!("{name} ")),
+    ]
+}
+
+/// κ1, κ2, Ω of the selected rod against s/L, joints marked by ticks along the bottom.
+fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
+    let rod = app
+        .state
+        .as_ref()
+        .and_then(|s| s.snapshot.rods.get(app.selected_rod));
+    let mut title = vec![Span::styled(
+        match rod {
+            Some(r) => format!(" rod {} ({}) ", r.rod + 1, r.chirality.name()),
+            None => " curvature ".to_string(),
+        },
+        Style::new().add_modifier(Modifier::BOLD),
+    )];
+    title.extend(key_span("━", "κ1", K1_LINE));
+    title.extend(key_span("━", "κ2", K2_LINE));
+    title.extend(key_span("━", "Ω", OMEGA_LINE));
+    if rod.is_some_and(|r| !r.joints.is_empty()) {
+        title.extend(key_span("╷", "joints", JOINT));
+    }
+    let block = Block::new()
+        .borders(Borders::ALL)
+        .title(Line::from(title))
+        .title_bottom(Line::from(" (1/m) ").alignment(Alignment::Left));
+    let Some(rod) = rod else {
+        return placeholder(frame, area, block, app);
+    };
+    let series: Vec<Vec<(f64, f64)>> = (0..3)
+        .map(|c| {
+            rod.nodes
+                .iter()
+                .map(|n| (n.s_over_l, n.curvature[c]))
+                .collect()
+        })
+        .collect();
+    let y = padded_range(series.iter().flatten().map(|p| p.1), 1.0);
+    // a band below the curves for the joint ticks
+    let tick = 0.08 * (y[1] - y[0]);
+    let y = nice_bounds(if rod.joints.is_empty() {
+        y
+    } else {
+        [y[0] - tick, y[1]]
+    });
+    let length = rod.nodes.last().map_or(1.0, |n| {
+        if n.s_over_l > 0.0 {
+            n.s / n.s_over_l
+        } else {
+            1.0
+        }
+    });
+    let ticks: Vec<[(f64, f64); 2]> = rod
+        .joints
+        .iter()
+        .map(|&s| [(s / length, y[0]), (s / length, y[0] + tick)])
+        .collect();
+    let mut datasets: Vec<Dataset> = ticks
+        .iter()
+        .map(|t| {
+            Dataset::default()
+                .data(t)
+                .graph_type(GraphType::Line)
+                .marker(Marker::Braille)
+                .style(Style::new().fg(JOINT))
+        })
+        .collect();
+    for (data, color) in series.iter().zip([K1_LINE, K2_LINE, OMEGA_LINE]) {
+        datasets.push(
+            Dataset::default()
+                .data(data)
+                .graph_type(GraphType::Line)
+                .marker(Marker::Braille)
+                .style(Style::new().fg(color)),
+        );
+    }
+    let chart = Chart::new(datasets)
+        .block(block)
+        .legend_position(None)
+        .x_axis(
+            Axis::default()
+                .title("s/L")
+                .bounds([0.0, 1.0])
+                .labels(["0", "0.5", "1"])
+                .style(Style::new().fg(DIM)),
+        )
+        .y_axis(
+            Axis::default()
+                .bounds(y)
+                .labels(axis_labels(y))
+                .style(Style::new().fg(DIM)),
+        );
+    frame.render_widget(chart, area);
+}
+
+/// One load component along one stretch of the path.
+struct Series {
+    points: Vec<(f64, f64)>,
+    color: Color,
+    unstable: bool,
+}
+
+/// The load path so far: averaged normalised fx, fy, fz against ε, the current point as a
+/// block, unstable stretches dotted.
+fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
+    let path = &app.path;
+    let stretches = stability::stretches(path.len(), |k| stability::is_unstable(&path[k]));
+    let any_unstable = stretches.iter().any(|s| s.unstable);
+    let mut title = vec![Span::styled(
+        " load Σf/(n Pcrit) ",
+        Style::new().add_modifier(Modifier::BOLD),
+    )];
+    title.extend(key_span("━", "fx", FX_LINE));
+    title.extend(key_span("━", "fy", FY_LINE));
+    title.extend(key_span("━", "fz", FZ_LINE));
+    if any_unstable {
+        title.extend(key_span("•", "unstable", DIM));
+    }
+    title.extend(key_span("█", "now", SELECTED));
+    let block = Block::new().borders(Borders::ALL).title(Line::from(title));
+    if path.is_empty() {
+        return placeholder(frame, area, block, app);
+    }
+    let target = app.target();
+    // from 0 to the target, or as far as the path went
+    let (lo, hi) = path
+        .iter()
+        .map(|p| p.eps)
+        .chain([0.0, target, app.requested_eps])
+        .filter(|e| e.is_finite())
+        .fold((0.0f64, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
+    let x = if hi > lo {
+        [lo, hi]
+    } else {
+        [lo - 0.5, hi + 0.5]
+    };
+    let y = nice_bounds(padded_range(
+        path.iter().flat_map(|p| p.load).chain([0.0]),
+        0.2,
+    ));
+    let colors = [FX_LINE, FY_LINE, FZ_LINE];
+    let series: Vec<Series> = stretches
+        .iter()
+        .flat_map(|s| {
+            (0..3).map(move |c| Series {
+                points: path[s.points.clone()]
+                    .iter()
+                    .map(|p: &LoadPoint| (p.eps, p.load[c]))
+                    .collect(),
+                color: colors[c],
+                unstable: s.unstable,
+            })
+        })
+        .collect();
+    let now: Vec<(f64, f64)> = app
+        .state
+        .as_ref()
+        .map(|s| (0..3).map(|c| (s.point.eps, s.point.load[c])).collect())
+        .unwrap_or_default();
+    let mut datasets: Vec<Dataset> = series
+        .iter()
+        .map(|s| {
+            let (graph, marker) = if s.unstable {
+                (GraphType::Scatter, Marker::Dot)
+            } else {
+                (GraphType::Line, Marker::Braille)
+            };
+            Dataset::default()
+                .data(&s.points)
+                .graph_type(graph)
+                .marker(marker)
+                .style(Style::new().fg(s.color))
+        })
+        .collect();
+    datasets.push(
+        Dataset::default()
+            .data(&now)
+            .graph_type(GraphType::Scatter)
+            .marker(Marker::Block)
+            .style(Style::new().fg(SELECTED)),
+    );
+    let chart = Chart::new(datasets)
+        .block(block)
+        .legend_position(None)
+        .x_axis(
+            Axis::default()
+                .title("ε")
+                .bounds(x)
+                .labels(axis_labels(x))
+                .style(Style::new().fg(DIM)),
+        )
+        .y_axis(
+            Axis::default()
+                .bounds(y)
+                .labels(axis_labels(y))
+                .style(Style::new().fg(DIM)),
+        );
+    frame.render_widget(chart, area);
+}
+
+fn sep() -> Span<'static> {
+    Span::styled(" │ ", Style::new().fg(DIM))
+}
+
+fn bold(s: String) -> Span<'static> {
+    Span::styled(s, Style::new().add_modifier(Modifier::BOLD))
+}
+
+/// Lines the message (or the key hint) takes at `width`, wrapped, at most 3.
+fn message_lines(app: &App, width: u16) -> u16 {
+    let len = match &app.message {
+        Some(Message::Error(m)) | Some(Message::Info(m)) => Line::from(m.as_str()).width(),
+        None => 0,
+    };
+    (len.div_ceil(width.max(1) as usize) as u16).clamp(1, 3)
+}
+
+/// Case and loading; boundary conditions; the last solve; messages (wrapped).
+fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
+    let state = app.state.as_ref();
+    let eps = state.map_or("–".to_string(), |s| format!("{:.5}", s.point.eps));
+    let activity = match (&app.solving, app.running) {
+        (Some(job), true) => Span::styled(
+            format!("▶ running · solving {job}…"),
+            Style::new().fg(Color::Yellow),
+        ),
+        (Some(job), false) => {
+            Span::styled(format!("solving {job}…"), Style::new().fg(Color::Yellow))
+        }
+        (None, true) => Span::styled("▶ running", Style::new().fg(Color::Yellow)),
+        (None, false) => Span::styled("idle", Style::new().fg(Color::Green)),
+    };
+    let line1 = Line::from(vec![
+        bold(app.case_label()),
+        sep(),
+        Span::raw(format!("n {}", app.helices)),
+        sep(),
+        Span::raw("ε "),
+        bold(eps),
+        Span::raw(format!(" → {}", app.target())),
+        sep(),
+        Span::raw(format!("Δε {}", fmt_step(app.step))),
+        sep(),
+        activity,
+    ]);
+    let in_force = state.map_or(app.boundary, |s| s.boundary);
+    let pending = in_force != app.boundary;
+    let mut line2 = vec![
+        Span::raw(format!("base {}", in_force.base.label())),
+        sep(),
+        Span::raw(format!("tip {}", in_force.tip.label())),
+        sep(),
+        Span::raw(format!(
+            "joints {}",
+            if in_force.joints { "on" } else { "off" }
+        )),
+    ];
+    if pending {
+        line2.push(sep());
+        line2.push(Span::styled(
+            format!("asked: {}", app.boundary.label()),
+            Style::new().fg(Color::Yellow),
+        ));
+    }
+    let unstable = app.stability();
+    let stability_style = match unstable {
+        Some(true) => Style::new()
+            .fg(Color::LightRed)
+            .add_modifier(Modifier::BOLD),
+        _ => Style::new(),
+    };
+    let line3 = match state {
+        Some(s) => Line::from(vec![
+            Span::raw(format!("Newton {} it", s.point.iterations)),
+            sep(),
+            Span::raw(format!("|R| {:.1e}", s.point.residual)),
+            sep(),
+            Span::raw(format!("solve {}", fmt_duration(s.time))),
+            sep(),
+            Span::raw(format!("step {}", fmt_num(s.step_length))),
+            sep(),
+            Span::raw("stability "),
+            Span::styled(stability::label(unstable), stability_style),
+        ]),
+        None => Line::from(vec![Span::raw("stability "), Span::raw("n/a")]),
+    };
+    let line4 = match &app.message {
+        Some(Message::Error(m)) => {
+            Line::from(Span::styled(m.clone(), Style::new().fg(Color::LightRed)))
+        }
+        Some(Message::Info(m)) => {
+            Line::from(Span::styled(m.clone(), Style::new().fg(Color::Green)))
+        }
+        None => Line::from(Span::styled(
+            "←→ step  ↑↓ rod  space run  +- Δε  e export  ? help (all keys)  q quit",
+            Style::new().fg(DIM),
+        )),
+    };
+    let [a, b, c, d] = Layout::vertical([
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Min(0),
+    ])
+    .areas(area);
+    frame.render_widget(Paragraph::new(line1), a);
+    frame.render_widget(Paragraph::new(Line::from(line2)), b);
+    frame.render_widget(Paragraph::new(line3), c);
+    frame.render_widget(Paragraph::new(line4).wrap(Wrap { trim: false }), d);
+}
+
+fn fmt_duration(d: std::time::Duration) -> String {
+    let ms = d.as_secs_f64() * 1e3;
+    if ms < 10.0 {
+        format!("{ms:.1} ms")
+    } else if ms < 10_000.0 {
+        format!("{ms:.0} ms")
+    } else {
+        format!("{:.1} s", ms / 1e3)
+    }
+}
+
+/// The keys, in the help overlay.
+pub const KEYS: [(&str, &str); 17] = [
+    ("→ l", "step compression forward by Δε"),
+    ("← h", "step compression back by Δε"),
+    ("+ =", "double the step Δε"),
+    ("- _", "halve the step Δε"),
+    ("space", "run / pause continuous loading to the target"),
+    ("↑ k", "select the previous rod"),
+    ("↓ j", "select the next rod"),
+    ("b", "base translation: fixed → slide → radial"),
+    ("B", "base rotation: clamped ↔ free"),
+    ("t", "tip translation: fixed → slide → radial"),
+    ("T", "tip rotation: clamped ↔ free"),
+    ("p", "pin joints on ↔ off"),
+    ("n N", "more / fewer helices (1 2 4 8 16), start over"),
+    ("r", "reset: ε = 0, the case's conditions"),
+    ("e", "export state and load path to CSV"),
+    ("?", "this help (any key closes it)"),
+    ("q Esc", "quit (also Ctrl-C)"),
+];
+
+fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
+    let mut lines: Vec<Line> = KEYS
+        .iter()
+        .map(|(k, what)| {
+            Line::from(vec![
+                Span::styled(format!(" {k:<6} "), Style::new().fg(Color::Yellow)),
+                Span::raw(*what),
+            ])
+        })
+        .collect();
+    lines.push(Line::from(Span::styled(
+        format!(" exports go to {}", app.out_dir.display()),
+        Style::new().fg(DIM),
+    )));
+    let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3).min(area.width);
+    let height = (lines.len() as u16 + 2).min(area.height);
+    let rect = Rect {
+        x: area.x + (area.width - width) / 2,
+        y: area.y + (area.height - height) / 2,
+        width,
+        height,
+    };
+    frame.render_widget(Clear, rect);
+    frame.render_widget(
+        Paragraph::new(lines).block(
+            Block::new()
+                .borders(Borders::ALL)
+                .title(" keys ")
+                .title_bottom(Line::from(" any key closes ").alignment(Alignment::Right)),
+        ),
+        rect,
+    );
+}

@@ -1,0 +1,834 @@
+//! The explorer without a terminal: key events -> state -> solver requests (app), the solver
+//! thread's scheduling (worker), and the screen drawn on ratatui's `TestBackend` compared with
+//! committed snapshots in `tests/snapshots/tui/` (`SPIRA_UPDATE_SNAPSHOTS=1` rewrites them
+//! after an intended change; review the diff before committing).
+
+use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use ratatui::backend::TestBackend;
+use ratatui::style::Color;
+use ratatui::Terminal;
+use spira::case::Case;
+use spira::model::boundary::{BoundaryConditions, Rotation, Translation};
+use spira::output;
+use spira::solver::continuation::Simulation;
+use spira::tui::app::{App, Effect, Message};
+use spira::tui::stability::{stretches, Stretch};
+use spira::tui::ui::{self, K1Scale, K1_PALETTE};
+use spira::tui::worker::{coalesce, Job, Request, Solved, Worker, WorkerEvent};
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+// ---- helpers ----
+
+/// A cheap case: `n` thesis helices, 8 quadratic elements per rod.
+fn small_case(n: usize) -> Case {
+    let text =
+        format!("name = \"small\"\n[geometry]\nhelices = {n}\n[discretisation]\nelements = 8\n");
+    Case::parse(&text, "small.toml", "small").expect("valid case")
+}
+
+fn key(code: KeyCode) -> KeyEvent {
+    KeyEvent::new(code, KeyModifiers::NONE)
+}
+
+fn ch(c: char) -> KeyEvent {
+    key(KeyCode::Char(c))
+}
+
+fn requests(effects: &[Effect]) -> Vec<&Request> {
+    effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Solve(r) => Some(r),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The one request in `effects`.
+fn only_request(effects: &[Effect]) -> Request {
+    let r = requests(effects);
+    assert_eq!(r.len(), 1, "expected one request, got {effects:?}");
+    r[0].clone()
+}
+
+/// A converged state of `sim` as the solver thread reports it, with the solve's figures
+/// fixed so that drawings do not depend on timing.
+fn solved(sim: &Simulation, step: usize) -> Box<Solved> {
+    let mut point = sim.load_point(step);
+    point.iterations = 3;
+    point.residual = 1.5e-11;
+    Box::new(Solved {
+        point,
+        snapshot: sim.snapshot(),
+        boundary: sim.boundary_conditions(),
+        step_length: sim.step_length(),
+        time: Duration::from_millis(42),
+    })
+}
+
+fn answer(request: &Request, state: Box<Solved>) -> WorkerEvent {
+    WorkerEvent::Solved {
+        generation: request.generation,
+        seq: request.seq,
+        done: true,
+        state,
+    }
+}
+
+/// An app on `case` whose natural state has arrived; returns the simulation behind it.
+fn started(case: Case) -> (App, Simulation) {
+    let mut app = App::new(case.clone(), std::env::temp_dir());
+    let start = only_request(&app.start());
+    assert!(matches!(start.job, Job::Start(_)));
+    let sim = case.simulation().expect("natural state");
+    let effects = app.on_worker_event(answer(&start, solved(&sim, 0)));
+    assert!(effects.is_empty());
+    assert!(!app.busy());
+    (app, sim)
+}
+
+/// Sends `effects` to the real solver thread and feeds its answers back until the app has
+/// nothing outstanding.
+fn settle(app: &mut App, worker: &Worker, effects: Vec<Effect>) {
+    let mut effects = effects;
+    let deadline = Instant::now() + Duration::from_secs(300);
+    loop {
+        for e in effects.drain(..) {
+            if let Effect::Solve(r) = e {
+                assert!(worker.send(r), "solver thread gone");
+            }
+        }
+        if !app.busy() {
+            return;
+        }
+        assert!(Instant::now() < deadline, "solver did not answer");
+        if let Ok(ev) = worker.events.recv_timeout(Duration::from_millis(200)) {
+            effects = app.on_worker_event(ev);
+        }
+    }
+}
+
+/// The solver reports ε from the tip height it reached: equal to what was asked up to
+/// rounding.
+fn assert_close(eps: Option<f64>, expected: f64) {
+    let eps = eps.expect("a converged state");
+    assert!(
+        (eps - expected).abs() < 1e-12,
+        "ε = {eps}, expected {expected}"
+    );
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("spira-tui-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+// ---- app: keys -> state -> requests ----
+
+#[test]
+fn start_asks_for_the_natural_state_of_the_case() {
+    let case = small_case(2);
+    let mut app = App::new(case.clone(), PathBuf::from("."));
+    let r = only_request(&app.start());
+    match r.job {
+        Job::Start(c) => {
+            assert_eq!(c.geometry.helices, 2);
+            assert_eq!(c.boundary, case.boundary);
+        }
+        other => panic!("expected Start, got {other:?}"),
+    }
+    assert!(app.busy());
+    assert!(app.state.is_none());
+}
+
+#[test]
+fn arrows_and_vim_keys_step_compression_by_the_user_step() {
+    let (mut app, _sim) = started(small_case(1));
+    assert_eq!(app.step, 0.05, "default step is target / steps of the case");
+    let r = only_request(&app.handle_key(key(KeyCode::Right)));
+    assert_eq!(r.job, Job::Advance(0.05));
+    // a second press while the first is solving goes on from the requested ε
+    let r = only_request(&app.handle_key(ch('l')));
+    assert_eq!(r.job, Job::Advance(0.1));
+    let r = only_request(&app.handle_key(key(KeyCode::Left)));
+    assert_eq!(r.job, Job::Advance(0.05));
+    let r = only_request(&app.handle_key(ch('h')));
+    assert_eq!(r.job, Job::Advance(0.0));
+    let r = only_request(&app.handle_key(ch('h')));
+    assert_eq!(r.job, Job::Advance(-0.05), "extension is allowed");
+}
+
+#[test]
+fn plus_and_minus_double_and_halve_the_step_within_limits() {
+    let (mut app, _sim) = started(small_case(1));
+    assert!(app.handle_key(ch('+')).is_empty());
+    assert_eq!(app.step, 0.1);
+    app.handle_key(ch('-'));
+    app.handle_key(ch('-'));
+    assert_eq!(app.step, 0.025);
+    for _ in 0..20 {
+        app.handle_key(ch('-'));
+    }
+    assert_eq!(app.step, spira::tui::app::MIN_STEP);
+    for _ in 0..20 {
+        app.handle_key(ch('='));
+    }
+    assert_eq!(app.step, spira::tui::app::MAX_STEP);
+    let r = only_request(&app.handle_key(ch('l')));
+    assert_eq!(r.job, Job::Advance(0.5));
+}
+
+#[test]
+fn a_step_outside_the_geometry_is_refused_with_a_message() {
+    let (mut app, _sim) = started(small_case(1));
+    for _ in 0..20 {
+        app.handle_key(ch('+'));
+    }
+    only_request(&app.handle_key(ch('l'))); // 0.5
+    assert!(app.handle_key(ch('l')).is_empty(), "ε = 1 is the base");
+    match &app.message {
+        Some(Message::Error(m)) => assert!(m.contains("ε = 1.00000"), "{m}"),
+        other => panic!("expected an error message, got {other:?}"),
+    }
+    assert_eq!(app.requested_eps, 0.5);
+}
+
+#[test]
+fn up_down_j_k_select_the_rod_and_wrap() {
+    let (mut app, _sim) = started(small_case(4));
+    assert_eq!(app.rods(), 4);
+    assert_eq!(app.selected_rod, 0);
+    app.handle_key(key(KeyCode::Up));
+    assert_eq!(app.selected_rod, 3);
+    app.handle_key(ch('j'));
+    assert_eq!(app.selected_rod, 0);
+    app.handle_key(key(KeyCode::Down));
+    app.handle_key(ch('j'));
+    assert_eq!(app.selected_rod, 2);
+    let effects = app.handle_key(ch('k'));
+    assert!(effects.is_empty(), "selection needs no solve");
+    assert_eq!(app.selected_rod, 1);
+}
+
+#[test]
+fn condition_keys_toggle_each_condition_and_ask_for_a_resolve() {
+    let (mut app, _sim) = started(small_case(2));
+    let bc = |r: Request| match r.job {
+        Job::SetBoundary(bc) => bc,
+        other => panic!("expected SetBoundary, got {other:?}"),
+    };
+    let b1 = bc(only_request(&app.handle_key(ch('b'))));
+    assert_eq!(b1.base.translation, Translation::Slide);
+    let b2 = bc(only_request(&app.handle_key(ch('b'))));
+    assert_eq!(b2.base.translation, Translation::Radial);
+    let b3 = bc(only_request(&app.handle_key(ch('b'))));
+    assert_eq!(b3.base.translation, Translation::Fixed);
+    let b4 = bc(only_request(&app.handle_key(ch('B'))));
+    assert_eq!(b4.base.rotation, Rotation::Free);
+    let b5 = bc(only_request(&app.handle_key(ch('t'))));
+    assert_eq!(b5.tip.translation, Translation::Slide);
+    let b6 = bc(only_request(&app.handle_key(ch('T'))));
+    assert_eq!(b6.tip.rotation, Rotation::Free);
+    let b7 = bc(only_request(&app.handle_key(ch('p'))));
+    assert!(!b7.joints);
+    // each toggle builds on the last asked-for conditions
+    assert_eq!(b7.base.rotation, Rotation::Free);
+    assert_eq!(b7.tip.translation, Translation::Slide);
+    assert_eq!(app.boundary, b7);
+}
+
+#[test]
+fn n_changes_the_helices_and_starts_over_ignoring_old_answers() {
+    let (mut app, sim) = started(small_case(8));
+    let step = only_request(&app.handle_key(ch('l')));
+    let r = only_request(&app.handle_key(ch('n')));
+    match &r.job {
+        Job::Start(c) => assert_eq!(c.geometry.helices, 16),
+        other => panic!("expected Start, got {other:?}"),
+    }
+    assert_eq!(app.helices, 16);
+    assert!(app.path.is_empty() && app.state.is_none());
+    assert_eq!(app.requested_eps, 0.0);
+    // the answer to the step asked before the restart belongs to the old simulation
+    assert!(app
+        .on_worker_event(answer(&step, solved(&sim, 1)))
+        .is_empty());
+    assert!(app.path.is_empty(), "stale answer ignored");
+    assert!(app.busy());
+    let r = only_request(&app.handle_key(ch('n')));
+    assert!(
+        matches!(&r.job, Job::Start(c) if c.geometry.helices == 1),
+        "wraps 16 -> 1"
+    );
+    let r = only_request(&app.handle_key(ch('N')));
+    assert!(
+        matches!(&r.job, Job::Start(c) if c.geometry.helices == 16),
+        "wraps 1 -> 16"
+    );
+    assert_eq!(app.case_label(), "small-n16");
+}
+
+#[test]
+fn reset_returns_to_the_case_conditions_and_step() {
+    let (mut app, _sim) = started(small_case(2));
+    app.handle_key(ch('t'));
+    app.handle_key(ch('p'));
+    app.handle_key(ch('+'));
+    app.handle_key(ch('l'));
+    let r = only_request(&app.handle_key(ch('r')));
+    match &r.job {
+        Job::Start(c) => {
+            assert_eq!(c.boundary, BoundaryConditions::default());
+            assert_eq!(c.geometry.helices, 2);
+        }
+        other => panic!("expected Start, got {other:?}"),
+    }
+    assert_eq!(app.boundary, BoundaryConditions::default());
+    assert_eq!(app.step, 0.05);
+    assert_eq!(app.requested_eps, 0.0);
+    assert!(app.path.is_empty());
+}
+
+#[test]
+fn space_runs_step_by_step_to_the_target_and_pauses() {
+    let mut case = small_case(1);
+    case.loading.target = 0.15;
+    case.loading.steps = 3;
+    let (mut app, mut sim) = started(case);
+    let mut r = only_request(&app.handle_key(ch(' ')));
+    assert!(app.running);
+    let mut reached = vec![];
+    loop {
+        let Job::Advance(eps) = r.job else {
+            panic!("expected Advance, got {:?}", r.job)
+        };
+        sim.advance_to(eps).expect("converges");
+        reached.push(eps);
+        let effects = app.on_worker_event(answer(&r, solved(&sim, reached.len())));
+        match requests(&effects).first() {
+            Some(next) => r = (*next).clone(),
+            None => break,
+        }
+    }
+    assert_eq!(reached, vec![0.05, 0.1, 0.15]);
+    assert!(!app.running, "stops at the target");
+    assert_eq!(app.path.len(), 4);
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("target")));
+}
+
+#[test]
+fn space_while_running_pauses_and_the_answer_in_flight_asks_no_more() {
+    let (mut app, mut sim) = started(small_case(1));
+    let r = only_request(&app.handle_key(ch(' ')));
+    assert!(app.handle_key(ch(' ')).is_empty());
+    assert!(!app.running);
+    let Job::Advance(eps) = r.job else {
+        panic!("expected Advance")
+    };
+    sim.advance_to(eps).expect("converges");
+    assert!(app.on_worker_event(answer(&r, solved(&sim, 1))).is_empty());
+    assert!(!app.busy());
+    assert_close(app.eps(), 0.05);
+}
+
+#[test]
+fn a_failed_step_shows_the_reason_and_keeps_the_last_state() {
+    let (mut app, _sim) = started(small_case(1));
+    app.handle_key(ch(' '));
+    let r = only_request(&app.handle_key(ch('l')));
+    let reason = "continuation stopped at eps = 0.000000 (target 0.050000): Newton diverged";
+    let effects = app.on_worker_event(WorkerEvent::Failed {
+        generation: r.generation,
+        seq: r.seq,
+        reason: reason.into(),
+        boundary: Some(BoundaryConditions::default()),
+    });
+    assert!(effects.is_empty());
+    assert_eq!(app.message, Some(Message::Error(reason.into())));
+    assert!(!app.running && !app.busy());
+    assert_eq!(app.eps(), Some(0.0), "last converged state stays");
+    assert_eq!(app.requested_eps, 0.0, "the next step starts from it");
+    assert_eq!(app.path.len(), 1);
+    // a new request clears the error
+    only_request(&app.handle_key(ch('l')));
+    assert_eq!(app.message, None);
+}
+
+#[test]
+fn a_refused_condition_change_shows_the_conditions_in_force() {
+    let (mut app, _sim) = started(small_case(2));
+    let r = only_request(&app.handle_key(ch('p')));
+    assert!(!app.boundary.joints);
+    app.on_worker_event(WorkerEvent::Failed {
+        generation: r.generation,
+        seq: r.seq,
+        reason: "singular".into(),
+        boundary: Some(BoundaryConditions::default()),
+    });
+    assert!(app.boundary.joints, "back to what the solver holds");
+}
+
+#[test]
+fn quit_keys_and_help_overlay() {
+    let (mut app, _sim) = started(small_case(1));
+    assert_eq!(app.handle_key(ch('q')), vec![Effect::Quit]);
+    assert_eq!(app.handle_key(key(KeyCode::Esc)), vec![Effect::Quit]);
+    let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
+    assert_eq!(app.handle_key(ctrl_c), vec![Effect::Quit]);
+    assert!(app.handle_key(ch('?')).is_empty());
+    assert!(app.show_help);
+    // any key closes the help and does nothing else
+    assert!(app.handle_key(ch('l')).is_empty());
+    assert!(!app.show_help);
+    app.handle_key(ch('?'));
+    assert_eq!(
+        app.handle_key(ch('q')),
+        vec![Effect::Quit],
+        "q quits from the help"
+    );
+    app.handle_key(ch('?'));
+    assert_eq!(app.handle_key(ctrl_c), vec![Effect::Quit]);
+}
+
+#[test]
+fn key_releases_are_ignored() {
+    let (mut app, _sim) = started(small_case(1));
+    let mut release = key(KeyCode::Right);
+    release.kind = KeyEventKind::Release;
+    assert!(app.handle_key(release).is_empty());
+    assert_eq!(app.requested_eps, 0.0);
+}
+
+#[test]
+fn e_exports_state_load_path_and_reactions_in_the_run_formats() {
+    let (mut app, mut sim) = started(small_case(2));
+    assert_eq!(app.handle_key(ch('e')), vec![Effect::Export]);
+    let r = only_request(&app.handle_key(ch('l')));
+    sim.advance_to(0.05).expect("converges");
+    app.on_worker_event(answer(&r, solved(&sim, 1)));
+    let dir = temp_dir("export");
+    app.out_dir = dir.clone();
+    let files = app.export();
+    let names: Vec<String> = files
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "small-step1-state.csv",
+            "small-step1-load.csv",
+            "small-step1-reactions.csv"
+        ]
+    );
+    let read = |name: &str| std::fs::read_to_string(dir.join(name)).expect("written");
+    let state = app.state.as_ref().unwrap();
+    assert_eq!(
+        read("small-step1-state.csv"),
+        output::state_csv("small", &state.snapshot)
+    );
+    assert_eq!(
+        read("small-step1-load.csv"),
+        output::load_csv("small", &app.path)
+    );
+    assert_eq!(
+        read("small-step1-reactions.csv"),
+        output::reactions_csv("small", &app.path)
+    );
+    match &app.message {
+        Some(Message::Info(m)) => {
+            for n in &names {
+                assert!(m.contains(n.as_str()), "{m} names {n}");
+            }
+        }
+        other => panic!("expected the file names on screen, got {other:?}"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn export_failure_is_a_message_not_a_crash() {
+    let (mut app, _sim) = started(small_case(1));
+    let file = temp_dir("export-fail").join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    app.out_dir = file.join("sub");
+    assert!(app.export().is_empty());
+    assert!(matches!(&app.message, Some(Message::Error(m)) if m.starts_with("export failed")));
+}
+
+// ---- worker: scheduling and the real solver ----
+
+fn req(seq: u64, job: Job) -> Request {
+    Request {
+        generation: 1,
+        seq,
+        job,
+    }
+}
+
+#[test]
+fn coalescing_keeps_the_last_request_of_each_kind_in_order() {
+    let bc = BoundaryConditions::default();
+    let mut q: VecDeque<Request> = [
+        req(1, Job::Advance(0.05)),
+        req(2, Job::SetBoundary(bc)),
+        req(3, Job::Advance(0.1)),
+        req(4, Job::Advance(0.15)),
+    ]
+    .into();
+    coalesce(&mut q);
+    let seqs: Vec<u64> = q.iter().map(|r| r.seq).collect();
+    assert_eq!(seqs, [2, 4]);
+
+    let mut q: VecDeque<Request> = [
+        req(1, Job::Advance(0.05)),
+        req(2, Job::Start(Box::new(small_case(1)))),
+        req(3, Job::Advance(0.1)),
+        req(4, Job::Start(Box::new(small_case(2)))),
+        req(5, Job::SetBoundary(bc)),
+    ]
+    .into();
+    coalesce(&mut q);
+    let seqs: Vec<u64> = q.iter().map(|r| r.seq).collect();
+    assert_eq!(seqs, [4, 5], "a Start drops everything before it");
+}
+
+#[test]
+fn the_solver_thread_answers_and_the_last_request_wins() {
+    let worker = Worker::spawn().expect("thread");
+    let mut app = App::new(small_case(2), std::env::temp_dir());
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    assert_eq!(app.eps(), Some(0.0));
+    // three presses in a row: the last is solved, the middle one never (the first only
+    // if the solver took it before the others arrived)
+    let mut effects = app.handle_key(ch('l'));
+    effects.extend(app.handle_key(ch('l')));
+    effects.extend(app.handle_key(ch('l')));
+    settle(&mut app, &worker, effects);
+    assert_close(app.eps(), 0.15);
+    assert!(
+        app.path.len() == 2 || app.path.len() == 3,
+        "{}",
+        app.path.len()
+    );
+    let steps: Vec<usize> = app.path.iter().map(|p| p.step).collect();
+    assert_eq!(steps, (0..app.path.len()).collect::<Vec<_>>());
+    // a condition change re-solves at the same ε
+    let effects = app.handle_key(ch('p'));
+    settle(&mut app, &worker, effects);
+    let state = app.state.as_ref().unwrap();
+    assert!(!state.boundary.joints);
+    assert_close(Some(state.point.eps), 0.15);
+    // asking again for what is in force needs no solve and adds no point
+    let n = app.path.len();
+    let effects = app.handle_key(ch('p'));
+    let effects2 = app.handle_key(ch('p'));
+    let mut all = effects;
+    all.extend(effects2);
+    settle(&mut app, &worker, all);
+    assert!(!app.busy());
+    assert!(
+        app.path.len() <= n + 1,
+        "the toggle back and forth coalesces"
+    );
+    assert!(!app.state.as_ref().unwrap().boundary.joints);
+    worker.join();
+}
+
+#[test]
+fn the_solver_thread_reports_failures_and_keeps_the_state() {
+    let worker = Worker::spawn().expect("thread");
+    let mut app = App::new(small_case(1), std::env::temp_dir());
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    // free both ends to slide and rotate: a rigid-body motion makes the system singular
+    let mut effects = app.handle_key(ch('b'));
+    effects.extend(app.handle_key(ch('B')));
+    effects.extend(app.handle_key(ch('t')));
+    effects.extend(app.handle_key(ch('T')));
+    settle(&mut app, &worker, effects);
+    assert_eq!(app.eps(), Some(0.0), "the last converged state stays");
+    match &app.message {
+        Some(Message::Error(m)) => assert!(!m.is_empty()),
+        other => panic!("expected the failure on screen, got {other:?}"),
+    }
+    assert_eq!(
+        app.boundary,
+        app.state.as_ref().unwrap().boundary,
+        "what is asked for falls back to what is in force"
+    );
+    worker.join();
+}
+
+#[test]
+fn a_request_after_a_failed_start_is_answered_with_a_reason() {
+    let worker = Worker::spawn().expect("thread");
+    let events = &worker.events;
+    assert!(worker.send(req(1, Job::Advance(0.1))));
+    let mut failed = None;
+    while failed.is_none() {
+        match events
+            .recv_timeout(Duration::from_secs(60))
+            .expect("answer")
+        {
+            WorkerEvent::Failed { reason, .. } => failed = Some(reason),
+            WorkerEvent::Started { .. } => {}
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+    assert!(failed.unwrap().contains("no converged state"));
+    worker.join();
+}
+
+// ---- stability marking ----
+
+#[test]
+fn unstable_stretches_share_their_end_points() {
+    let flags = [false, false, true, true, false, false];
+    let s = stretches(flags.len(), |k| Some(flags[k]));
+    assert_eq!(
+        s,
+        vec![
+            Stretch {
+                unstable: false,
+                points: 0..2
+            },
+            Stretch {
+                unstable: true,
+                points: 1..5
+            },
+            Stretch {
+                unstable: false,
+                points: 4..6
+            },
+        ]
+    );
+    assert_eq!(
+        stretches(3, |_| None),
+        vec![Stretch {
+            unstable: false,
+            points: 0..3
+        }]
+    );
+    assert!(stretches(0, |_| None).is_empty());
+    assert_eq!(stretches(1, |_| Some(true))[0].points, 0..1);
+}
+
+// ---- drawing ----
+
+fn draw(app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
+    let mut terminal = Terminal::new(TestBackend::new(width, height)).unwrap();
+    terminal.draw(|f| ui::draw(f, app)).unwrap();
+    terminal
+}
+
+fn text(terminal: &Terminal<TestBackend>) -> String {
+    let buf = terminal.backend().buffer();
+    let mut s = String::new();
+    for y in 0..buf.area.height {
+        for x in 0..buf.area.width {
+            s.push_str(buf[(x, y)].symbol());
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Compares the screen with `tests/snapshots/tui/NAME.txt`.
+fn assert_snapshot(name: &str, screen: &str) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/snapshots/tui")
+        .join(format!("{name}.txt"));
+    if std::env::var_os("SPIRA_UPDATE_SNAPSHOTS").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, screen).unwrap();
+        return;
+    }
+    let expected = std::fs::read_to_string(&path).unwrap_or_else(|_| {
+        panic!(
+            "no snapshot {}; run with SPIRA_UPDATE_SNAPSHOTS=1 to write it",
+            path.display()
+        )
+    });
+    if expected != screen {
+        let diff: Vec<String> = expected
+            .lines()
+            .zip(screen.lines())
+            .enumerate()
+            .filter(|(_, (a, b))| a != b)
+            .map(|(k, (a, b))| format!("line {}:\n  expected {a}\n  found    {b}", k + 1))
+            .collect();
+        panic!(
+            "screen differs from {} (SPIRA_UPDATE_SNAPSHOTS=1 rewrites it):\n{}\n\nscreen:\n{screen}",
+            path.display(),
+            diff.join("\n")
+        );
+    }
+}
+
+fn braille_cells(screen: &str) -> usize {
+    screen
+        .chars()
+        .filter(|c| ('\u{2801}'..='\u{28ff}').contains(c))
+        .count()
+}
+
+/// The n = 2 small case compressed to ε = 0.1 in two steps, rod 2 selected.
+fn compressed_app() -> App {
+    let (mut app, mut sim) = started(small_case(2));
+    for k in 1..=2 {
+        let r = only_request(&app.handle_key(ch('l')));
+        let Job::Advance(eps) = r.job else {
+            panic!("expected Advance")
+        };
+        sim.advance_to(eps).expect("converges");
+        app.on_worker_event(answer(&r, solved(&sim, k)));
+    }
+    app.handle_key(ch('j'));
+    app
+}
+
+#[test]
+fn screen_natural_state_80x24() {
+    let (app, _sim) = started(small_case(2));
+    let t = draw(&app, 80, 24);
+    let screen = text(&t);
+    for label in [
+        "X-Y",
+        "Z-Y",
+        "Z-X",
+        "κ1 (1/m)",
+        "s/L",
+        "ε",
+        "stability n/a",
+        "n 2",
+    ] {
+        assert!(screen.contains(label), "missing {label}:\n{screen}");
+    }
+    assert!(braille_cells(&screen) > 100, "canvases drawn:\n{screen}");
+    assert_snapshot("natural_80x24", &screen);
+}
+
+#[test]
+fn screen_compressed_state_100x30() {
+    let app = compressed_app();
+    let t = draw(&app, 100, 30);
+    let screen = text(&t);
+    for label in [
+        "rod 2 (left)",
+        "joints",
+        "fx",
+        "fy",
+        "fz",
+        "ε 0.10000",
+        "Δε 0.05",
+    ] {
+        assert!(screen.contains(label), "missing {label}:\n{screen}");
+    }
+    assert!(braille_cells(&screen) > 200);
+    assert_snapshot("compressed_100x30", &screen);
+}
+
+#[test]
+fn screen_colours_k1_bins_selected_rod_and_joints() {
+    let app = compressed_app();
+    let t = draw(&app, 100, 30);
+    let buf = t.backend().buffer();
+    let braille_fg = |color: Color| {
+        buf.content()
+            .iter()
+            .filter(|c| {
+                c.fg == color
+                    && c.symbol()
+                        .chars()
+                        .all(|ch| ('\u{2801}'..='\u{28ff}').contains(&ch))
+            })
+            .count()
+    };
+    assert!(braille_fg(Color::White) > 10, "selected rod in white");
+    assert!(braille_fg(Color::LightMagenta) > 0, "joints marked");
+    let k1: usize = K1_PALETTE.iter().map(|&c| braille_fg(c)).sum();
+    assert!(k1 > 10, "other rods coloured by κ1");
+    // no true colour anywhere
+    assert!(buf
+        .content()
+        .iter()
+        .all(|c| !matches!(c.fg, Color::Rgb(..) | Color::Indexed(_))));
+}
+
+#[test]
+fn k1_scale_bins_and_legend() {
+    let case = small_case(1);
+    let sim = case.simulation().unwrap();
+    let snap = sim.snapshot();
+    let k = snap.rods[0].nodes[3].curvature[0];
+    let scale = K1Scale::of(&snap, Some(k));
+    assert_eq!(
+        scale.color(k),
+        Color::Green,
+        "the natural state is the middle bin"
+    );
+    assert_eq!(scale.color(scale.lo), K1_PALETTE[0]);
+    assert_eq!(scale.color(scale.hi), K1_PALETTE[4]);
+    let legend: String = scale
+        .legend()
+        .spans
+        .iter()
+        .map(|s| s.content.as_ref())
+        .collect();
+    assert!(
+        legend.contains("κ1 (1/m)") && legend.contains("█████"),
+        "{legend}"
+    );
+}
+
+#[test]
+fn screen_help_overlay_80x24() {
+    let (mut app, _sim) = started(small_case(2));
+    app.handle_key(ch('?'));
+    let screen = text(&draw(&app, 80, 24));
+    for (k, _) in ui::KEYS {
+        assert!(screen.contains(k), "help lists {k}:\n{screen}");
+    }
+    assert_snapshot("help_80x24", &screen);
+}
+
+#[test]
+fn screen_too_small_gets_a_message() {
+    let (app, _sim) = started(small_case(2));
+    let screen = text(&draw(&app, 79, 24));
+    assert!(screen.contains("terminal too small"));
+    assert!(screen.contains("this one is 79x24"));
+    assert_eq!(braille_cells(&screen), 0);
+    assert_snapshot("too_small_60x20", &text(&draw(&app, 60, 20)));
+    let tiny = text(&draw(&app, 10, 3));
+    assert!(!tiny.trim().is_empty(), "something readable even at 10x3");
+}
+
+#[test]
+fn screen_while_solving_the_natural_state() {
+    let mut app = App::new(small_case(8), PathBuf::from("."));
+    let r = only_request(&app.start());
+    app.on_worker_event(WorkerEvent::Started {
+        generation: r.generation,
+        seq: r.seq,
+        job: r.job.describe(),
+    });
+    let screen = text(&draw(&app, 80, 24));
+    assert!(screen.contains("solving the natural state"));
+    assert!(screen.contains("solving natural state, n = 8"));
+    assert_snapshot("solving_80x24", &screen);
+}
+
+#[test]
+fn screen_uses_the_room_of_a_large_terminal() {
+    let app = compressed_app();
+    let small = braille_cells(&text(&draw(&app, 80, 24)));
+    let large = braille_cells(&text(&draw(&app, 200, 60)));
+    assert!(large > 3 * small, "{large} vs {small} braille cells");
+}
