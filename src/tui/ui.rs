@@ -695,17 +695,19 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
         _ => Style::new(),
     };
     let line3 = match state {
+        // stability first: on a narrow screen the line is cut from the right
         Some(s) => Line::from(vec![
-            Span::raw(format!("Newton {} it", s.point.iterations)),
+            Span::raw("stability "),
+            Span::styled(stability::label(unstable), stability_style),
             sep(),
-            Span::raw(format!("|R| {:.1e}", s.point.residual)),
+            Span::raw(format!(
+                "Newton {} it, |R| {:.1e}",
+                s.point.iterations, s.point.residual
+            )),
             sep(),
             Span::raw(format!("solve {}", fmt_duration(s.time))),
             sep(),
-            Span::raw(format!("step {}", fmt_num(s.step_length))),
-            sep(),
-            Span::raw("stability "),
-            Span::styled(stability::label(unstable), stability_style),
+            Span::raw(format!("inner step {}", fmt_num(s.step_length))),
         ]),
         None => Line::from(vec![Span::raw("stability "), Span::raw("n/a")]),
     };
