@@ -81,9 +81,13 @@ fn main() {
             case,
             repeats,
             tui: true,
-        }) => load_case(case.as_deref())
-            .and_then(|c| spira::tui::measure_responsiveness(c, repeats.max(1), 80, 24))
-            .map(|r| println!("{r}")),
+        }) => load_case(case.as_deref()).and_then(|c| {
+            for (w, h) in [(80, 24), (160, 48)] {
+                let r = spira::tui::measure_responsiveness(c.clone(), repeats.max(1), w, h)?;
+                println!("{r}");
+            }
+            Ok(())
+        }),
         Some(Command::Bench { case, repeats, .. }) => bench(case.as_deref(), repeats),
     };
     if let Err(e) = result {
