@@ -779,7 +779,11 @@ fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
         })
         .collect();
     lines.push(Line::from(Span::styled(
-        format!(" exports go to {}", app.out_dir.display()),
+        if app.out_dir == std::path::Path::new(".") {
+            " exports go to the current folder".to_string()
+        } else {
+            format!(" exports go to {}", app.out_dir.display())
+        },
         Style::new().fg(DIM),
     )));
     let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3).min(area.width);
