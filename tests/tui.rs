@@ -79,7 +79,8 @@ fn answer(request: &Request, state: Box<Solved>) -> WorkerEvent {
 
 /// An app on `case` whose natural state has arrived; returns the simulation behind it.
 fn started(case: Case) -> (App, Simulation) {
-    let mut app = App::new(case.clone(), std::env::temp_dir());
+    // exports go to the current folder: tests that export set their own
+    let mut app = App::new(case.clone(), PathBuf::from("."));
     let start = only_request(&app.start());
     assert!(matches!(start.job, Job::Start(_)));
     let sim = case.simulation().expect("natural state");
