@@ -29,8 +29,10 @@ pub struct RodReaction {
 pub struct LoadPoint {
     /// Output step number (0 for the natural state).
     pub step: usize,
-    /// Compression ratio `ε = (h0 − h)/h0` (negative in extension).
+    /// Compression ratio `ε = (h0 − h)/h0` (negative in extension), from the mean tip height.
     pub eps: f64,
+    /// Load parameter: `ε` under displacement control, `P/Pcrit` under load control.
+    pub parameter: f64,
     /// Tip height `h` (m).
     pub height: f64,
     pub reactions: Vec<RodReaction>,
@@ -42,6 +44,8 @@ pub struct LoadPoint {
     pub iterations: usize,
     /// `‖R‖∞` at this point.
     pub residual: f64,
+    /// Stability of the state, when tracked.
+    pub stability: Option<crate::solver::continuation::Stability>,
 }
 
 /// One quaternion node of a rod in a state.

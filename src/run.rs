@@ -20,7 +20,9 @@ pub struct PathOutcome {
 
 /// Solves `case` from `ε = 0` through the output values of `eps`, calling `on_step` with
 /// each converged output point and the wall time of that step. A failure at `ε = 0` is an
-/// error; a later failure ends the path and is returned in [`PathOutcome::error`].
+/// error; a later failure ends the path and is returned in [`PathOutcome::error`], and
+/// the last converged state (between two output values) becomes the last point, so that
+/// the points and the snapshot describe the same state.
 pub fn run_path(
     case: &Case,
     eps: &[f64],
@@ -35,6 +37,11 @@ pub fn run_path(
     for (k, &e) in eps.iter().enumerate() {
         let t = Instant::now();
         if let Err(err) = sim.advance_to(e) {
+            if (sim.parameter() - points.last().map_or(0.0, |p| p.parameter)).abs() > 0.0 {
+                let p = sim.load_point(k + 1);
+                on_step(&p, t.elapsed());
+                points.push(p);
+            }
             error = Some(err);
             break;
         }

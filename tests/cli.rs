@@ -433,20 +433,25 @@ fn solver_failure_writes_what_was_reached_and_says_where_and_why() {
     let out = spira_run(&dir, &case, &out_dir, &[]);
     let err = assert_failure(&out);
 
-    // what was reached is written: step 0 and at least one converged step, not the target
+    // what was reached is written: step 0, the converged output steps, and last the
+    // converged state where the continuation stopped (short of the target)
     let load = Csv::read(&out_dir.join("load.csv"));
     assert_eq!(load.header, LOAD_COLUMNS);
     let reached_steps = load.rows.len() - 1;
     assert!(
-        (1..3).contains(&reached_steps),
+        (1..=3).contains(&reached_steps),
         "expected a failure after the first step, got {reached_steps} steps: {err}"
     );
     let eps = load.numbers("eps");
-    for (k, e) in eps.iter().enumerate() {
+    for (k, e) in eps[..eps.len() - 1].iter().enumerate() {
         let expected = -1.5999 * k as f64 / 3.0;
         assert!((e - expected).abs() < 1e-12, "eps at step {k}: {e}");
     }
     let reached = *eps.last().unwrap();
+    assert!(
+        reached > -1.5999 && reached <= eps[eps.len() - 2],
+        "{eps:?}"
+    );
     assert!(Csv::read(&out_dir.join("reactions.csv")).rows.len() == 2 * (reached_steps + 1));
     let state = Csv::read(&out_dir.join("state.csv"));
     assert!(

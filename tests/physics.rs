@@ -7,12 +7,12 @@
 use nalgebra::Vector3;
 use spira::case::Case;
 use spira::discretisation::element::{self, Order, Stiffness};
-use spira::discretisation::system::{DiscreteModel, End, System};
+use spira::discretisation::system::{DiscreteModel, End, System, TipLoad};
 use spira::model::assembly::Assembly;
 use spira::model::boundary::BoundaryConditions;
 use spira::model::helix::{Chirality, Helix};
 use spira::model::quaternion;
-use spira::solver::continuation::{ContinuationSettings, Simulation};
+use spira::solver::continuation::{ContinuationSettings, Control, Simulation};
 use std::f64::consts::PI;
 
 const A: f64 = 0.06;
@@ -288,7 +288,7 @@ fn perturbed_system(order: Order) -> (DiscreteModel, System, Vec<f64>) {
     );
     let bc = BoundaryConditions::default();
     let x0 = model.natural_state();
-    let sys = System::new(&model, bc, &x0, model.height0());
+    let sys = System::new(&model, bc, &x0, TipLoad::Height(model.height0()));
     let mut x = x0;
     x.resize(sys.n, 0.0);
     for (i, v) in x.iter_mut().enumerate() {
@@ -415,6 +415,7 @@ fn check_perfect_helix(b: f64) {
     let sim = Simulation::from_state(
         model,
         bc,
+        Control::Displacement,
         model_state(&targets),
         ContinuationSettings::default(),
     )

@@ -20,6 +20,15 @@ use crate::model::quaternion::{self, Quat};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
 use nalgebra::{Vector3, Vector4};
 
+/// How the tips are loaded along the axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TipLoad {
+    /// Displacement control: every tip held at height `z = h` (m).
+    Height(f64),
+    /// Load control: a dead compressive force `P` (N) on every tip, along −z.
+    Force(f64),
+}
+
 /// Rod end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum End {
@@ -244,6 +253,8 @@ pub struct System {
     linear_row: usize,
     /// Total number of unknowns (primal and multipliers).
     pub n: usize,
+    /// The axial loading of the tips.
+    pub tip_load: TipLoad,
     pattern: SymbolicSparseColMat<usize>,
     slots: Vec<usize>,
 }
@@ -258,8 +269,13 @@ pub struct Evaluation {
 impl System {
     /// Builds the constraints of `bc`, holding what they hold at the values of the state
     /// `x` (so that a change of conditions mid-path continues from the current state),
-    /// except the tip height, which is `height` (m).
-    pub fn new(model: &DiscreteModel, bc: BoundaryConditions, x: &[f64], height: f64) -> System {
+    /// with the tips loaded by `tip_load`.
+    pub fn new(
+        model: &DiscreteModel,
+        bc: BoundaryConditions,
+        x: &[f64],
+        tip_load: TipLoad,
+    ) -> System {
         let mut row = model.n_primal;
         let mut compat_rows = Vec::new();
         for rod in &model.rods {
@@ -275,7 +291,7 @@ impl System {
         let mut linear = Vec::new();
         for (id, rod) in model.rods.iter().enumerate() {
             for (end, cond) in [(End::Base, bc.base), (End::Tip, bc.tip)] {
-                support_constraints(model, x, id, rod, end, cond, height, &mut linear);
+                support_constraints(model, x, id, rod, end, cond, tip_load, &mut linear);
             }
         }
         if bc.joints {
@@ -291,6 +307,7 @@ impl System {
             unit_rows,
             linear_row,
             n,
+            tip_load,
             pattern: SymbolicSparseColMat::new_checked(n, n, vec![0; n + 1], None, vec![]),
             slots: Vec::new(),
         };
@@ -336,11 +353,19 @@ impl System {
         SparseColMatRef::new(self.pattern.as_ref(), values)
     }
 
-    /// Sets the prescribed tip height `h` (m) of every rod.
-    pub fn set_height(&mut self, height: f64) {
-        for c in &mut self.linear {
-            if matches!(c.role, Role::TipHeight { .. }) {
-                c.value = height;
+    /// Sets the tip loading; the kind (height or force) must stay the one the system was
+    /// built with, since it decides the constraints.
+    pub fn set_tip_load(&mut self, tip_load: TipLoad) {
+        debug_assert_eq!(
+            std::mem::discriminant(&tip_load),
+            std::mem::discriminant(&self.tip_load)
+        );
+        self.tip_load = tip_load;
+        if let TipLoad::Height(h) = tip_load {
+            for c in &mut self.linear {
+                if matches!(c.role, Role::TipHeight { .. }) {
+                    c.value = h;
+                }
             }
         }
     }
@@ -393,6 +418,25 @@ impl System {
             .enumerate()
             .filter(|(_, c)| matches!(c.role, Role::TipHeight { .. }))
             .map(|(i, _)| self.linear_row + i)
+    }
+
+    /// `∂R/∂P` of the tip load parameter: the tip-height rows (`∂g/∂h = −1`) under
+    /// displacement control, the tip z unknowns (`+1`) under load control.
+    pub fn load_derivative(&self, model: &DiscreteModel) -> Vec<f64> {
+        let mut d = vec![0.0; self.n];
+        match self.tip_load {
+            TipLoad::Height(_) => {
+                for row in self.height_rows() {
+                    d[row] = -1.0;
+                }
+            }
+            TipLoad::Force(_) => {
+                for rod in &model.rods {
+                    d[rod.r_dof(rod.end_vertex(End::Tip), 2)] = 1.0;
+                }
+            }
+        }
+        d
     }
 
     fn assemble(
@@ -467,6 +511,12 @@ impl System {
                     sink.add(row, d, 2.0 * x[d]);
                 }
                 residual[row] = norm2 - 1.0;
+            }
+        }
+        if let TipLoad::Force(p) = self.tip_load {
+            // potential of the dead load: +P z_tip per rod
+            for rod in &model.rods {
+                residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] += p;
             }
         }
         for (i, c) in self.linear.iter().enumerate() {
@@ -576,26 +626,26 @@ fn support_constraints(
     rod: &DiscreteRod,
     end: End,
     cond: EndCondition,
-    height: f64,
+    tip_load: TipLoad,
     out: &mut Vec<LinearConstraint>,
 ) {
     let v = rod.end_vertex(end);
     let r = model.vertex(x, id, v);
     let role = Role::Support { rod: id, end };
-    // axial: z = 0 at the base, z = h at the tip
-    let z = (2, 1.0);
-    out.push(match end {
-        End::Base => LinearConstraint {
-            terms: vec![(rod.r_dof(v, z.0), z.1)],
-            value: 0.0,
+    // axial: the base held where it is (z = 0), the tip at z = h under displacement control
+    match (end, tip_load) {
+        (End::Base, _) => out.push(LinearConstraint {
+            terms: vec![(rod.r_dof(v, 2), 1.0)],
+            value: r[2],
             role,
-        },
-        End::Tip => LinearConstraint {
-            terms: vec![(rod.r_dof(v, z.0), z.1)],
-            value: height,
+        }),
+        (End::Tip, TipLoad::Height(h)) => out.push(LinearConstraint {
+            terms: vec![(rod.r_dof(v, 2), 1.0)],
+            value: h,
             role: Role::TipHeight { rod: id },
-        },
-    });
+        }),
+        (End::Tip, TipLoad::Force(_)) => {}
+    }
     for dir in held_directions(cond.translation, &r) {
         let terms: Vec<(usize, f64)> = (0..2)
             .filter(|&k| dir[k] != 0.0)
@@ -607,28 +657,45 @@ fn support_constraints(
             role,
         });
     }
-    if cond.rotation == Rotation::Clamped {
-        // Im(q̄_held ∘ q) = 0: three conditions, linear in q, that with |q| = 1 hold q = q_held
-        let node = rod.end_node(end);
-        let held = model.quaternion(x, id, node);
-        let held = held / held.norm();
-        let conj = quaternion::conj(&held);
-        for i in 0..3 {
-            // row i of the matrix of q ↦ Im(conj ∘ q)
-            let terms: Vec<(usize, f64)> = (0..4)
-                .map(|k| {
-                    let mut ek = Quat::zeros();
-                    ek[k] = 1.0;
-                    (rod.q_dof(node, k), quaternion::mul(&conj, &ek)[i])
-                })
-                .filter(|&(_, a)| a != 0.0)
-                .collect();
-            out.push(LinearConstraint {
-                terms,
-                value: 0.0,
-                role,
-            });
+    // g = Im(q̄_held ∘ q) is linear in q and, with |q| = 1, zero only at q = ±q_held; near
+    // q_held it is half the rotation from q_held in the body frame, R_heldᵀ δθ / 2, so
+    // R_held g is half the spatial rotation and its z row holds the twist about z only
+    let node = rod.end_node(end);
+    let held = model.quaternion(x, id, node);
+    let held = held / held.norm();
+    let conj = quaternion::conj(&held);
+    // rows[i][k] = ∂g_i/∂q_k
+    let rows: [[f64; 4]; 3] = std::array::from_fn(|i| {
+        std::array::from_fn(|k| {
+            let mut ek = Quat::zeros();
+            ek[k] = 1.0;
+            quaternion::mul(&conj, &ek)[i]
+        })
+    });
+    let push = |coeffs: [f64; 4], out: &mut Vec<LinearConstraint>| {
+        let terms: Vec<(usize, f64)> = (0..4)
+            .filter(|&k| coeffs[k].abs() > 1e-15)
+            .map(|k| (rod.q_dof(node, k), coeffs[k]))
+            .collect();
+        out.push(LinearConstraint {
+            terms,
+            value: 0.0,
+            role,
+        });
+    };
+    match cond.rotation {
+        Rotation::Clamped => {
+            for row in rows {
+                push(row, out);
+            }
         }
+        Rotation::Pinned => {
+            let rh = quaternion::rotation(&held);
+            let twist: [f64; 4] =
+                std::array::from_fn(|k| (0..3).map(|i| rh[(2, i)] * rows[i][k]).sum());
+            push(twist, out);
+        }
+        Rotation::Free => {}
     }
 }
 

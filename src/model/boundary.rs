@@ -26,6 +26,9 @@ pub enum Rotation {
     Clamped,
     /// Free to rotate (a spherical hinge).
     Free,
+    /// Free to rotate about every axis normal to z, the rotation about z held (a ball
+    /// joint with the twist locked: the pinned end of Euler's column).
+    Pinned,
 }
 
 /// Conditions at one end of every rod.
@@ -52,6 +55,7 @@ impl EndCondition {
         let r = match self.rotation {
             Rotation::Clamped => "clamped",
             Rotation::Free => "free",
+            Rotation::Pinned => "pinned",
         };
         format!("{t}/{r}")
     }

@@ -35,6 +35,10 @@ impl Chirality {
 ///
 /// Right-handed: `r(s) = (a cos φ, a sin φ, b s/c)`, left-handed: `(a cos φ, −a sin φ, b s/c)`,
 /// with `φ = s/c + t0` and `c = √(a² + b²)`.
+///
+/// Radius `a = 0` is taken as a straight rod along z with untwisted directors (no
+/// intrinsic curvature or twist), for the Euler buckling checks; it is not the limit of a
+/// helix, which keeps a twist `1/b`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Helix {
     /// Radius `a` (m).
@@ -57,8 +61,17 @@ impl Helix {
         2.0 * PI * self.c() * turns
     }
 
+    /// Whether this is the straight, untwisted rod (`a = 0`).
+    pub fn is_straight(&self) -> bool {
+        self.radius == 0.0
+    }
+
     fn phase(&self, s: f64) -> f64 {
-        s / self.c() + self.base_angle
+        if self.is_straight() {
+            self.base_angle
+        } else {
+            s / self.c() + self.base_angle
+        }
     }
 
     /// Centreline position at arc length `s` (m).
@@ -84,6 +97,9 @@ impl Helix {
 
     /// Intrinsic curvatures `(κ1*, κ2*, Ω*) = (−a/c², 0, χ b/c²)` (1/m).
     pub fn natural_curvature(&self) -> Vector3<f64> {
+        if self.is_straight() {
+            return Vector3::zeros();
+        }
         let c2 = self.c() * self.c();
         Vector3::new(
             -self.radius / c2,

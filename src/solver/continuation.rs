@@ -1,23 +1,55 @@
-//! Displacement-controlled continuation in the compression ratio `ε` (DESIGN.md §3, §5):
-//! tangent predictor, Newton corrector, adaptive step length with cut-backs.
+//! Continuation in a load parameter `λ` (DESIGN.md §3, §5): under displacement control
+//! `λ = ε`, the compression ratio; under load control `λ = P / Pcrit`, the compressive dead
+//! load on every tip over the Euler load. Tangent predictor, modified-Newton corrector,
+//! adaptive step length with cut-backs, pseudo-arclength steps where natural ones fail
+//! (folds), the stability of every converged state, critical points located by bisection
+//! on the count of unstable directions, and branch switching at bifurcations.
 
-use super::newton::{self, NewtonError, NewtonReport, NewtonSettings, Workspace};
-use crate::discretisation::system::{DiscreteModel, System};
+use super::inertia::{InertiaCounter, InertiaError};
+use super::linear::LinearError;
+use super::newton::{self, Border, NewtonError, NewtonReport, NewtonSettings, Workspace};
+use crate::discretisation::system::{DiscreteModel, End, System, TipLoad};
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{self, LoadPoint, Snapshot};
+use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
+
+/// What the load parameter prescribes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Control {
+    /// Tip height prescribed: `λ = ε = (h0 − h)/h0`.
+    Displacement,
+    /// Dead compressive load `P = λ Pcrit` on every tip, along −z.
+    Force,
+}
+
+impl Control {
+    pub fn name(self) -> &'static str {
+        match self {
+            Control::Displacement => "displacement",
+            Control::Force => "force",
+        }
+    }
+}
 
 /// Step-length control of the continuation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContinuationSettings {
-    /// First internal step in `ε`.
+    /// First internal step in `λ`.
     pub initial_step: f64,
-    /// Smallest step before giving up.
+    /// Smallest step before giving up (or changing strategy).
     pub min_step: f64,
     /// Largest step.
     pub max_step: f64,
     /// Newton iterations aimed at: fewer grow the step, more shrink it.
     pub target_iterations: usize,
+    /// Switch to pseudo-arclength steps when natural ones fail at the smallest step.
+    pub arclength_fallback: bool,
+    /// Count unstable directions at every converged step and locate critical points.
+    pub track_stability: bool,
+    /// Critical points are located to this relative tolerance in the step.
+    pub critical_tolerance: f64,
     pub newton: NewtonSettings,
 }
 
@@ -28,6 +60,9 @@ impl Default for ContinuationSettings {
             min_step: 1e-6,
             max_step: 0.05,
             target_iterations: 6,
+            arclength_fallback: true,
+            track_stability: true,
+            critical_tolerance: 1e-9,
             newton: NewtonSettings::default(),
         }
     }
@@ -35,14 +70,26 @@ impl Default for ContinuationSettings {
 
 /// The continuation could not reach its target; the last converged state is kept.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("continuation stopped at eps = {reached:.6} (target {target:.6}): a step of {step:.2e} failed: {cause}")]
+#[error("continuation stopped at eps = {eps:.6} ({control} parameter {reached:.6}, target {target:.6}): {reason}")]
 pub struct SolveError {
-    /// Last converged compression ratio.
+    pub control: &'static str,
+    /// Last converged load parameter.
     pub reached: f64,
+    /// Compression ratio of the last converged state.
+    pub eps: f64,
     pub target: f64,
     /// The last step tried.
     pub step: f64,
-    pub cause: NewtonError,
+    pub reason: StopReason,
+}
+
+/// Why a continuation stopped.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum StopReason {
+    #[error("a step of {step:.2e} failed: {cause}")]
+    Newton { step: f64, cause: NewtonError },
+    #[error("the path turned back (a limit point) and does not reach the target within {steps} arclength steps")]
+    TurnedBack { steps: usize },
 }
 
 /// Counters of a continuation.
@@ -52,7 +99,64 @@ pub struct Statistics {
     pub rejected: usize,
     pub iterations: usize,
     pub factorisations: usize,
+    /// Arclength steps among `steps`.
+    pub arclength_steps: usize,
     pub time: Duration,
+}
+
+/// Stability of a converged state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stability {
+    /// Negative eigenvalues of the Hessian of the Lagrangian on the tangent space of the
+    /// constraints (0: stable).
+    pub unstable_directions: usize,
+    /// Lowest eigenvalue of that Hessian in the metric of nodal rotations weighted by
+    /// arc length (J/m; negative when unstable), where computed.
+    pub lowest_eigenvalue: Option<f64>,
+}
+
+impl Stability {
+    pub fn is_stable(&self) -> bool {
+        self.unstable_directions == 0
+    }
+}
+
+/// Kind of a critical point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CriticalKind {
+    /// A fold of the path in the load parameter.
+    LimitPoint,
+    /// Another branch crosses the path.
+    Bifurcation,
+}
+
+impl CriticalKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            CriticalKind::LimitPoint => "limit-point",
+            CriticalKind::Bifurcation => "bifurcation",
+        }
+    }
+}
+
+/// A critical point located on the path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CriticalPoint {
+    pub kind: CriticalKind,
+    pub control: Control,
+    /// Load parameter at the critical point.
+    pub parameter: f64,
+    /// Compression ratio there.
+    pub eps: f64,
+    /// `(1/(n Pcrit)) Σ F_tip` there.
+    pub load: [f64; 3],
+    pub unstable_before: usize,
+    pub unstable_after: usize,
+    /// State at the critical point (all unknowns).
+    pub state: Vec<f64>,
+    /// Critical mode: the near-null vector of the KKT matrix there (all unknowns), scaled
+    /// to unit norm over the primal unknowns.
+    pub mode: Vec<f64>,
 }
 
 /// A discrete model under boundary conditions, at a converged state, that can be moved
@@ -61,52 +165,86 @@ pub struct Simulation {
     pub model: DiscreteModel,
     system: System,
     ws: Workspace,
+    control: Control,
     /// Converged state: primal unknowns then multipliers.
     x: Vec<f64>,
-    eps: f64,
-    /// `dx/dε` at the converged state, when known.
+    /// Load parameter of `x`.
+    lambda: f64,
+    /// `dx/dλ` at the converged state, when known.
     tangent: Option<Vec<f64>>,
+    /// The converged point before this one, for secant predictors in arclength mode.
+    previous: Option<(Vec<f64>, f64)>,
+    /// Step length: in `λ` for natural steps, in arclength otherwise.
     step: f64,
+    arclength: bool,
     last: NewtonReport,
     pub settings: ContinuationSettings,
     pub stats: Statistics,
+    inertia: Option<InertiaCounter>,
+    stability: Option<Stability>,
+    critical: Vec<CriticalPoint>,
+}
+
+/// The step equation `t_xᵀ (x − x0) + t_λ (λ − λ0) = ds` of a corrector.
+#[derive(Clone, Copy)]
+struct StepEquation<'a> {
+    tx: &'a [f64],
+    tl: f64,
+    x0: &'a [f64],
+    l0: f64,
+    ds: f64,
+}
+
+/// A trial step's outcome (not yet accepted).
+struct Trial {
+    x: Vec<f64>,
+    lambda: f64,
+    report: NewtonReport,
 }
 
 impl Simulation {
-    /// Starts from the natural state at `ε = 0` and solves it.
+    /// Starts from the natural state at `ε = 0` under displacement control and solves it.
     pub fn new(
         model: DiscreteModel,
         bc: BoundaryConditions,
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
         let x0 = model.natural_state();
-        Simulation::from_state(model, bc, x0, settings)
+        Simulation::from_state(model, bc, Control::Displacement, x0, settings)
     }
 
     /// Starts from a given primal state `x` (nodal quaternions and positions, e.g. of
     /// other helices than the natural ones) and solves it: the supports hold the ends
-    /// where `x` puts them, and `ε` is that of `x`'s tip height.
+    /// where `x` puts them; under displacement control `ε` is that of `x`'s tip height,
+    /// under load control the load starts at zero.
     pub fn from_state(
         model: DiscreteModel,
         bc: BoundaryConditions,
+        control: Control,
         mut x: Vec<f64>,
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
         x.truncate(model.n_primal);
-        let tip = model.rods[0].end_vertex(crate::discretisation::system::End::Tip);
-        let height = model.vertex(&x, 0, tip)[2];
-        let eps = 1.0 - height / model.height0();
-        let system = System::new(&model, bc, &x, height);
+        let height = mean_tip_height(&model, &x);
+        let lambda = match control {
+            Control::Displacement => 1.0 - height / model.height0(),
+            Control::Force => 0.0,
+        };
+        let tip_load = tip_load(&model, control, lambda);
+        let system = System::new(&model, bc, &x, tip_load);
         x.resize(system.n, 0.0);
         let ws = Workspace::new(&system);
         let mut sim = Simulation {
             model,
             system,
             ws,
+            control,
             x,
-            eps,
+            lambda,
             tangent: None,
+            previous: None,
             step: settings.initial_step,
+            arclength: false,
             last: NewtonReport {
                 iterations: 0,
                 residual: 0.0,
@@ -114,14 +252,33 @@ impl Simulation {
             },
             settings,
             stats: Statistics::default(),
+            inertia: None,
+            stability: None,
+            critical: Vec::new(),
         };
-        sim.correct_in_place(eps)?;
+        sim.correct_in_place()?;
+        sim.update_stability(true);
         Ok(sim)
     }
 
-    /// Current compression ratio.
+    /// Euler load of a clamped–clamped rod, `Pcrit = B1 (2π/L)²` (N): the unit of `λ`
+    /// under load control.
+    pub fn pcrit(&self) -> f64 {
+        results::euler_load(self.model.stiffness.b1, self.model.length())
+    }
+
+    pub fn control(&self) -> Control {
+        self.control
+    }
+
+    /// Current load parameter `λ`.
+    pub fn parameter(&self) -> f64 {
+        self.lambda
+    }
+
+    /// Compression ratio of the current state, from the mean tip height.
     pub fn eps(&self) -> f64 {
-        self.eps
+        1.0 - mean_tip_height(&self.model, &self.x) / self.model.height0()
     }
 
     /// Tip height `h = h0 (1 − ε)` (m) at compression ratio `eps`.
@@ -147,49 +304,123 @@ impl Simulation {
         self.step
     }
 
+    /// Whether steps are pseudo-arclength ones.
+    pub fn is_arclength(&self) -> bool {
+        self.arclength
+    }
+
     /// Newton report of the solve that produced the current state.
     pub fn last_solve(&self) -> NewtonReport {
         self.last
     }
 
-    /// Newton at fixed `ε` from the current state; keeps the old state on failure.
-    fn correct_in_place(&mut self, eps: f64) -> Result<(), SolveError> {
+    /// Stability of the current state, when tracked and computable.
+    pub fn stability(&self) -> Option<Stability> {
+        self.stability
+    }
+
+    /// Critical points located so far.
+    pub fn critical_points(&self) -> &[CriticalPoint] {
+        &self.critical
+    }
+
+    fn tip_load(&self, lambda: f64) -> TipLoad {
+        tip_load(&self.model, self.control, lambda)
+    }
+
+    /// `∂R/∂λ`.
+    fn dr_dl(&self) -> Vec<f64> {
+        let factor = match self.control {
+            Control::Displacement => -self.model.height0(), // dh/dε
+            Control::Force => self.pcrit(),                 // dP/dλ
+        };
+        self.system
+            .load_derivative(&self.model)
+            .into_iter()
+            .map(|v| v * factor)
+            .collect()
+    }
+
+    fn error(&self, target: f64, step: f64, reason: StopReason) -> SolveError {
+        SolveError {
+            control: self.control.name(),
+            reached: self.lambda,
+            eps: self.eps(),
+            target,
+            step,
+            reason,
+        }
+    }
+
+    /// Runs the bordered Newton corrector from `(x, λ)`; counts its work.
+    fn correct(
+        &mut self,
+        mut x: Vec<f64>,
+        mut lambda: f64,
+        step: StepEquation,
+    ) -> Result<Trial, NewtonError> {
         let t0 = Instant::now();
-        self.system.set_height(self.height_at(eps));
-        let mut x = self.x.clone();
+        let dr_dl = self.dr_dl();
+        let border = Border {
+            tx: step.tx,
+            tl: step.tl,
+            x0: step.x0,
+            l0: step.l0,
+            ds: step.ds,
+            dr_dl: &dr_dl,
+        };
         let before = self.ws.lu.factorisations;
+        let (model, control) = (&self.model, self.control);
+        let load = |l: f64| tip_load(model, control, l);
         let out = newton::solve(
             &self.model,
-            &self.system,
+            &mut self.system,
             &mut x,
+            &mut lambda,
+            &load,
+            &border,
             &mut self.ws,
             &self.settings.newton,
         );
         self.stats.factorisations += self.ws.lu.factorisations - before;
         self.stats.time += t0.elapsed();
-        match out {
-            Ok(rep) => {
-                self.stats.iterations += rep.iterations;
-                self.x = x;
-                self.eps = eps;
-                self.last = rep;
+        // the system keeps the load of the converged state
+        self.system.set_tip_load(self.tip_load(self.lambda));
+        out.map(|report| {
+            self.stats.iterations += report.iterations;
+            Trial { x, lambda, report }
+        })
+    }
+
+    /// Newton at fixed `λ` from the current state; keeps the old state on failure.
+    fn correct_in_place(&mut self) -> Result<(), SolveError> {
+        let zeros = vec![0.0; self.model.n_primal];
+        let x0 = self.x.clone();
+        let l0 = self.lambda;
+        match self.correct(
+            x0.clone(),
+            l0,
+            StepEquation {
+                tx: &zeros,
+                tl: 1.0,
+                x0: &x0,
+                l0,
+                ds: 0.0,
+            },
+        ) {
+            Ok(t) => {
+                self.x = t.x;
+                self.last = t.report;
                 self.tangent = None;
+                self.previous = None;
                 Ok(())
             }
-            Err(cause) => {
-                self.system.set_height(self.height_at(self.eps));
-                Err(SolveError {
-                    reached: self.eps,
-                    target: eps,
-                    step: 0.0,
-                    cause,
-                })
-            }
+            Err(cause) => Err(self.error(l0, 0.0, StopReason::Newton { step: 0.0, cause })),
         }
     }
 
-    /// `dx/dε` at the current state from `K t = −∂R/∂ε` (`∂g/∂ε = h0` on the tip-height
-    /// rows). The factorisation at the converged state is kept for the next corrector.
+    /// `dx/dλ` at the current state from `K t = −∂R/∂λ`. The factorisation at the
+    /// converged state is kept for the next corrector.
     fn compute_tangent(&mut self) -> Option<Vec<f64>> {
         let before = self.ws.lu.factorisations;
         let ok = self
@@ -200,11 +431,7 @@ impl Simulation {
         if !ok {
             return None;
         }
-        let mut rhs = vec![0.0; self.system.n];
-        let h0 = self.model.height0();
-        for row in self.system.height_rows() {
-            rhs[row] = -h0;
-        }
+        let rhs: Vec<f64> = self.dr_dl().iter().map(|v| -v).collect();
         let mut t = vec![0.0; self.system.n];
         self.ws
             .solve_checked(
@@ -217,126 +444,678 @@ impl Simulation {
         Some(t)
     }
 
-    /// Continues to compression ratio `target` with as many internal steps as needed.
-    /// On failure the last converged state is kept and the error says where and why.
-    pub fn advance_to(&mut self, target: f64) -> Result<(), SolveError> {
-        let t0 = Instant::now();
-        let out = self.advance_inner(target);
-        self.stats.time += t0.elapsed();
-        out
+    /// Unit tangent `(t_x, t_λ)` over the primal unknowns and `λ`, and the full-length
+    /// predictor direction, for an arclength step heading towards increasing `dir · λ`.
+    fn arclength_direction(&mut self, dir: f64) -> Option<(Vec<f64>, f64, Vec<f64>)> {
+        let np = self.model.n_primal;
+        let (full, dl) = match &self.previous {
+            Some((xp, lp)) => {
+                let d: Vec<f64> = self.x.iter().zip(xp).map(|(a, b)| a - b).collect();
+                (d, self.lambda - lp)
+            }
+            None => {
+                if self.tangent.is_none() {
+                    self.tangent = self.compute_tangent();
+                }
+                let t = self.tangent.clone()?;
+                (t.iter().map(|v| v * dir).collect(), dir)
+            }
+        };
+        let norm = ((0..np).map(|i| full[i] * full[i]).sum::<f64>() + dl * dl).sqrt();
+        if norm.is_nan() || norm <= 0.0 {
+            return None;
+        }
+        let full: Vec<f64> = full.iter().map(|v| v / norm).collect();
+        Some((full[..np].to_vec(), dl / norm, full))
     }
 
-    fn advance_inner(&mut self, target: f64) -> Result<(), SolveError> {
-        let s = &self.settings;
-        let (min_step, max_step, target_it) = (s.min_step, s.max_step, s.target_iterations);
-        let newton_settings = s.newton;
-        while (target - self.eps).abs() > 1e-14 {
+    /// One step of length `h` (natural: in `λ` towards `dir`; arclength: along the path).
+    fn try_step(&mut self, h: f64, dir: f64) -> Result<Trial, NewtonError> {
+        if self.arclength {
+            let Some((tx, tl, full)) = self.arclength_direction(dir) else {
+                return Err(NewtonError::Linear {
+                    iteration: 0,
+                    source: LinearError::Singular {
+                        relative_residual: f64::INFINITY,
+                    },
+                });
+            };
+            let x: Vec<f64> = self.x.iter().zip(&full).map(|(a, t)| a + h * t).collect();
+            let lambda = self.lambda + h * tl;
+            let x0 = self.x.clone();
+            self.correct(
+                x,
+                lambda,
+                StepEquation {
+                    tx: &tx,
+                    tl,
+                    x0: &x0,
+                    l0: self.lambda,
+                    ds: h,
+                },
+            )
+        } else {
             if self.tangent.is_none() {
                 self.tangent = self.compute_tangent();
             }
-            let dir = (target - self.eps).signum();
-            let mut step = self.step.min(max_step);
-            loop {
-                let d = dir * step.min((target - self.eps).abs());
-                let eps = self.eps + d;
-                let mut x = self.x.clone();
-                if let Some(t) = &self.tangent {
-                    for (xi, ti) in x.iter_mut().zip(t) {
-                        *xi += ti * d;
-                    }
-                }
-                self.system.set_height(self.height_at(eps));
-                let before = self.ws.lu.factorisations;
-                let out = newton::solve(
-                    &self.model,
-                    &self.system,
-                    &mut x,
-                    &mut self.ws,
-                    &newton_settings,
-                );
-                self.stats.factorisations += self.ws.lu.factorisations - before;
-                match out {
-                    Ok(rep) => {
-                        self.stats.steps += 1;
-                        self.stats.iterations += rep.iterations;
-                        self.x = x;
-                        self.eps = eps;
-                        self.last = rep;
-                        self.tangent = None;
-                        // adapt the step length to the Newton effort
-                        if rep.iterations + 1 < target_it {
-                            step = (step * 1.5).min(max_step);
-                        } else if rep.iterations > target_it + 2 {
-                            step *= 0.6;
-                        }
-                        self.step = step.max(min_step);
-                        break;
-                    }
-                    Err(cause) => {
-                        self.stats.rejected += 1;
-                        self.system.set_height(self.height_at(self.eps));
-                        self.ws.fresh = false;
-                        if step <= min_step * 1.000001 {
-                            self.step = min_step;
-                            return Err(SolveError {
-                                reached: self.eps,
-                                target,
-                                step,
-                                cause,
-                            });
-                        }
-                        step = (step * 0.5).max(min_step);
-                    }
+            let d = dir * h;
+            let mut x = self.x.clone();
+            if let Some(t) = &self.tangent {
+                for (xi, ti) in x.iter_mut().zip(t) {
+                    *xi += ti * d;
                 }
             }
+            let zeros = vec![0.0; self.model.n_primal];
+            let x0 = self.x.clone();
+            self.correct(
+                x,
+                self.lambda + d,
+                StepEquation {
+                    tx: &zeros,
+                    tl: 1.0,
+                    x0: &x0,
+                    l0: self.lambda,
+                    ds: d,
+                },
+            )
+        }
+    }
+
+    fn accept(&mut self, trial: Trial) {
+        let old = std::mem::replace(&mut self.x, trial.x);
+        self.previous = Some((old, self.lambda));
+        self.lambda = trial.lambda;
+        self.last = trial.report;
+        self.tangent = None;
+        self.stats.steps += 1;
+        if self.arclength {
+            self.stats.arclength_steps += 1;
+        }
+    }
+
+    /// Continues to load parameter `target` with as many internal steps as needed.
+    /// On failure the last converged state is kept and the error says where and why.
+    pub fn advance_to(&mut self, target: f64) -> Result<(), SolveError> {
+        const MAX_ARCLENGTH_STEPS: usize = 2000;
+        let s = self.settings;
+        let mut arclength_steps = 0;
+        while (target - self.lambda).abs() > 1e-14 * (1.0 + target.abs()) {
+            let dir = (target - self.lambda).signum();
+            let remaining = (target - self.lambda).abs();
+            // `nominal` is the adaptive step; the last natural step is shortened to land
+            // on the target without shrinking the step for what follows
+            let mut nominal = self.step.min(s.max_step);
+            let h = if self.arclength {
+                nominal
+            } else {
+                nominal.min(remaining)
+            };
+            let trial = self.try_step(h, dir);
+            match trial {
+                Ok(t) => {
+                    // an arclength step that overshoots the target: land on it exactly
+                    let overshoot = self.arclength && (t.lambda - target) * dir > 0.0;
+                    if overshoot {
+                        self.arclength = false;
+                        self.step = remaining.max(s.min_step);
+                        self.ws.fresh = false;
+                        continue;
+                    }
+                    let iterations = t.report.iterations;
+                    let before = self.stability;
+                    let x_before = self.x.clone();
+                    let l_before = self.lambda;
+                    let was_arclength = self.arclength;
+                    self.accept(t);
+                    if self.arclength {
+                        arclength_steps += 1;
+                        if arclength_steps > MAX_ARCLENGTH_STEPS {
+                            return Err(self.error(
+                                target,
+                                h,
+                                StopReason::TurnedBack {
+                                    steps: MAX_ARCLENGTH_STEPS,
+                                },
+                            ));
+                        }
+                    }
+                    self.update_stability(false);
+                    if let (Some(b), Some(a)) = (before, self.stability) {
+                        if a.unstable_directions != b.unstable_directions {
+                            self.locate_critical(&x_before, l_before, was_arclength, h, dir, b, a);
+                        }
+                    }
+                    // adapt the step length to the Newton effort
+                    if iterations + 1 < s.target_iterations {
+                        nominal = (nominal * 1.5).min(s.max_step);
+                    } else if iterations > s.target_iterations + 2 {
+                        nominal = h * 0.6;
+                    }
+                    self.step = nominal.max(s.min_step);
+                }
+                Err(cause) => {
+                    self.stats.rejected += 1;
+                    self.ws.fresh = false;
+                    if h <= s.min_step * 1.000001 {
+                        if !self.arclength && s.arclength_fallback {
+                            // change strategy: pseudo-arclength from here
+                            self.arclength = true;
+                            self.step = s.initial_step.min(s.max_step);
+                            continue;
+                        }
+                        self.step = s.min_step;
+                        return Err(self.error(target, h, StopReason::Newton { step: h, cause }));
+                    }
+                    self.step = (h * 0.5).max(s.min_step);
+                }
+            }
+        }
+        self.lambda = target;
+        if s.track_stability {
+            self.update_stability(true);
         }
         Ok(())
     }
 
-    /// Changes the boundary conditions and re-solves at the current `ε` from the current
+    /// Counts unstable directions at the current state (and the lowest eigenvalue when
+    /// `eigenvalue` is set).
+    fn update_stability(&mut self, eigenvalue: bool) {
+        if !self.settings.track_stability {
+            self.stability = None;
+            return;
+        }
+        let count = self.unstable_directions().ok();
+        self.stability = count.map(|c| Stability {
+            unstable_directions: c,
+            lowest_eigenvalue: if eigenvalue {
+                self.lowest_eigenvalue(c).map(|(l, _)| l)
+            } else {
+                None
+            },
+        });
+    }
+
+    /// Number of unstable directions of the current state: negative eigenvalues of the
+    /// Hessian of the Lagrangian on the tangent space of the constraints.
+    pub fn unstable_directions(&mut self) -> Result<usize, InertiaError> {
+        let x = self.x.clone();
+        self.unstable_directions_at(&x)
+    }
+
+    /// Counts the eigenvalues of the constrained Hessian below `−τ`, `τ = 1e-9 ρ / m̄`
+    /// (`ρ` the mean diagonal of the Hessian, `m̄` the mean metric weight): a neutral
+    /// direction (e.g. turning a buckled isotropic rod about its axis) counts as stable.
+    fn unstable_directions_at(&mut self, x: &[f64]) -> Result<usize, InertiaError> {
+        if self.inertia.is_none() {
+            self.inertia = Some(InertiaCounter::new(&self.system, self.model.n_primal)?);
+        }
+        let metric = self.metric();
+        let mean_metric =
+            metric.iter().sum::<f64>() / metric.iter().filter(|&&m| m > 0.0).count().max(1) as f64;
+        let mut residual = vec![0.0; self.system.n];
+        let mut values = self.system.new_values();
+        self.system
+            .evaluate(&self.model, x, &mut residual, &mut values);
+        let counter = self.inertia.as_mut().expect("built above");
+        let tau = 1e-9 * counter.hessian_scale(&values) / mean_metric;
+        let inertia = counter.inertia(&values, -tau, &metric)?;
+        Ok(counter.unstable_directions(inertia).max(0) as usize)
+    }
+
+    /// Tributary arc length of every primal unknown: the metric of the eigenproblem
+    /// (quaternion unknowns weighted by their node's share of the rod, positions zero).
+    fn metric(&self) -> Vec<f64> {
+        let mut m = vec![0.0; self.model.n_primal];
+        let p = self.model.order.degree();
+        for rod in &self.model.rods {
+            for e in 0..rod.mesh.elements() {
+                let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
+                for a in 0..=p {
+                    let w = if a == 0 || a == p {
+                        h / (2.0 * p as f64)
+                    } else {
+                        h / p as f64
+                    };
+                    for k in 0..4 {
+                        m[rod.q_dof(e * p + a, k)] += w;
+                    }
+                }
+            }
+        }
+        m
+    }
+
+    /// Lowest eigenvalue (J/m) and mode of the constrained Hessian at the current state,
+    /// by inverse iteration with shifts below the spectrum when `unstable > 0`.
+    fn lowest_eigenvalue(&mut self, unstable: usize) -> Option<(f64, Vec<f64>)> {
+        let np = self.model.n_primal;
+        let n = self.system.n;
+        let metric = self.metric();
+        let mut residual = vec![0.0; n];
+        let mut values = self.system.new_values();
+        self.system
+            .evaluate(&self.model, &self.x, &mut residual, &mut values);
+        let base = values.clone();
+        let diag: Vec<usize> = (0..np)
+            .map(|i| {
+                let m = self.system.matrix(&values);
+                let cp = m.symbolic().col_ptr();
+                let rows = &m.symbolic().row_idx()[cp[i]..cp[i + 1]];
+                cp[i] + rows.binary_search(&i).expect("diagonal stored")
+            })
+            .collect();
+        // shift below the spectrum: σ = 0 if stable, else decrease until nothing is below
+        let mut sigma = 0.0;
+        let mut guess = 1.0;
+        for _ in 0..60 {
+            values.copy_from_slice(&base);
+            for (i, &d) in diag.iter().enumerate() {
+                values[d] -= sigma * metric[i];
+            }
+            if unstable == 0 {
+                break;
+            }
+            let counter = self.inertia.as_mut()?;
+            let below = counter
+                .inertia(&base, sigma, &metric)
+                .ok()
+                .map(|i| counter.unstable_directions(i));
+            if below == Some(0) {
+                break;
+            }
+            sigma = -guess;
+            guess *= 4.0;
+        }
+        // stable: the factorisation at the state (also used by the next predictor);
+        // unstable: a factorisation of the shifted matrix
+        let mut shifted = super::linear::SparseLu::default();
+        let use_shifted = sigma != 0.0;
+        if use_shifted {
+            shifted.factorize(self.system.matrix(&values)).ok()?;
+            self.stats.factorisations += 1;
+        } else {
+            self.tangent = self.compute_tangent();
+            self.tangent.as_ref()?;
+        }
+        let mut u: Vec<f64> = (0..n)
+            .map(|i| {
+                if i < np {
+                    metric[i] * (1.0 + (i % 7) as f64 * 0.1)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let mut estimate = f64::NAN;
+        for _ in 0..60 {
+            let mut v = vec![0.0; n];
+            for i in 0..np {
+                v[i] = metric[i] * u[i];
+            }
+            if use_shifted {
+                shifted.solve(&mut v);
+            } else {
+                self.ws.lu.solve(&mut v);
+            }
+            if v.iter().any(|x| !x.is_finite()) {
+                return None;
+            }
+            let norm = (0..np).map(|i| metric[i] * v[i] * v[i]).sum::<f64>().sqrt();
+            if norm.is_nan() || norm <= 0.0 {
+                return None;
+            }
+            v.iter_mut().for_each(|x| *x /= norm);
+            // Rayleigh quotient of the unshifted Hessian: vᵀ H v / vᵀ M v, with H v the
+            // primal part of K [v_primal; 0]
+            let k = self.system.matrix(&base);
+            let (cp, ri, val) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
+            let mut hv = vec![0.0; np];
+            for j in 0..np {
+                for p in cp[j]..cp[j + 1] {
+                    if ri[p] < np {
+                        hv[ri[p]] += val[p] * v[j];
+                    }
+                }
+            }
+            let rq = (0..np).map(|i| v[i] * hv[i]).sum::<f64>();
+            // the Rayleigh quotient converges as the square of the vector
+            let done = (rq - estimate).abs() <= 1e-9 * rq.abs().max(1e-12);
+            estimate = rq;
+            u = v;
+            if done {
+                break;
+            }
+        }
+        estimate.is_finite().then_some((estimate, u))
+    }
+
+    /// Bisection on the step from `(x0, λ0)` for the change of the unstable count.
+    #[allow(clippy::too_many_arguments)]
+    fn locate_critical(
+        &mut self,
+        x0: &[f64],
+        l0: f64,
+        arclength: bool,
+        h: f64,
+        dir: f64,
+        before: Stability,
+        after: Stability,
+    ) {
+        let np = self.model.n_primal;
+        let saved = (
+            self.x.clone(),
+            self.lambda,
+            self.previous.clone(),
+            self.tangent.clone(),
+            self.last,
+            self.arclength,
+        );
+        // step direction from the start point, as the accepted step took it
+        let x1 = self.x.clone();
+        let l1 = self.lambda;
+        let d: Vec<f64> = x1.iter().zip(x0).map(|(a, b)| a - b).collect();
+        let norm = ((0..np).map(|i| d[i] * d[i]).sum::<f64>() + (l1 - l0).powi(2)).sqrt();
+        let (mut lo, mut hi) = (0.0, 1.0); // fractions of the step
+        let mut best: Option<(Vec<f64>, f64)> = Some((x1.clone(), l1));
+        let tx: Vec<f64> = if arclength {
+            (0..np).map(|i| d[i] / norm).collect()
+        } else {
+            vec![0.0; np]
+        };
+        let tl = if arclength { (l1 - l0) / norm } else { 1.0 };
+        let scale = if arclength {
+            norm
+        } else {
+            (l1 - l0).abs().max(h * dir.abs())
+        };
+        while hi - lo > self.settings.critical_tolerance.max(1e-14) {
+            let mid = 0.5 * (lo + hi);
+            let xp: Vec<f64> = x0.iter().zip(&d).map(|(a, b)| a + mid * b).collect();
+            let lp = l0 + mid * (l1 - l0);
+            let ds = if arclength { mid * norm } else { lp - l0 };
+            self.ws.fresh = false;
+            let trial = self.correct(
+                xp,
+                lp,
+                StepEquation {
+                    tx: &tx,
+                    tl,
+                    x0,
+                    l0,
+                    ds,
+                },
+            );
+            let Ok(t) = trial else {
+                break;
+            };
+            match self.unstable_directions_at(&t.x) {
+                Ok(c) if c == before.unstable_directions => lo = mid,
+                Ok(_) => {
+                    hi = mid;
+                    best = Some((t.x, t.lambda));
+                }
+                Err(_) => {
+                    // a zero pivot: we are on the critical point
+                    best = Some((t.x, t.lambda));
+                    break;
+                }
+            }
+        }
+        let _ = scale;
+        if let Some((xc, lc)) = best {
+            // critical mode: inverse iteration on the KKT matrix there
+            self.x = xc.clone();
+            self.lambda = lc;
+            self.system.set_tip_load(self.tip_load(lc));
+            let mode = self.null_vector();
+            // a fold makes dx/dλ blow up, a bifurcation leaves it bounded
+            let t_near = self.compute_tangent();
+            let kind = match (
+                &t_near,
+                &saved.3.clone().or_else(|| {
+                    self.x = x0.to_vec();
+                    self.lambda = l0;
+                    self.system.set_tip_load(self.tip_load(l0));
+                    self.compute_tangent()
+                }),
+            ) {
+                (Some(a), Some(b)) => {
+                    let na = (0..np).map(|i| a[i] * a[i]).sum::<f64>().sqrt();
+                    let nb = (0..np).map(|i| b[i] * b[i]).sum::<f64>().sqrt();
+                    if na > 1e3 * nb.max(1e-300) {
+                        CriticalKind::LimitPoint
+                    } else {
+                        CriticalKind::Bifurcation
+                    }
+                }
+                (None, _) => CriticalKind::LimitPoint,
+                _ => CriticalKind::Bifurcation,
+            };
+            self.x = xc.clone();
+            self.lambda = lc;
+            self.system.set_tip_load(self.tip_load(lc));
+            let lp = self.load_point(0);
+            if let Some(mode) = mode {
+                self.critical.push(CriticalPoint {
+                    kind,
+                    control: self.control,
+                    parameter: lc,
+                    eps: self.eps(),
+                    load: lp.load,
+                    unstable_before: before.unstable_directions,
+                    unstable_after: after.unstable_directions,
+                    state: xc,
+                    mode,
+                });
+            }
+        }
+        // back to the accepted state
+        self.x = saved.0;
+        self.lambda = saved.1;
+        self.previous = saved.2;
+        self.tangent = None;
+        self.last = saved.4;
+        self.arclength = saved.5;
+        self.system.set_tip_load(self.tip_load(self.lambda));
+        self.ws.fresh = false;
+    }
+
+    /// Near-null vector of the KKT matrix at the current state by inverse iteration,
+    /// scaled to unit norm over the primal unknowns.
+    fn null_vector(&mut self) -> Option<Vec<f64>> {
+        let np = self.model.n_primal;
+        let n = self.system.n;
+        self.ws
+            .factorize_at(&self.model, &self.system, &self.x)
+            .ok()?;
+        self.stats.factorisations += 1;
+        let mut v: Vec<f64> = (0..n)
+            .map(|i| {
+                if i < np {
+                    1.0 + (i % 5) as f64 * 0.3
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        for _ in 0..30 {
+            self.ws.lu.solve(&mut v);
+            let norm = (0..np).map(|i| v[i] * v[i]).sum::<f64>().sqrt();
+            if !(norm > 0.0 && norm.is_finite()) {
+                return None;
+            }
+            v.iter_mut().for_each(|x| *x /= norm);
+        }
+        Some(v)
+    }
+
+    /// Leaves the path at bifurcation `index` (of [`Simulation::critical_points`]) along
+    /// its critical mode, in the direction `sign` (±1), by an arclength step of `h`
+    /// measured along the mode; continuation then goes on in arclength steps along the new
+    /// branch.
+    pub fn switch_branch(&mut self, index: usize, sign: f64, h: f64) -> Result<(), SolveError> {
+        let Some(cp) = self.critical.get(index).cloned() else {
+            return Err(self.error(
+                self.lambda,
+                0.0,
+                StopReason::Newton {
+                    step: 0.0,
+                    cause: NewtonError::NotConverged {
+                        iterations: 0,
+                        residual: f64::NAN,
+                    },
+                },
+            ));
+        };
+        let np = self.model.n_primal;
+        let tx: Vec<f64> = cp.mode[..np].iter().map(|v| v * sign).collect();
+        let x: Vec<f64> = cp
+            .state
+            .iter()
+            .zip(&cp.mode)
+            .map(|(a, m)| a + sign * h * m)
+            .collect();
+        self.ws.fresh = false;
+        match self.correct(
+            x,
+            cp.parameter,
+            StepEquation {
+                tx: &tx,
+                tl: 0.0,
+                x0: &cp.state,
+                l0: cp.parameter,
+                ds: h,
+            },
+        ) {
+            Ok(t) => {
+                self.x = cp.state.clone();
+                self.lambda = cp.parameter;
+                self.arclength = true;
+                self.accept(t);
+                self.step = h;
+                self.update_stability(true);
+                Ok(())
+            }
+            Err(cause) => Err(self.error(cp.parameter, h, StopReason::Newton { step: h, cause })),
+        }
+    }
+
+    /// Changes the boundary conditions and re-solves at the current load from the current
     /// state; what the new conditions hold is held where it is now. On failure the old
     /// conditions and state are kept.
     pub fn set_boundary_conditions(&mut self, bc: BoundaryConditions) -> Result<(), SolveError> {
-        let h = self.height_at(self.eps);
-        let system = System::new(&self.model, bc, &self.x[..self.model.n_primal], h);
+        let control = self.control;
+        self.rebuild(bc, control)
+    }
+
+    /// Changes the control (displacement or load) at the current state: the load
+    /// parameter becomes the current `ε`, or the current mean compressive tip force over
+    /// `Pcrit`.
+    pub fn set_control(&mut self, control: Control) -> Result<(), SolveError> {
+        let bc = self.system.bc;
+        self.rebuild(bc, control)
+    }
+
+    fn rebuild(&mut self, bc: BoundaryConditions, control: Control) -> Result<(), SolveError> {
+        let lambda = match control {
+            Control::Displacement => self.eps(),
+            Control::Force => {
+                let lp = self.load_point(0);
+                -lp.load[2]
+            }
+        };
+        let tip = tip_load(&self.model, control, lambda);
+        let system = System::new(&self.model, bc, &self.x[..self.model.n_primal], tip);
         // inextensibility and unit-norm multipliers keep their rows; support and joint
         // multipliers enter the KKT matrix linearly and restart from zero
         let keep = system.linear_row(0).min(self.x.len());
         let mut x = self.x[..keep].to_vec();
         x.resize(system.n, 0.0);
-        let old_system = std::mem::replace(&mut self.system, system);
-        let old_ws = std::mem::replace(&mut self.ws, Workspace::new(&self.system));
-        let old_x = std::mem::replace(&mut self.x, x);
-        let eps = self.eps;
-        match self.correct_in_place(eps) {
-            Ok(()) => Ok(()),
+        let old = (
+            std::mem::replace(&mut self.system, system),
+            std::mem::replace(&mut self.ws, Workspace::new(&self.system)),
+            std::mem::replace(&mut self.x, x),
+            self.inertia.take(),
+            self.control,
+            self.lambda,
+            self.arclength,
+        );
+        self.control = control;
+        self.lambda = lambda;
+        self.arclength = false;
+        self.ws = Workspace::new(&self.system);
+        match self.correct_in_place() {
+            Ok(()) => {
+                self.step = self.settings.initial_step;
+                self.update_stability(true);
+                Ok(())
+            }
             Err(e) => {
-                self.system = old_system;
-                self.ws = old_ws;
-                self.x = old_x;
+                self.system = old.0;
+                self.ws = old.1;
+                self.x = old.2;
+                self.inertia = old.3;
+                self.control = old.4;
+                self.lambda = old.5;
+                self.arclength = old.6;
                 Err(e)
             }
         }
     }
 
-    /// Reactions, load and energy at the current state.
+    /// Reactions, load, energy and stability at the current state.
     pub fn load_point(&self, step: usize) -> LoadPoint {
         let reactions = results::reactions(&self.model, &self.system, &self.x);
         let load = results::normalised_load(&self.model, &reactions);
+        let eps = self.eps();
         LoadPoint {
             step,
-            eps: self.eps,
-            height: self.height_at(self.eps),
+            eps,
+            parameter: self.lambda,
+            height: self.height_at(eps),
             reactions,
             load,
             energy: self.last.energy,
             iterations: self.last.iterations,
             residual: self.last.residual,
+            stability: self.stability,
         }
     }
 
     /// Shapes and curvatures at the current state.
     pub fn snapshot(&self) -> Snapshot {
-        results::snapshot(&self.model, &self.system, &self.x, self.eps)
+        results::snapshot(&self.model, &self.system, &self.x, self.eps())
+    }
+
+    /// Shape of a critical mode: the state displaced by `amplitude` times the mode.
+    pub fn mode_snapshot(&self, critical: &CriticalPoint, amplitude: f64) -> Snapshot {
+        let x: Vec<f64> = critical
+            .state
+            .iter()
+            .zip(&critical.mode)
+            .map(|(a, m)| a + amplitude * m)
+            .collect();
+        results::snapshot(&self.model, &self.system, &x, critical.eps)
+    }
+}
+
+/// Mean tip height over the rods (m).
+fn mean_tip_height(model: &DiscreteModel, x: &[f64]) -> f64 {
+    let n = model.rods.len() as f64;
+    model
+        .rods
+        .iter()
+        .enumerate()
+        .map(|(id, r)| model.vertex(x, id, r.end_vertex(End::Tip))[2])
+        .sum::<f64>()
+        / n
+}
+
+fn tip_load(model: &DiscreteModel, control: Control, lambda: f64) -> TipLoad {
+    match control {
+        Control::Displacement => TipLoad::Height(model.height0() * (1.0 - lambda)),
+        Control::Force => {
+            TipLoad::Force(lambda * results::euler_load(model.stiffness.b1, model.length()))
+        }
     }
 }

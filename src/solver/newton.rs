@@ -1,7 +1,7 @@
 //! Newton's method on the KKT system `R(x) = 0`.
 
 use super::linear::{relative_residual, LinearError, SparseLu};
-use crate::discretisation::system::{DiscreteModel, System};
+use crate::discretisation::system::{DiscreteModel, System, TipLoad};
 
 /// Newton settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,7 +55,6 @@ pub struct Workspace {
     pub residual: Vec<f64>,
     pub values: Vec<f64>,
     pub delta: Vec<f64>,
-    rhs: Vec<f64>,
     pub lu: SparseLu,
     /// A factorisation is held (of the Jacobian at some recent iterate) and may be reused.
     pub fresh: bool,
@@ -67,7 +66,6 @@ impl Workspace {
             residual: vec![0.0; system.n],
             values: system.new_values(),
             delta: vec![0.0; system.n],
-            rhs: vec![0.0; system.n],
             lu: SparseLu::default(),
             fresh: false,
         }
@@ -114,33 +112,59 @@ fn norm_inf(v: &[f64]) -> f64 {
     )
 }
 
-/// Newton iterations from `x` until `‖R‖∞ ≤ tolerance`. On error `x` holds the last
-/// iterate, which the caller must discard.
+/// The extra equation of a continuation step, `t_xᵀ (x − x0) + t_λ (λ − λ0) = ds` over
+/// the primal unknowns, and `∂R/∂λ`. Natural-parameter steps are `t_x = 0, t_λ = 1`.
+pub struct Border<'a> {
+    pub tx: &'a [f64],
+    pub tl: f64,
+    pub x0: &'a [f64],
+    pub l0: f64,
+    pub ds: f64,
+    /// `∂R/∂λ` over all unknowns (constant: the load enters linearly).
+    pub dr_dl: &'a [f64],
+}
+
+/// Newton iterations on `R(x, λ) = 0` bordered by the step equation of `border`, from
+/// `(x, λ)` until `‖R‖∞ ≤ tolerance`; `load(λ)` sets the system's tip load. On error `x`
+/// and `λ` hold the last iterate, which the caller must discard.
 ///
 /// Modified Newton: a factorisation already in `ws` (e.g. the Jacobian at the last
 /// converged state, used for the predictor) is reused while it contracts the residual by
 /// at least `REFACTOR_RATIO` per iteration; otherwise the Jacobian is refactorised at the
-/// current iterate, so the method falls back to full Newton where it must.
+/// current iterate, so the method falls back to full Newton where it must. Each solve is
+/// bordered: `K a = −R`, `K b = −∂R/∂λ`, then `δλ` from the step equation and `δx = a + δλ b`.
+#[allow(clippy::too_many_arguments)]
 pub fn solve(
     model: &DiscreteModel,
-    system: &System,
+    system: &mut System,
     x: &mut [f64],
+    lambda: &mut f64,
+    load: &dyn Fn(f64) -> TipLoad,
+    border: &Border,
     ws: &mut Workspace,
     settings: &NewtonSettings,
 ) -> Result<NewtonReport, NewtonError> {
     const REFACTOR_RATIO: f64 = 0.25;
+    let np = model.n_primal;
     let mut first = f64::NAN;
     let mut previous = f64::INFINITY;
     let mut stale = false; // the factorisation is not of the current iterate
     let mut last = f64::NAN;
+    let mut b: Option<Vec<f64>> = None; // K⁻¹(−∂R/∂λ) for the current factorisation
     for it in 0..=settings.max_iterations {
+        system.set_tip_load(load(*lambda));
         let ev = system.residual(model, x, &mut ws.residual);
         let r = norm_inf(&ws.residual);
         if it == 0 {
             first = r;
         }
         last = r;
-        if r <= settings.tolerance {
+        let step_eq: f64 = (0..np)
+            .map(|i| border.tx[i] * (x[i] - border.x0[i]))
+            .sum::<f64>()
+            + border.tl * (*lambda - border.l0)
+            - border.ds;
+        if r <= settings.tolerance && step_eq.abs() <= 1e-10 * (1.0 + border.ds.abs()) {
             return Ok(NewtonReport {
                 iterations: it,
                 residual: r,
@@ -169,23 +193,61 @@ pub fn solve(
                     source,
                 })?;
             ws.fresh = true;
+            b = None;
         }
         previous = r;
-        for (d, r) in ws.delta.iter_mut().zip(&ws.residual) {
-            *d = -r;
-        }
-        let rhs = std::mem::take(&mut ws.delta);
-        let mut delta = std::mem::take(&mut ws.rhs);
-        let checked = ws.solve_checked(system, &rhs, &mut delta, settings.singular_threshold);
-        ws.rhs = rhs;
-        ws.delta = delta;
-        checked.map_err(|source| NewtonError::Linear {
+        let linear = |source| NewtonError::Linear {
             iteration: it,
             source,
-        })?;
+        };
+        if b.is_none() && border.tx.iter().any(|&t| t != 0.0) {
+            let rhs: Vec<f64> = border.dr_dl.iter().map(|v| -v).collect();
+            let mut out = vec![0.0; system.n];
+            ws.solve_checked(system, &rhs, &mut out, settings.singular_threshold)
+                .map_err(linear)?;
+            b = Some(out);
+        }
+        let rhs: Vec<f64> = ws.residual.iter().map(|v| -v).collect();
+        let mut a = std::mem::take(&mut ws.delta);
+        let checked = ws.solve_checked(system, &rhs, &mut a, settings.singular_threshold);
+        ws.delta = a;
+        checked.map_err(linear)?;
+        // δλ from the linearised step equation
+        let (ta, tb) = match &b {
+            Some(b) => (
+                (0..np).map(|i| border.tx[i] * ws.delta[i]).sum::<f64>(),
+                (0..np).map(|i| border.tx[i] * b[i]).sum::<f64>(),
+            ),
+            None => (0.0, 0.0),
+        };
+        let denominator = tb + border.tl;
+        if denominator.abs() < 1e-14 {
+            return Err(NewtonError::Linear {
+                iteration: it,
+                source: LinearError::Singular {
+                    relative_residual: f64::INFINITY,
+                },
+            });
+        }
+        let dl = (-step_eq - ta) / denominator;
+        if dl != 0.0 {
+            // δx = a + δλ b; in natural-parameter steps b is computed only when λ moves
+            if b.is_none() {
+                let rhs: Vec<f64> = border.dr_dl.iter().map(|v| -v).collect();
+                let mut out = vec![0.0; system.n];
+                ws.solve_checked(system, &rhs, &mut out, settings.singular_threshold)
+                    .map_err(linear)?;
+                b = Some(out);
+            }
+            let bb = b.as_ref().expect("computed above");
+            for (d, bi) in ws.delta.iter_mut().zip(bb) {
+                *d += dl * bi;
+            }
+        }
         for (xi, di) in x.iter_mut().zip(&ws.delta) {
             *xi += di;
         }
+        *lambda += dl;
         stale = true;
     }
     Err(NewtonError::NotConverged {

@@ -1,0 +1,249 @@
+//! Inertia of the constrained Hessian from a sparse `LDLᵀ` (DESIGN.md §5, "Stability").
+//!
+//! An equilibrium is stable when the Hessian `H` of the Lagrangian is positive definite on
+//! the tangent space `J v = 0` of the constraints. The KKT matrix `K = [[H, Jᵀ], [J, 0]]`
+//! has inertia `(p, m + q, z)` where `q` is the number of negative directions of `Zᵀ H Z`
+//! and `m` the number of (independent) constraints. `K` has zero diagonal entries, so it is
+//! factorised in the augmented, regularised form
+//!
+//! `K_ρδ = [[H + ρ JᵀJ, Jᵀ], [J, −δ I]]`,
+//!
+//! whose inertia equals `inertia(H + (ρ + 1/δ) JᵀJ) + (0, m, 0)`; for a large penalty
+//! `ρ + 1/δ` the first term counts `q` negative directions (Sylvester's law of inertia and
+//! Debreu's lemma). The matrix is quasi-definite at stable states, so a symmetric `LDLᵀ`
+//! without pivoting exists for any fill-reducing ordering.
+
+use crate::discretisation::system::System;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, CholeskySymbolicParams,
+    SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
+use faer::{Par, Side};
+
+/// Counts of the signs of the pivots of `K_ρδ`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Inertia {
+    pub positive: usize,
+    pub negative: usize,
+}
+
+/// Why the inertia could not be computed.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum InertiaError {
+    #[error("zero pivot in the LDLᵀ of the KKT matrix (a singular or critical state)")]
+    ZeroPivot,
+    #[error("out of memory in the LDLᵀ factorisation")]
+    OutOfMemory,
+}
+
+/// The augmented KKT pattern of one [`System`], its symbolic `LDLᵀ` and value maps.
+pub struct InertiaCounter {
+    /// Number of constraint rows.
+    pub constraints: usize,
+    pattern: SymbolicSparseColMat<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    /// For each stored entry of `K`, its slot in the augmented pattern.
+    k_slots: Vec<usize>,
+    /// Products `(k value a, k value b, slot)` making `JᵀJ`.
+    jtj: Vec<(usize, usize, usize)>,
+    /// Slots of the dual diagonal.
+    dual_diagonal: Vec<usize>,
+    /// Slots of the primal diagonal.
+    primal_diagonal: Vec<usize>,
+    /// Indices of the primal diagonal in the KKT values.
+    k_diagonal: Vec<usize>,
+    values: Vec<f64>,
+    l_values: Vec<f64>,
+    /// Penalty of the last factorisation: the mean magnitude of the Hessian's diagonal.
+    pub rho: f64,
+    buffer: MemBuffer,
+}
+
+fn slot(pattern: &SymbolicSparseColMat<usize>, row: usize, col: usize) -> usize {
+    let cp = pattern.col_ptr();
+    let rows = &pattern.row_idx()[cp[col]..cp[col + 1]];
+    cp[col]
+        + rows
+            .binary_search(&row)
+            .expect("entry in the augmented pattern")
+}
+
+impl InertiaCounter {
+    /// Builds the augmented pattern and its symbolic factorisation for `system`, whose first
+    /// `n_primal` unknowns are primal.
+    pub fn new(system: &System, n_primal: usize) -> Result<InertiaCounter, InertiaError> {
+        let k = system.pattern();
+        let n = system.n;
+        let (cp, ri) = (k.col_ptr(), k.row_idx());
+        // constraint rows of J: (column, index into K's values), from the lower-left block
+        let mut rows: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n - n_primal];
+        for col in 0..n_primal {
+            for p in cp[col]..cp[col + 1] {
+                if ri[p] >= n_primal {
+                    rows[ri[p] - n_primal].push((col, p));
+                }
+            }
+        }
+        let mut pairs: Vec<Pair<usize, usize>> = Vec::new();
+        for col in 0..n {
+            for p in cp[col]..cp[col + 1] {
+                pairs.push(Pair { row: ri[p], col });
+            }
+        }
+        for r in &rows {
+            for &(ca, _) in r {
+                for &(cb, _) in r {
+                    pairs.push(Pair { row: ca, col: cb });
+                }
+            }
+        }
+        let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
+            .map_err(|_| InertiaError::OutOfMemory)?;
+        let mut k_slots = Vec::with_capacity(ri.len());
+        for col in 0..n {
+            for p in cp[col]..cp[col + 1] {
+                k_slots.push(slot(&pattern, ri[p], col));
+            }
+        }
+        let mut jtj = Vec::new();
+        for r in &rows {
+            for &(ca, pa) in r {
+                for &(cb, pb) in r {
+                    jtj.push((pa, pb, slot(&pattern, ca, cb)));
+                }
+            }
+        }
+        let dual_diagonal = (n_primal..n).map(|i| slot(&pattern, i, i)).collect();
+        let primal_diagonal = (0..n_primal).map(|i| slot(&pattern, i, i)).collect();
+        let k_diagonal = (0..n_primal).map(|i| slot(k, i, i)).collect();
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            params,
+        )
+        .map_err(|_| InertiaError::OutOfMemory)?;
+        let par = Par::Seq;
+        let req = symbolic
+            .factorize_numeric_ldlt_scratch::<f64>(par, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+        let buffer = MemBuffer::try_new(req).map_err(|_| InertiaError::OutOfMemory)?;
+        Ok(InertiaCounter {
+            constraints: n - n_primal,
+            values: vec![0.0; pattern.row_idx().len()],
+            rho: 1.0,
+            l_values: vec![0.0; symbolic.len_val()],
+            pattern,
+            symbolic,
+            k_slots,
+            jtj,
+            dual_diagonal,
+            primal_diagonal,
+            k_diagonal,
+            buffer,
+        })
+    }
+
+    /// Mean magnitude of the diagonal of the Hessian block of the KKT values `kkt`.
+    pub fn hessian_scale(&self, kkt: &[f64]) -> f64 {
+        let nz: Vec<f64> = self
+            .k_diagonal
+            .iter()
+            .map(|&p| kkt[p].abs())
+            .filter(|&v| v > 0.0)
+            .collect();
+        if nz.is_empty() {
+            1.0
+        } else {
+            nz.iter().sum::<f64>() / nz.len() as f64
+        }
+    }
+
+    /// Factorises `K_ρδ − σ M` built from the KKT values `kkt` (in the system's pattern),
+    /// with `M = diag(metric)` on the primal unknowns, and counts the signs of its pivots:
+    /// the negative directions it reports are the eigenvalues of the constrained pencil
+    /// `(H, M)` below `σ`.
+    pub fn inertia(
+        &mut self,
+        kkt: &[f64],
+        sigma: f64,
+        metric: &[f64],
+    ) -> Result<Inertia, InertiaError> {
+        // penalty scaled to the Hessian's diagonal
+        let mut diag = 0.0;
+        let mut count = 0;
+        let kp = &self.k_slots;
+        self.values.iter_mut().for_each(|v| *v = 0.0);
+        for (p, &s) in kp.iter().enumerate() {
+            self.values[s] += kkt[p];
+        }
+        for (i, &s) in self.primal_diagonal.iter().enumerate() {
+            self.values[s] -= sigma * metric[i];
+        }
+        for &s in &self.primal_diagonal {
+            let v = self.values[s].abs();
+            if v > 0.0 {
+                diag += v;
+                count += 1;
+            }
+        }
+        let rho = if count > 0 { diag / count as f64 } else { 1.0 };
+        self.rho = rho;
+        let delta = 1e-8 / rho;
+        for &(a, b, s) in &self.jtj {
+            self.values[s] += rho * kkt[a] * kkt[b];
+        }
+        for &s in &self.dual_diagonal {
+            self.values[s] = -delta;
+        }
+        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
+        self.symbolic
+            .factorize_numeric_ldlt(
+                &mut self.l_values,
+                a,
+                Side::Lower,
+                LdltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut self.buffer),
+                Default::default(),
+            )
+            .map_err(|_| InertiaError::ZeroPivot)?;
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+            unreachable!("supernodal factorisation forced")
+        };
+        let l = SupernodalLdltRef::new(sn, &self.l_values);
+        let mut inertia = Inertia {
+            positive: 0,
+            negative: 0,
+        };
+        for s in 0..sn.n_supernodes() {
+            let node = l.supernode(s);
+            let m = node.val();
+            for j in 0..m.ncols() {
+                let d = m[(j, j)];
+                if !d.is_finite() || d == 0.0 {
+                    return Err(InertiaError::ZeroPivot);
+                }
+                if d < 0.0 {
+                    inertia.negative += 1;
+                } else {
+                    inertia.positive += 1;
+                }
+            }
+        }
+        Ok(inertia)
+    }
+
+    /// Negative directions of the constrained Hessian: negative pivots less constraints.
+    pub fn unstable_directions(&self, inertia: Inertia) -> isize {
+        inertia.negative as isize - self.constraints as isize
+    }
+}
