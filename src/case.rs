@@ -8,7 +8,7 @@ use crate::discretisation::element::{Order, Stiffness};
 use crate::discretisation::system::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
-use crate::solver::continuation::{ContinuationSettings, Simulation, SolveError};
+use crate::solver::continuation::{Branch, ContinuationSettings, Control, Simulation, SolveError};
 use serde::Deserialize;
 use std::f64::consts::PI;
 use std::fmt;
@@ -65,10 +65,16 @@ impl Geometry {
 /// Displacement-controlled loading.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Loading {
-    /// Target compression ratio `ε = (h0 − h)/h0` (negative: extension).
+    /// Displacement control (tip height) or load control (dead load on the tips).
+    pub control: Control,
+    /// Target load parameter: the compression ratio `ε = (h0 − h)/h0` (negative:
+    /// extension) under displacement control, `P / Pcrit` (compressive tip force per rod
+    /// over `B1 (2π/L)²`; negative: tension) under load control.
     pub target: f64,
     /// Number of equally spaced output steps in `(0, target]`.
     pub steps: usize,
+    /// At the first bifurcation: stay on the fundamental branch or switch.
+    pub branch: Branch,
 }
 
 /// Mesh of every rod.
@@ -341,8 +347,10 @@ impl RawEnd {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawLoading {
+    control: Option<Control>,
     target: Option<Spanned<f64>>,
     steps: Option<Spanned<i64>>,
+    branch: Option<Branch>,
 }
 
 #[derive(Deserialize, Default)]
@@ -474,9 +482,17 @@ impl Case {
             "geometry.radius",
             &g.radius,
             0.06,
-            positive,
-            "a positive radius in m",
+            |v| v >= 0.0,
+            "a positive radius in m (0 for a straight rod)",
         )?;
+        if radius == 0.0 && helices > 1 {
+            let span = g.radius.as_ref().map(|s| s.span()).unwrap_or(0..0);
+            return Err(ck.invalid(
+                "geometry.radius",
+                span,
+                format!("a straight rod (radius 0) needs helices = 1, found {helices}"),
+            ));
+        }
         let pitch = ck.number(
             "geometry.pitch",
             &g.pitch,
@@ -548,9 +564,10 @@ impl Case {
             tip: RawEnd::or(&raw.boundary.tip, defaults.tip),
             joints: raw.boundary.joints.unwrap_or(defaults.joints),
         };
+        let control = raw.loading.control.unwrap_or(Control::Displacement);
         let target = match &raw.loading.target {
             None => 0.5,
-            Some(t) => match target_problem(&geometry, *t.get_ref()) {
+            Some(t) => match target_problem(&geometry, control, *t.get_ref()) {
                 None => *t.get_ref(),
                 Some(message) => return Err(ck.invalid("loading.target", t.span(), message)),
             },
@@ -562,7 +579,12 @@ impl Case {
             (1, 100_000),
             "a number of output steps",
         )?;
-        let loading = Loading { target, steps };
+        let loading = Loading {
+            control,
+            target,
+            steps,
+            branch: raw.loading.branch.unwrap_or(Branch::Fundamental),
+        };
         let discretisation = Discretisation {
             elements: ck.integer(
                 "discretisation.elements",
@@ -660,7 +682,9 @@ impl Case {
 
     /// A simulation at the natural state (`ε = 0`, solved).
     pub fn simulation(&self) -> Result<Simulation, SolveError> {
-        Simulation::new(self.model(), self.boundary, self.solver)
+        let model = self.model();
+        let x0 = model.natural_state();
+        Simulation::from_state(model, self.boundary, self.loading.control, x0, self.solver)
     }
 
     /// The output compression ratios: `steps` equal increments from 0 (exclusive) to `target`.
@@ -674,7 +698,7 @@ impl Case {
     /// Validates a target compression ratio against the geometry (`0 < h < L`); the error
     /// says which limit is crossed.
     pub fn check_target(&self, eps: f64) -> Result<(), String> {
-        match target_problem(&self.geometry, eps) {
+        match target_problem(&self.geometry, self.loading.control, eps) {
             None => Ok(()),
             Some(message) => Err(message),
         }
@@ -684,7 +708,10 @@ impl Case {
 /// Why `eps` is not a reachable compression ratio for `geometry`, if it is not. The tip
 /// height `h = h0 (1 − ε)` must stay above the base (`h > 0`, `ε < 1`) and below the length
 /// of the rod pulled straight (`h < L`, `ε > 1 − L/h0`): both limits are singular states.
-fn target_problem(geometry: &Geometry, eps: f64) -> Option<String> {
+fn target_problem(geometry: &Geometry, control: Control, eps: f64) -> Option<String> {
+    if control == Control::Force {
+        return (!eps.is_finite()).then(|| format!("expected a finite load P/Pcrit, found {eps}"));
+    }
     let h0 = geometry.height0();
     let length = geometry.length;
     let lo = 1.0 - length / h0;

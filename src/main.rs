@@ -108,32 +108,58 @@ fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result
     }
     let n = case.geometry.helices;
     println!(
-        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), eps 0 -> {target} in {steps} steps",
+        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), {} control 0 -> {target} in {steps} steps",
         case.name,
         case.geometry.length,
         case.geometry.height0(),
-        euler_load(case.stiffness.b1, case.geometry.length)
+        euler_load(case.stiffness.b1, case.geometry.length),
+        case.loading.control.name()
     );
     println!(
-        "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10}",
-        "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)"
+        "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}",
+        "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)", "unstable"
     );
     let eps = case.output_eps(target, steps);
     let t0 = Instant::now();
     let outcome = run_path(&case, &eps, |p, dt| {
+        let unstable = p
+            .stability
+            .map(|s| s.unstable_directions.to_string())
+            .unwrap_or_else(|| "-".into());
         println!(
-            "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2}",
+            "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
             p.step,
             p.eps,
             p.load[2],
             p.iterations,
             p.residual,
-            dt.as_secs_f64() * 1e3
+            dt.as_secs_f64() * 1e3,
+            unstable
         );
     })
     .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
-    let files = spira::output::write_run(out, &case.name, &outcome.points, &outcome.snapshot)
-        .with_context(|| format!("writing results into {}", out.display()))?;
+    for (i, c) in outcome.critical.iter().enumerate() {
+        println!(
+            "critical point {i}: {} at eps = {:.6} ({} parameter {:.8}), fz/(n Pcrit) = {:.6}, unstable directions {} -> {}{}",
+            c.kind.name(),
+            c.eps,
+            c.control.name(),
+            c.parameter,
+            c.load[2],
+            c.unstable_before,
+            c.unstable_after,
+            if outcome.switched_at == Some(i) { "; the path switched branch here" } else { "" }
+        );
+    }
+    let files = spira::output::write_run(
+        out,
+        &case.name,
+        &outcome.points,
+        &outcome.snapshot,
+        &outcome.critical,
+        &outcome.model,
+    )
+    .with_context(|| format!("writing results into {}", out.display()))?;
     let last = outcome.points.last().expect("step 0 is always there");
     println!(
         "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",

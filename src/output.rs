@@ -2,7 +2,9 @@
 //! lines giving the case and the units, then a header line. Files are written to a
 //! temporary name and renamed, so a failed write leaves nothing half-written.
 
+use crate::discretisation::system::DiscreteModel;
 use crate::results::{LoadPoint, Snapshot};
+use crate::solver::continuation::CriticalPoint;
 use std::fmt::Write as _;
 use std::io;
 use std::path::{Path, PathBuf};
@@ -20,13 +22,26 @@ pub fn load_csv(case: &str, points: &[LoadPoint]) -> String {
     let _ = writeln!(s, "# spira load path, case {case}");
     let _ = writeln!(
         s,
-        "# eps: compression ratio (h0-h)/h0; h: tip height (m); fx,fy,fz: sum of tip reactions over rods / (n Pcrit), Pcrit = B1 (2 pi/L)^2, negative fz = compression; energy: total elastic energy (J); residual: Newton residual inf-norm"
+        "# eps: compression ratio (h0-h)/h0; h: mean tip height (m); fx,fy,fz: sum of tip reactions over rods / (n Pcrit), Pcrit = B1 (2 pi/L)^2, negative fz = compression; energy: total elastic energy (J); residual: Newton residual inf-norm; stable: 1 if the Hessian is positive definite on the constraints' tangent space; unstable_dirs: its negative eigenvalues; lowest_eig: its lowest eigenvalue in the metric of nodal rotations weighted by arc length (J/m; empty where not computed); parameter: load parameter (eps, or P/Pcrit under load control)"
     );
-    let _ = writeln!(s, "step,eps,h,fx,fy,fz,energy,iterations,residual");
+    let _ = writeln!(
+        s,
+        "step,eps,h,fx,fy,fz,energy,iterations,residual,stable,unstable_dirs,lowest_eig,parameter"
+    );
     for p in points {
+        let (stable, dirs, lowest) = match p.stability {
+            Some(st) => (
+                if st.is_stable() { "1" } else { "0" }.to_string(),
+                st.unstable_directions.to_string(),
+                st.lowest_eigenvalue
+                    .map(|l| format!("{l:.6e}"))
+                    .unwrap_or_default(),
+            ),
+            None => (String::new(), String::new(), String::new()),
+        };
         let _ = writeln!(
             s,
-            "{},{:.10e},{:.10e},{:.10e},{:.10e},{:.10e},{:.10e},{},{:.3e}",
+            "{},{:.10e},{:.10e},{:.10e},{:.10e},{:.10e},{:.10e},{},{:.3e},{},{},{},{:.10e}",
             p.step,
             p.eps,
             p.height,
@@ -35,8 +50,81 @@ pub fn load_csv(case: &str, points: &[LoadPoint]) -> String {
             p.load[2],
             p.energy,
             p.iterations,
-            p.residual
+            p.residual,
+            stable,
+            dirs,
+            lowest,
+            p.parameter
         );
+    }
+    s
+}
+
+/// `critical.csv`: the critical points of a path.
+pub fn critical_csv(case: &str, critical: &[CriticalPoint]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# spira critical points, case {case}");
+    let _ = writeln!(
+        s,
+        "# kind: limit-point or bifurcation; parameter: load parameter (eps, or P/Pcrit under load control); fx,fy,fz: sum of tip reactions / (n Pcrit); unstable_before/after: unstable directions either side; mode shapes in mode-<index>.csv"
+    );
+    let _ = writeln!(
+        s,
+        "index,kind,control,parameter,eps,fx,fy,fz,unstable_before,unstable_after"
+    );
+    for (i, c) in critical.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "{},{},{},{:.10e},{:.10e},{:.10e},{:.10e},{:.10e},{},{}",
+            i,
+            c.kind.name(),
+            c.control.name(),
+            c.parameter,
+            c.eps,
+            c.load[0],
+            c.load[1],
+            c.load[2],
+            c.unstable_before,
+            c.unstable_after
+        );
+    }
+    s
+}
+
+/// `mode-<k>.csv`: the centreline displacement of a critical mode at the element vertices
+/// (unit norm over all primal unknowns; the sign is arbitrary).
+pub fn mode_csv(
+    case: &str,
+    model: &DiscreteModel,
+    index: usize,
+    critical: &CriticalPoint,
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# spira critical mode {index} ({}), case {case}, parameter = {:.10e}",
+        critical.kind.name(),
+        critical.parameter
+    );
+    let _ = writeln!(
+        s,
+        "# dx,dy,dz: mode displacement of the centreline at element vertices (m per unit mode)"
+    );
+    let _ = writeln!(s, "rod,s,s_over_l,dx,dy,dz");
+    let length = model.length();
+    for (id, rod) in model.rods.iter().enumerate() {
+        for (v, &sv) in rod.mesh.vertices.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{},{:.10e},{:.10e},{:.10e},{:.10e},{:.10e}",
+                id,
+                sv,
+                sv / length,
+                critical.mode[rod.r_dof(v, 0)],
+                critical.mode[rod.r_dof(v, 1)],
+                critical.mode[rod.r_dof(v, 2)]
+            );
+        }
     }
     s
 }
@@ -105,19 +193,29 @@ pub fn state_csv(case: &str, snapshot: &Snapshot) -> String {
     s
 }
 
-/// The three files of a run, written into `dir` (created if needed). Returns their paths.
+/// The files of a run, written into `dir` (created if needed): load, reactions and state,
+/// and when there are critical points, `critical.csv` and one `mode-<k>.csv` each.
+/// Returns their paths.
 pub fn write_run(
     dir: &Path,
     case: &str,
     points: &[LoadPoint],
     snapshot: &Snapshot,
+    critical: &[CriticalPoint],
+    model: &DiscreteModel,
 ) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
-    let files = [
-        ("load.csv", load_csv(case, points)),
-        ("reactions.csv", reactions_csv(case, points)),
-        ("state.csv", state_csv(case, snapshot)),
+    let mut files = vec![
+        ("load.csv".to_string(), load_csv(case, points)),
+        ("reactions.csv".to_string(), reactions_csv(case, points)),
+        ("state.csv".to_string(), state_csv(case, snapshot)),
     ];
+    if !critical.is_empty() {
+        files.push(("critical.csv".to_string(), critical_csv(case, critical)));
+        for (i, c) in critical.iter().enumerate() {
+            files.push((format!("mode-{i}.csv"), mode_csv(case, model, i, c)));
+        }
+    }
     let mut out = Vec::new();
     for (name, text) in files {
         let p = dir.join(name);

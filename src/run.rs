@@ -3,11 +3,15 @@
 
 use crate::case::Case;
 use crate::results::{LoadPoint, Snapshot};
-use crate::solver::continuation::{SolveError, Statistics};
+use crate::solver::continuation::{Branch, CriticalKind, CriticalPoint, SolveError, Statistics};
 use std::time::{Duration, Instant};
 
+/// Arclength (unit-norm mode over the primal unknowns) of the first step off a bifurcation.
+pub const BRANCH_STEP: f64 = 0.05;
+
 /// What a path produced: every converged output step (step 0 is the natural state), the
-/// last converged state, statistics, and the error that stopped it early, if any.
+/// last converged state, statistics, the critical points found, and the error that stopped
+/// it early, if any.
 #[derive(Clone, Debug)]
 pub struct PathOutcome {
     pub points: Vec<LoadPoint>,
@@ -15,17 +19,23 @@ pub struct PathOutcome {
     pub stats: Statistics,
     /// System size (unknowns including multipliers).
     pub unknowns: usize,
+    pub critical: Vec<CriticalPoint>,
+    /// The discrete model (for mode output).
+    pub model: crate::discretisation::system::DiscreteModel,
+    /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
+    pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
 }
 
-/// Solves `case` from `ε = 0` through the output values of `eps`, calling `on_step` with
-/// each converged output point and the wall time of that step. A failure at `ε = 0` is an
-/// error; a later failure ends the path and is returned in [`PathOutcome::error`], and
-/// the last converged state (between two output values) becomes the last point, so that
-/// the points and the snapshot describe the same state.
+/// Solves `case` from the natural state through the output values `targets` of its load
+/// parameter, calling `on_step` with each converged output point and the wall time of that
+/// step. At the first bifurcation the path switches branch if the case asks for it. A
+/// failure at the start is an error; a later failure ends the path and is returned in
+/// [`PathOutcome::error`], and the last converged state (between two output values) becomes
+/// the last point, so that the points and the snapshot describe the same state.
 pub fn run_path(
     case: &Case,
-    eps: &[f64],
+    targets: &[f64],
     mut on_step: impl FnMut(&LoadPoint, Duration),
 ) -> Result<PathOutcome, SolveError> {
     let t0 = Instant::now();
@@ -34,9 +44,30 @@ pub fn run_path(
     on_step(&first, t0.elapsed());
     let mut points = vec![first];
     let mut error = None;
-    for (k, &e) in eps.iter().enumerate() {
+    let mut switched_at = None;
+    let sign = match case.loading.branch {
+        Branch::Fundamental => None,
+        Branch::Switch => Some(1.0),
+        Branch::SwitchNegative => Some(-1.0),
+    };
+    for (k, &target) in targets.iter().enumerate() {
         let t = Instant::now();
-        if let Err(err) = sim.advance_to(e) {
+        let mut outcome = sim.advance_to(target);
+        if outcome.is_ok() && switched_at.is_none() {
+            if let Some(sign) = sign {
+                let found = sim
+                    .critical_points()
+                    .iter()
+                    .position(|c| c.kind == CriticalKind::Bifurcation);
+                if let Some(i) = found {
+                    switched_at = Some(i);
+                    outcome = sim
+                        .switch_branch(i, sign, BRANCH_STEP)
+                        .and_then(|()| sim.advance_to(target));
+                }
+            }
+        }
+        if let Err(err) = outcome {
             if (sim.parameter() - points.last().map_or(0.0, |p| p.parameter)).abs() > 0.0 {
                 let p = sim.load_point(k + 1);
                 on_step(&p, t.elapsed());
@@ -54,6 +85,9 @@ pub fn run_path(
         snapshot: sim.snapshot(),
         stats: sim.stats,
         unknowns: sim.system().n,
+        critical: sim.critical_points().to_vec(),
+        model: sim.model.clone(),
+        switched_at,
         error,
     })
 }

@@ -33,6 +33,18 @@ impl Control {
     }
 }
 
+/// What a path does at its first bifurcation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Branch {
+    /// Stay on the fundamental branch (critical points are only reported).
+    Fundamental,
+    /// Switch to the bifurcated branch along the critical mode.
+    Switch,
+    /// Switch along the opposite of the critical mode.
+    SwitchNegative,
+}
+
 /// Step-length control of the continuation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContinuationSettings {
