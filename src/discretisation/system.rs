@@ -534,8 +534,9 @@ impl System {
         Evaluation { energy }
     }
 
-    /// Force (N) and moment (N m) that the support applies to rod `rod` at `end`, in the
-    /// global frame, from the multipliers of its support constraints: the generalised
+    /// Force (N) and moment (N m) that the support (and, under load control, the dead
+    /// load at the tip) applies to rod `rod` at `end`, in the global frame, from the
+    /// multipliers of its support constraints: the generalised
     /// reaction is `−ν ∂g/∂x`, and a virtual rotation `δθ` moves `q` by `½ (δθ, 0) ∘ q`.
     pub fn reaction(
         &self,
@@ -571,6 +572,10 @@ impl System {
                     }
                 }
             }
+        }
+        if let (TipLoad::Force(p), End::Tip) = (self.tip_load, end) {
+            // under load control the tip is loaded by the dead load itself
+            force[2] -= p;
         }
         let q = model.quaternion(x, rod, node);
         let moment = Vector3::from_fn(|i, _| {

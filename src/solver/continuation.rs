@@ -537,6 +537,7 @@ impl Simulation {
         let old = std::mem::replace(&mut self.x, trial.x);
         self.previous = Some((old, self.lambda));
         self.lambda = trial.lambda;
+        self.system.set_tip_load(self.tip_load(self.lambda));
         self.last = trial.report;
         self.tangent = None;
         self.stats.steps += 1;
@@ -623,6 +624,7 @@ impl Simulation {
             }
         }
         self.lambda = target;
+        self.system.set_tip_load(self.tip_load(self.lambda));
         if s.track_stability {
             self.update_stability(true);
         }

@@ -1,0 +1,283 @@
+//! Stability, critical points and branch switching, checked against Euler's column and the
+//! elastica (closed forms computed here, independently of spira), and the behaviour of the
+//! continuation where Newton fails.
+
+use spira::case::Case;
+use spira::discretisation::system::DiscreteModel;
+use spira::model::boundary::BoundaryConditions;
+use spira::run::run_path;
+use spira::solver::continuation::{
+    ContinuationSettings, Control, CriticalKind, Simulation, StopReason,
+};
+use spira::solver::linear::LinearError;
+use spira::solver::newton::NewtonError;
+use std::f64::consts::PI;
+use std::path::Path;
+
+fn case(name: &str) -> Case {
+    Case::from_file(Path::new(&format!("cases/{name}.toml"))).unwrap()
+}
+
+/// Complete elliptic integrals `K(m)`, `E(m)` (parameter `m = k²`) by the arithmetic–
+/// geometric mean (Abramowitz & Stegun 17.6).
+fn elliptic_ke(m: f64) -> (f64, f64) {
+    let (mut a, mut g) = (1.0f64, (1.0 - m).sqrt());
+    let mut c2_sum = m / 2.0; // Σ 2^(n−1) c_n², c_0² = m
+    let mut pow = 0.5;
+    for _ in 0..60 {
+        let c = (a - g) / 2.0;
+        pow *= 2.0;
+        c2_sum += pow * c * c;
+        let an = (a + g) / 2.0;
+        g = (a * g).sqrt();
+        a = an;
+    }
+    let k = PI / (2.0 * a);
+    (k, k * (1.0 - c2_sum))
+}
+
+/// Clamped–clamped elastica (DESIGN.md §6): `P/Pcr = (2K(m)/π)²` at end-shortening
+/// `δ/L = 2 (1 − E(m)/K(m))`; solved for `m` by bisection.
+fn elastica_load(shortening: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 0.9999);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        let (k, e) = elliptic_ke(mid);
+        if 2.0 * (1.0 - e / k) < shortening {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let (k, _) = elliptic_ke(0.5 * (lo + hi));
+    (2.0 * k / PI).powi(2)
+}
+
+#[test]
+fn elliptic_integrals_match_tabulated_values() {
+    // A&S table 17.1: K(0.5) = 1.854074677, E(0.5) = 1.350643881
+    let (k, e) = elliptic_ke(0.5);
+    assert!((k - 1.854_074_677_301_372).abs() < 1e-12);
+    assert!((e - 1.350_643_881_047_675).abs() < 1e-12);
+    assert!((elastica_load(0.0) - 1.0).abs() < 1e-9);
+}
+
+fn run_to_target(case: &Case) -> Simulation {
+    let mut sim = case.simulation().expect("start");
+    let targets = case.output_eps(case.loading.target, case.loading.steps);
+    for t in targets {
+        sim.advance_to(t).expect("fundamental path");
+    }
+    sim
+}
+
+#[test]
+fn clamped_euler_column_bifurcates_at_four_pi_squared_b_over_l_squared() {
+    let c = case("euler-clamped");
+    let sim = run_to_target(&c);
+    let cps = sim.critical_points();
+    // P/Pcrit with Pcrit = 4π²B/L²: the first critical load is 1
+    let first = &cps[0];
+    assert!(
+        (first.parameter - 1.0).abs() < 1e-5,
+        "P/Pcr = {}",
+        first.parameter
+    );
+    assert_eq!(first.kind, CriticalKind::Bifurcation);
+    // B1 = B2: the mode is double, which the count of unstable directions sees
+    assert_eq!((first.unstable_before, first.unstable_after), (0, 2));
+    // clamped–clamped mode: lateral deflection ∝ 1 − cos(2π s/L)
+    let model = &sim.model;
+    let rod = &model.rods[0];
+    let l = model.length();
+    let lateral: Vec<(f64, [f64; 2])> = rod
+        .mesh
+        .vertices
+        .iter()
+        .enumerate()
+        .map(|(v, &s)| {
+            (
+                s,
+                [first.mode[rod.r_dof(v, 0)], first.mode[rod.r_dof(v, 1)]],
+            )
+        })
+        .collect();
+    let (_, peak) = lateral
+        .iter()
+        .max_by(|a, b| a.1[0].hypot(a.1[1]).total_cmp(&b.1[0].hypot(b.1[1])))
+        .unwrap();
+    let amplitude = peak[0].hypot(peak[1]);
+    let dir = [peak[0] / amplitude, peak[1] / amplitude];
+    for (s, d) in &lateral {
+        let w = (d[0] * dir[0] + d[1] * dir[1]) / amplitude;
+        let exact = (1.0 - (2.0 * PI * s / l).cos()) / 2.0;
+        assert!((w - exact).abs() < 1e-3, "mode at s = {s}: {w} vs {exact}");
+        // and in one plane
+        assert!((d[0] * dir[1] - d[1] * dir[0]).abs() < 1e-6 * amplitude);
+    }
+}
+
+#[test]
+fn on_the_fundamental_branch_the_next_critical_load_is_the_antisymmetric_one() {
+    // antisymmetric clamped–clamped mode: tan(x) = x, P = 4x²B/L² (8.183 π² B/L²)
+    let mut x: f64 = 4.49;
+    for _ in 0..50 {
+        x -= (x.tan() - x) / (1.0 / x.cos().powi(2) - 1.0);
+    }
+    let exact = 4.0 * x * x / (4.0 * PI * PI);
+    assert!((exact * 4.0 - 8.183).abs() < 1e-3);
+    let sim = run_to_target(&case("euler-clamped"));
+    let second = &sim.critical_points()[1];
+    assert_eq!(second.kind, CriticalKind::Bifurcation);
+    assert_eq!((second.unstable_before, second.unstable_after), (2, 4));
+    assert!(
+        (second.parameter - exact).abs() < 1e-5 * exact,
+        "{} vs {exact}",
+        second.parameter
+    );
+}
+
+#[test]
+fn pinned_euler_column_bifurcates_at_pi_squared_b_over_l_squared() {
+    let sim = run_to_target(&case("euler-pinned"));
+    let first = &sim.critical_points()[0];
+    // π²B/L² over Pcrit = 4π²B/L²
+    assert!(
+        (first.parameter - 0.25).abs() < 1e-5 * 0.25,
+        "{}",
+        first.parameter
+    );
+    assert_eq!(first.kind, CriticalKind::Bifurcation);
+    assert_eq!(first.unstable_after, 2);
+    // the second pinned–pinned load is 4π²B/L²
+    assert!((sim.critical_points()[1].parameter - 1.0).abs() < 1e-5);
+}
+
+#[test]
+fn after_branch_switching_the_column_follows_the_elastica() {
+    let c = case("elastica");
+    let targets = c.output_eps(c.loading.target, c.loading.steps);
+    let out = run_path(&c, &targets, |_, _| {}).expect("path");
+    assert!(out.error.is_none(), "{:?}", out.error);
+    assert_eq!(out.switched_at, Some(0));
+    let mut checked = 0;
+    let mut furthest: f64 = 0.0;
+    for p in &out.points {
+        let shortening = p.eps; // h0 = L for a straight rod
+        if shortening < 1e-3 {
+            continue; // still on (or at) the straight branch
+        }
+        let expected = elastica_load(shortening);
+        let load = -p.load[2];
+        assert!(
+            (load - expected).abs() < 1e-3 * expected,
+            "δ/L = {shortening}: P/Pcr = {load} vs elastica {expected}"
+        );
+        // the first post-buckled branch is stable
+        assert_eq!(p.stability.map(|s| s.unstable_directions), Some(0));
+        checked += 1;
+        furthest = furthest.max(shortening);
+    }
+    assert!(
+        checked >= 5 && furthest >= 0.2,
+        "{checked} points up to δ/L = {furthest}"
+    );
+}
+
+#[test]
+fn thesis_assemblies_of_one_four_and_eight_helices_stay_stable_to_half_height() {
+    for n in [1, 4, 8] {
+        let c = case(&format!("thesis-n{n}"));
+        let targets = c.output_eps(c.loading.target, c.loading.steps);
+        let out = run_path(&c, &targets, |_, _| {}).expect("path");
+        assert!(out.error.is_none());
+        assert!(
+            out.critical.is_empty(),
+            "n = {n}: {:?}",
+            out.critical.iter().map(|c| c.eps).collect::<Vec<_>>()
+        );
+        for p in &out.points {
+            let st = p.stability.expect("stability tracked");
+            assert!(st.is_stable(), "n = {n} at eps = {}", p.eps);
+            assert!(st.lowest_eigenvalue.is_some_and(|l| l > 0.0));
+        }
+    }
+}
+
+#[test]
+fn two_helices_leave_the_symmetric_path_at_a_bifurcation_onto_a_stable_softer_branch() {
+    let fundamental = case("thesis-n2");
+    let targets = fundamental.output_eps(0.5, 10);
+    let stay = run_path(&fundamental, &targets, |_, _| {}).unwrap();
+    let first = &stay.critical[0];
+    assert_eq!(first.kind, CriticalKind::Bifurcation);
+    assert_eq!((first.unstable_before, first.unstable_after), (0, 1));
+    assert!(first.eps > 0.3 && first.eps < 0.4, "{}", first.eps);
+    let end = stay.points.last().unwrap();
+    assert!(!end.stability.unwrap().is_stable());
+    // switching in either direction gives mirror-image states of equal energy and load
+    let mut switch = fundamental.clone();
+    switch.loading.branch = spira::solver::continuation::Branch::Switch;
+    let plus = run_path(&switch, &targets, |_, _| {}).unwrap();
+    switch.loading.branch = spira::solver::continuation::Branch::SwitchNegative;
+    let minus = run_path(&switch, &targets, |_, _| {}).unwrap();
+    let (p, m) = (plus.points.last().unwrap(), minus.points.last().unwrap());
+    assert!(p.stability.unwrap().is_stable() && m.stability.unwrap().is_stable());
+    assert!((p.energy - m.energy).abs() < 1e-6 * p.energy);
+    assert!((p.load[2] - m.load[2]).abs() < 1e-6 * p.load[2].abs());
+    // at the same compression the stable branch stores less energy and carries less load
+    assert!(p.energy < end.energy, "{} vs {}", p.energy, end.energy);
+    assert!(p.load[2].abs() < end.load[2].abs());
+}
+
+#[test]
+fn a_step_far_too_long_is_cut_and_the_path_recovers() {
+    let reference = run_to_target(&case("thesis-n1"));
+    let mut c = case("thesis-n1");
+    c.solver.initial_step = 0.5;
+    c.solver.max_step = 0.5;
+    c.solver.newton.max_iterations = 6;
+    let mut sim = c.simulation().unwrap();
+    sim.advance_to(0.5).expect("recovers by cutting the step");
+    assert!(sim.stats.rejected > 0, "{:?}", sim.stats);
+    let (a, b) = (sim.load_point(1), reference.load_point(1));
+    for k in 0..3 {
+        assert!(
+            (a.load[k] - b.load[k]).abs() < 1e-7,
+            "{:?} vs {:?}",
+            a.load,
+            b.load
+        );
+    }
+}
+
+#[test]
+fn a_duplicated_joint_is_reported_as_a_singular_system() {
+    let c = case("thesis-n2");
+    let mut model: DiscreteModel = c.model();
+    // an interior joint tied twice: two identical constraint rows
+    let j = model.assembly.joints[3];
+    model.assembly.joints.push(j);
+    let x0 = model.natural_state();
+    let err = Simulation::from_state(
+        model,
+        BoundaryConditions::default(),
+        Control::Displacement,
+        x0,
+        ContinuationSettings::default(),
+    )
+    .err()
+    .expect("a singular system cannot be solved");
+    match err.reason {
+        StopReason::Newton {
+            cause:
+                NewtonError::Linear {
+                    source: LinearError::Singular { .. },
+                    ..
+                },
+            ..
+        } => {}
+        other => panic!("expected a singular KKT matrix, got {other:?}"),
+    }
+    assert!(err.to_string().contains("singular"), "{err}");
+}
