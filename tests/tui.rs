@@ -706,7 +706,7 @@ fn screen_natural_state_80x24() {
         "κ1 (1/m)",
         "s/L",
         "ε",
-        "stability n/a",
+        "stability stable",
         "n 2",
     ] {
         assert!(screen.contains(label), "missing {label}:\n{screen}");

@@ -6,10 +6,9 @@ use crate::results::LoadPoint;
 use std::ops::Range;
 
 /// Whether the state at `point` is unstable: `Some(true)` unstable, `Some(false)` stable,
-/// `None` unknown. The core does not report stability yet, so this is `None` for now.
+/// `None` unknown (stability not tracked, or not computable at that state).
 pub fn is_unstable(point: &LoadPoint) -> Option<bool> {
-    let _ = point;
-    None
+    point.stability.map(|s| !s.is_stable())
 }
 
 /// Status-line label of a state's stability.
@@ -20,6 +19,7 @@ pub fn label(unstable: Option<bool>) -> &'static str {
         Some(true) => "UNSTABLE",
     }
 }
+
 
 /// A run of consecutive load-path points drawn alike: `points` indexes the path, and
 /// consecutive stretches share their end point so the drawn path has no gaps.
