@@ -85,8 +85,38 @@ pub fn euler_load(b1: f64, length: f64) -> f64 {
     b1 * (2.0 * PI / length).powi(2)
 }
 
-/// Reactions of every rod at state `x`.
+/// Rotation about z by `angle` (rad) of a vector.
+fn turn(v: [f64; 3], angle: f64) -> [f64; 3] {
+    let (s, c) = angle.sin_cos();
+    [c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]]
+}
+
+/// Reactions of every rod at state `x` (of every rod of the full assembly when the model
+/// is a symmetric pair: the others are its images).
 pub fn reactions(model: &DiscreteModel, system: &System, x: &[f64]) -> Vec<RodReaction> {
+    let own = own_reactions(model, system, x);
+    let Some(sym) = model.assembly.symmetry else {
+        return own;
+    };
+    (0..sym.full_rods())
+        .map(|k| {
+            let (src, angle) = sym.image(k);
+            let r = &own[src];
+            let t = |re: Reaction| Reaction {
+                force: turn(re.force, angle),
+                moment: turn(re.moment, angle),
+            };
+            RodReaction {
+                rod: k,
+                chirality: r.chirality,
+                tip: t(r.tip),
+                base: t(r.base),
+            }
+        })
+        .collect()
+}
+
+fn own_reactions(model: &DiscreteModel, system: &System, x: &[f64]) -> Vec<RodReaction> {
     (0..model.rods.len())
         .map(|id| {
             let r = |end| {
@@ -118,8 +148,38 @@ pub fn normalised_load(model: &DiscreteModel, reactions: &[RodReaction]) -> [f64
     f
 }
 
-/// Shapes of all rods at state `x`.
+/// Shapes of all rods at state `x` (of the full assembly when the model is a symmetric
+/// pair: the other rods are its images turned about z).
 pub fn snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> Snapshot {
+    let own = own_snapshot(model, system, x, eps);
+    let Some(sym) = model.assembly.symmetry else {
+        return own;
+    };
+    let rods = (0..sym.full_rods())
+        .map(|k| {
+            let (src, angle) = sym.image(k);
+            let r = &own.rods[src];
+            let qz = quaternion::about_z(angle);
+            RodShape {
+                rod: k,
+                chirality: r.chirality,
+                joints: r.joints.clone(),
+                nodes: r
+                    .nodes
+                    .iter()
+                    .map(|n| NodeState {
+                        position: turn(n.position, angle),
+                        quaternion: quaternion::mul(&qz, &n.quaternion.into()).into(),
+                        ..*n
+                    })
+                    .collect(),
+            }
+        })
+        .collect();
+    Snapshot { eps, rods }
+}
+
+fn own_snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> Snapshot {
     let p = model.order.degree();
     let length = model.length();
     let rods = model

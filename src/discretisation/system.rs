@@ -104,6 +104,8 @@ pub struct DiscreteModel {
     pub rule: Vec<QuadraturePoint>,
     /// Number of primal unknowns (quaternions and positions).
     pub n_primal: usize,
+    /// The element count the meshes were asked for (before joints split them).
+    pub requested_elements: usize,
 }
 
 impl DiscreteModel {
@@ -146,7 +148,26 @@ impl DiscreteModel {
             stiffness,
             order,
             n_primal: offset,
+            requested_elements: elements,
         }
+    }
+
+    /// For a symmetric pair: the full model it stands for (same meshes).
+    pub fn full_model(&self) -> Option<DiscreteModel> {
+        let sym = self.assembly.symmetry?;
+        let pair = &self.assembly.rods;
+        let full = Assembly::new(
+            sym.full_rods(),
+            pair[0].radius,
+            pair[0].pitch,
+            self.length(),
+        );
+        Some(DiscreteModel::new(
+            full,
+            self.stiffness,
+            self.requested_elements,
+            self.order,
+        ))
     }
 
     /// Rod length `L` (m).
@@ -728,18 +749,75 @@ fn joint_constraints(
     } else {
         vec![Vector3::x(), Vector3::y(), Vector3::z()]
     };
+    // dir · (r_right − Rot(turn) r_left) = dir · r_right − (Rotᵀ dir) · r_left
+    let (st, ct) = joint.left_turn.sin_cos();
+    let turned =
+        |d: &Vector3<f64>| Vector3::new(ct * d[0] + st * d[1], -st * d[0] + ct * d[1], d[2]);
+    let left_position = model.vertex(x, joint.left, vj);
     for dir in dirs {
+        let back = turned(&dir);
         let mut terms = Vec::new();
         for k in 0..3 {
-            if dir[k] != 0.0 {
+            if dir[k].abs() > 1e-15 {
                 terms.push((ri.r_dof(vi, k), dir[k]));
-                terms.push((rj.r_dof(vj, k), -dir[k]));
+            }
+            if back[k].abs() > 1e-15 {
+                terms.push((rj.r_dof(vj, k), -back[k]));
             }
         }
         out.push(LinearConstraint {
             terms,
-            value: 0.0,
+            value: dir.dot(&position) - back.dot(&left_position),
             role: Role::Joint(index),
         });
     }
+}
+
+/// Expands the state `x` of a symmetric pair (in `pair_system`'s layout) to the state of
+/// the full model in `full_system`'s layout: every rod is the image of one rod of the pair
+/// turned about z; support and joint multipliers are zero (they do not enter the Hessian).
+pub fn expand_state(
+    pair: &DiscreteModel,
+    pair_system: &System,
+    x: &[f64],
+    full: &DiscreteModel,
+    full_system: &System,
+) -> Vec<f64> {
+    let sym = pair
+        .assembly
+        .symmetry
+        .expect("expand_state needs a symmetric pair");
+    let mut out = vec![0.0; full_system.n];
+    for (k, rod) in full.rods.iter().enumerate() {
+        let (src, angle) = sym.image(k);
+        let from = &pair.rods[src];
+        let (sn, cs) = angle.sin_cos();
+        let turn = |v: [f64; 3]| [cs * v[0] - sn * v[1], sn * v[0] + cs * v[1], v[2]];
+        let qz = quaternion::about_z(angle);
+        for node in 0..rod.mesh.quaternion_nodes() {
+            let q = pair.quaternion(x, src, node);
+            let q = quaternion::mul(&qz, &q);
+            for c in 0..4 {
+                out[rod.q_dof(node, c)] = q[c];
+            }
+            out[full_system.unit_row(k, node)] = x[pair_system.unit_row(src, node)];
+        }
+        for v in 0..=rod.mesh.elements() {
+            let r = turn([
+                x[from.r_dof(v, 0)],
+                x[from.r_dof(v, 1)],
+                x[from.r_dof(v, 2)],
+            ]);
+            for c in 0..3 {
+                out[rod.r_dof(v, c)] = r[c];
+            }
+        }
+        for e in 0..rod.mesh.elements() {
+            let row = pair_system.compat_row(src, e);
+            let l = turn([x[row], x[row + 1], x[row + 2]]);
+            let full_row = full_system.compat_row(k, e);
+            out[full_row..full_row + 3].copy_from_slice(&l);
+        }
+    }
+    out
 }

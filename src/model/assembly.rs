@@ -6,13 +6,49 @@ use std::f64::consts::PI;
 /// Handle of a rod in an assembly (index into [`Assembly::rods`]).
 pub type RodId = usize;
 
-/// A pin joint: rod `right` at arc length `s` coincides with rod `left` at the same `s`.
+/// A pin joint: rod `right` at arc length `s` coincides with rod `left` at the same `s`,
+/// turned by `left_turn` about z (zero in a full assembly; in a symmetry-reduced one the
+/// partner is an image of `left`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Joint {
     pub right: RodId,
     pub left: RodId,
     /// Arc length of the crossing on both rods (m).
     pub s: f64,
+    /// Rotation (rad) about z of the left rod's image that the joint ties.
+    pub left_turn: f64,
+}
+
+/// The `m`-fold rotational symmetry of an assembly of `n = 2m` helices reduced to one
+/// right/left pair: rod `R_k` is `R_0` turned by `2πk/m`, `L_k` is `L_0` turned by `−2πk/m`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Symmetry {
+    pub m: usize,
+}
+
+impl Symmetry {
+    /// Number of rods of the full assembly.
+    pub fn full_rods(&self) -> usize {
+        2 * self.m
+    }
+
+    /// For rod `k` of the full assembly: the rod of the pair it is an image of (0 right,
+    /// 1 left) and the angle (rad) it is turned by about z.
+    pub fn image(&self, k: usize) -> (RodId, f64) {
+        let step = 2.0 * PI / self.m as f64;
+        if k < self.m {
+            (0, step * k as f64)
+        } else {
+            (1, -step * (k - self.m) as f64)
+        }
+    }
+}
+
+/// Why an assembly cannot be reduced by its symmetry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SymmetryError {
+    #[error("{n} helix(es) have no rotational symmetry to reduce: the reduction needs n = 2m helices with m ≥ 2")]
+    TooFewHelices { n: usize },
 }
 
 /// The natural (stress-free) geometry of an assembly of `n` helices of equal radius,
@@ -23,6 +59,8 @@ pub struct Assembly {
     /// Rod length `L` (m).
     pub length: f64,
     pub joints: Vec<Joint>,
+    /// Set when the rods are one right/left pair standing for a symmetric assembly.
+    pub symmetry: Option<Symmetry>,
 }
 
 /// Relative tolerance on arc length when deciding that a crossing lies on a rod.
@@ -53,7 +91,37 @@ impl Assembly {
             rods,
             length,
             joints,
+            symmetry: None,
         }
+    }
+
+    /// The symmetric pair standing for this assembly of `n = 2m` helices (`m ≥ 2`): rods
+    /// `R_0` and `L_0`, and the joints of `R_0`, each tied to the image of `L_0` that is
+    /// its partner (every other joint is an image of one of these).
+    pub fn symmetric_pair(&self) -> Result<Assembly, SymmetryError> {
+        let n = self.rods.len();
+        if n < 4 || n % 2 == 1 || self.symmetry.is_some() {
+            return Err(SymmetryError::TooFewHelices { n });
+        }
+        let m = n / 2;
+        let joints = self
+            .joints
+            .iter()
+            .filter(|j| j.right == 0)
+            .map(|j| Joint {
+                right: 0,
+                left: 1,
+                s: j.s,
+                // L_j is L_0 turned by −t_j (left-handed azimuths run backwards)
+                left_turn: -self.rods[j.left].base_angle,
+            })
+            .collect();
+        Ok(Assembly {
+            rods: vec![self.rods[0], self.rods[m]],
+            length: self.length,
+            joints,
+            symmetry: Some(Symmetry { m }),
+        })
     }
 
     /// The same assembly rotated rigidly by `angle` (rad) about the z axis: right-handed
@@ -73,6 +141,7 @@ impl Assembly {
             rods,
             length: self.length,
             joints,
+            symmetry: None,
         }
     }
 
@@ -130,6 +199,7 @@ pub fn crossings(rods: &[Helix], length: f64) -> Vec<Joint> {
                     right: i,
                     left: j,
                     s,
+                    left_turn: 0.0,
                 });
                 k += 1;
             }

@@ -8,7 +8,7 @@
 use super::inertia::{InertiaCounter, InertiaError};
 use super::linear::LinearError;
 use super::newton::{self, Border, NewtonError, NewtonReport, NewtonSettings, Workspace};
-use crate::discretisation::system::{DiscreteModel, End, System, TipLoad};
+use crate::discretisation::system::{expand_state, DiscreteModel, End, System, TipLoad};
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{self, LoadPoint, Snapshot};
 use serde::{Deserialize, Serialize};
@@ -60,6 +60,9 @@ pub struct ContinuationSettings {
     pub arclength_fallback: bool,
     /// Count unstable directions at every converged step and locate critical points.
     pub track_stability: bool,
+    /// Also compute the lowest eigenvalue at every output point (inverse iteration: the
+    /// costliest part of the stability analysis).
+    pub lowest_eigenvalue: bool,
     /// Critical points are located to this relative tolerance in the step.
     pub critical_tolerance: f64,
     pub newton: NewtonSettings,
@@ -74,6 +77,7 @@ impl Default for ContinuationSettings {
             target_iterations: 6,
             arclength_fallback: true,
             track_stability: true,
+            lowest_eigenvalue: true,
             critical_tolerance: 1e-9,
             newton: NewtonSettings::default(),
         }
@@ -102,6 +106,10 @@ pub enum StopReason {
     Newton { step: f64, cause: NewtonError },
     #[error("the path turned back (a limit point) and does not reach the target within {steps} arclength steps")]
     TurnedBack { steps: usize },
+    #[error("switching branch needs the full model: a symmetric pair cannot follow a mode that breaks the symmetry")]
+    SymmetricPair,
+    #[error("there is no critical point {index} to switch branch at")]
+    NoCriticalPoint { index: usize },
 }
 
 /// Counters of a continuation.
@@ -195,6 +203,15 @@ pub struct Simulation {
     inertia: Option<InertiaCounter>,
     stability: Option<Stability>,
     critical: Vec<CriticalPoint>,
+    /// For a symmetric pair: the full model, on which stability is judged (a symmetric
+    /// state can lose stability to modes that break the symmetry).
+    full: Option<FullModel>,
+}
+
+/// The full model behind a symmetric pair, for stability checks.
+struct FullModel {
+    model: DiscreteModel,
+    system: System,
 }
 
 /// The step equation `t_xᵀ (x − x0) + t_λ (λ − λ0) = ds` of a corrector.
@@ -244,6 +261,11 @@ impl Simulation {
         };
         let tip_load = tip_load(&model, control, lambda);
         let system = System::new(&model, bc, &x, tip_load);
+        let full = model.full_model().map(|m| {
+            let x0 = m.natural_state();
+            let system = System::new(&m, bc, &x0, tip_load);
+            FullModel { model: m, system }
+        });
         x.resize(system.n, 0.0);
         let ws = Workspace::new(&system);
         let mut sim = Simulation {
@@ -267,6 +289,7 @@ impl Simulation {
             inertia: None,
             stability: None,
             critical: Vec::new(),
+            full,
         };
         sim.correct_in_place()?;
         sim.update_stability(true);
@@ -625,7 +648,9 @@ impl Simulation {
         }
         self.lambda = target;
         self.system.set_tip_load(self.tip_load(self.lambda));
-        if s.track_stability {
+        // the count is that of the last accepted step; the lowest eigenvalue is added at
+        // output points only
+        if s.track_stability && s.lowest_eigenvalue {
             self.update_stability(true);
         }
         Ok(())
@@ -641,8 +666,8 @@ impl Simulation {
         let count = self.unstable_directions().ok();
         self.stability = count.map(|c| Stability {
             unstable_directions: c,
-            lowest_eigenvalue: if eigenvalue {
-                self.lowest_eigenvalue(c).map(|(l, _)| l)
+            lowest_eigenvalue: if eigenvalue && self.settings.lowest_eigenvalue {
+                self.lowest_eigenvalue().map(|(l, _)| l)
             } else {
                 None
             },
@@ -656,151 +681,55 @@ impl Simulation {
         self.unstable_directions_at(&x)
     }
 
+    /// The KKT values at state `x`, of the full model when this is a symmetric pair, with
+    /// that model and its number of primal unknowns.
+    fn stability_matrix(&self, x: &[f64]) -> (Vec<f64>, &DiscreteModel) {
+        let (model, system, x) = match &self.full {
+            Some(f) => (
+                &f.model,
+                &f.system,
+                expand_state(&self.model, &self.system, x, &f.model, &f.system),
+            ),
+            None => (&self.model, &self.system, x.to_vec()),
+        };
+        let mut residual = vec![0.0; system.n];
+        let mut values = system.new_values();
+        system.evaluate(model, &x, &mut residual, &mut values);
+        (values, model)
+    }
+
     /// Counts the eigenvalues of the constrained Hessian below `−τ`, `τ = 1e-9 ρ / m̄`
     /// (`ρ` the mean diagonal of the Hessian, `m̄` the mean metric weight): a neutral
     /// direction (e.g. turning a buckled isotropic rod about its axis) counts as stable.
+    /// A symmetric pair is judged on the full model.
     fn unstable_directions_at(&mut self, x: &[f64]) -> Result<usize, InertiaError> {
         if self.inertia.is_none() {
-            self.inertia = Some(InertiaCounter::new(&self.system, self.model.n_primal)?);
+            let counter = match &self.full {
+                Some(f) => InertiaCounter::new(&f.system, f.model.n_primal)?,
+                None => InertiaCounter::new(&self.system, self.model.n_primal)?,
+            };
+            self.inertia = Some(counter);
         }
-        let metric = self.metric();
+        let (values, model) = self.stability_matrix(x);
+        let metric = metric(model);
         let mean_metric =
             metric.iter().sum::<f64>() / metric.iter().filter(|&&m| m > 0.0).count().max(1) as f64;
-        let mut residual = vec![0.0; self.system.n];
-        let mut values = self.system.new_values();
-        self.system
-            .evaluate(&self.model, x, &mut residual, &mut values);
         let counter = self.inertia.as_mut().expect("built above");
         let tau = 1e-9 * counter.hessian_scale(&values) / mean_metric;
         let inertia = counter.inertia(&values, -tau, &metric)?;
         Ok(counter.unstable_directions(inertia).max(0) as usize)
     }
 
-    /// Tributary arc length of every primal unknown: the metric of the eigenproblem
-    /// (quaternion unknowns weighted by their node's share of the rod, positions zero).
-    fn metric(&self) -> Vec<f64> {
-        let mut m = vec![0.0; self.model.n_primal];
-        let p = self.model.order.degree();
-        for rod in &self.model.rods {
-            for e in 0..rod.mesh.elements() {
-                let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
-                for a in 0..=p {
-                    let w = if a == 0 || a == p {
-                        h / (2.0 * p as f64)
-                    } else {
-                        h / p as f64
-                    };
-                    for k in 0..4 {
-                        m[rod.q_dof(e * p + a, k)] += w;
-                    }
-                }
-            }
-        }
-        m
-    }
-
-    /// Lowest eigenvalue (J/m) and mode of the constrained Hessian at the current state,
-    /// by inverse iteration with shifts below the spectrum when `unstable > 0`.
-    fn lowest_eigenvalue(&mut self, unstable: usize) -> Option<(f64, Vec<f64>)> {
-        let np = self.model.n_primal;
-        let n = self.system.n;
-        let metric = self.metric();
-        let mut residual = vec![0.0; n];
-        let mut values = self.system.new_values();
-        self.system
-            .evaluate(&self.model, &self.x, &mut residual, &mut values);
-        let base = values.clone();
-        let diag: Vec<usize> = (0..np)
-            .map(|i| {
-                let m = self.system.matrix(&values);
-                let cp = m.symbolic().col_ptr();
-                let rows = &m.symbolic().row_idx()[cp[i]..cp[i + 1]];
-                cp[i] + rows.binary_search(&i).expect("diagonal stored")
-            })
-            .collect();
-        // shift below the spectrum: σ = 0 if stable, else decrease until nothing is below
-        let mut sigma = 0.0;
-        let mut guess = 1.0;
-        for _ in 0..60 {
-            values.copy_from_slice(&base);
-            for (i, &d) in diag.iter().enumerate() {
-                values[d] -= sigma * metric[i];
-            }
-            if unstable == 0 {
-                break;
-            }
-            let counter = self.inertia.as_mut()?;
-            let below = counter
-                .inertia(&base, sigma, &metric)
-                .ok()
-                .map(|i| counter.unstable_directions(i));
-            if below == Some(0) {
-                break;
-            }
-            sigma = -guess;
-            guess *= 4.0;
-        }
-        // stable: the factorisation at the state (also used by the next predictor);
-        // unstable: a factorisation of the shifted matrix
-        let mut shifted = super::linear::SparseLu::default();
-        let use_shifted = sigma != 0.0;
-        if use_shifted {
-            shifted.factorize(self.system.matrix(&values)).ok()?;
-            self.stats.factorisations += 1;
-        } else {
-            self.tangent = self.compute_tangent();
-            self.tangent.as_ref()?;
-        }
-        let mut u: Vec<f64> = (0..n)
-            .map(|i| {
-                if i < np {
-                    metric[i] * (1.0 + (i % 7) as f64 * 0.1)
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        let mut estimate = f64::NAN;
-        for _ in 0..60 {
-            let mut v = vec![0.0; n];
-            for i in 0..np {
-                v[i] = metric[i] * u[i];
-            }
-            if use_shifted {
-                shifted.solve(&mut v);
-            } else {
-                self.ws.lu.solve(&mut v);
-            }
-            if v.iter().any(|x| !x.is_finite()) {
-                return None;
-            }
-            let norm = (0..np).map(|i| metric[i] * v[i] * v[i]).sum::<f64>().sqrt();
-            if norm.is_nan() || norm <= 0.0 {
-                return None;
-            }
-            v.iter_mut().for_each(|x| *x /= norm);
-            // Rayleigh quotient of the unshifted Hessian: vᵀ H v / vᵀ M v, with H v the
-            // primal part of K [v_primal; 0]
-            let k = self.system.matrix(&base);
-            let (cp, ri, val) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
-            let mut hv = vec![0.0; np];
-            for j in 0..np {
-                for p in cp[j]..cp[j + 1] {
-                    if ri[p] < np {
-                        hv[ri[p]] += val[p] * v[j];
-                    }
-                }
-            }
-            let rq = (0..np).map(|i| v[i] * hv[i]).sum::<f64>();
-            // the Rayleigh quotient converges as the square of the vector
-            let done = (rq - estimate).abs() <= 1e-9 * rq.abs().max(1e-12);
-            estimate = rq;
-            u = v;
-            if done {
-                break;
-            }
-        }
-        estimate.is_finite().then_some((estimate, u))
+    /// Lowest eigenvalue (J/m) and mode of the constrained Hessian at the current state (of
+    /// the full model for a symmetric pair), by inverse iteration below the spectrum.
+    fn lowest_eigenvalue(&mut self) -> Option<(f64, Vec<f64>)> {
+        let x = self.x.clone();
+        let (values, model) = self.stability_matrix(&x);
+        let metric = metric(model);
+        let np = model.n_primal;
+        self.inertia
+            .as_mut()?
+            .lowest_eigenvalue(&values, &metric, np)
     }
 
     /// Bisection on the step from `(x0, λ0)` for the change of the unstable count.
@@ -968,18 +897,11 @@ impl Simulation {
     /// measured along the mode; continuation then goes on in arclength steps along the new
     /// branch.
     pub fn switch_branch(&mut self, index: usize, sign: f64, h: f64) -> Result<(), SolveError> {
+        if self.full.is_some() {
+            return Err(self.error(self.lambda, 0.0, StopReason::SymmetricPair));
+        }
         let Some(cp) = self.critical.get(index).cloned() else {
-            return Err(self.error(
-                self.lambda,
-                0.0,
-                StopReason::Newton {
-                    step: 0.0,
-                    cause: NewtonError::NotConverged {
-                        iterations: 0,
-                        residual: f64::NAN,
-                    },
-                },
-            ));
+            return Err(self.error(self.lambda, 0.0, StopReason::NoCriticalPoint { index }));
         };
         let np = self.model.n_primal;
         let tx: Vec<f64> = cp.mode[..np].iter().map(|v| v * sign).collect();
@@ -1042,6 +964,11 @@ impl Simulation {
         let system = System::new(&self.model, bc, &self.x[..self.model.n_primal], tip);
         // inextensibility and unit-norm multipliers keep their rows; support and joint
         // multipliers enter the KKT matrix linearly and restart from zero
+        let full = self.model.full_model().map(|m| {
+            let x0 = m.natural_state();
+            let system = System::new(&m, bc, &x0, tip);
+            FullModel { model: m, system }
+        });
         let keep = system.linear_row(0).min(self.x.len());
         let mut x = self.x[..keep].to_vec();
         x.resize(system.n, 0.0);
@@ -1053,6 +980,7 @@ impl Simulation {
             self.control,
             self.lambda,
             self.arclength,
+            std::mem::replace(&mut self.full, full),
         );
         self.control = control;
         self.lambda = lambda;
@@ -1072,9 +1000,18 @@ impl Simulation {
                 self.control = old.4;
                 self.lambda = old.5;
                 self.arclength = old.6;
+                self.full = old.7;
                 Err(e)
             }
         }
+    }
+
+    /// Number of rods of the whole assembly each modelled rod stands for.
+    fn images(&self) -> f64 {
+        self.model
+            .assembly
+            .symmetry
+            .map_or(1.0, |s| s.full_rods() as f64 / self.model.rods.len() as f64)
     }
 
     /// Reactions, load, energy and stability at the current state.
@@ -1089,7 +1026,7 @@ impl Simulation {
             height: self.height_at(eps),
             reactions,
             load,
-            energy: self.last.energy,
+            energy: self.last.energy * self.images(),
             iterations: self.last.iterations,
             residual: self.last.residual,
             stability: self.stability,
@@ -1111,6 +1048,29 @@ impl Simulation {
             .collect();
         results::snapshot(&self.model, &self.system, &x, critical.eps)
     }
+}
+
+/// Tributary arc length of every primal unknown: the metric of the eigenproblem
+/// (quaternion unknowns weighted by their node's share of the rod, positions zero).
+fn metric(model: &DiscreteModel) -> Vec<f64> {
+    let mut m = vec![0.0; model.n_primal];
+    let p = model.order.degree();
+    for rod in &model.rods {
+        for e in 0..rod.mesh.elements() {
+            let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
+            for a in 0..=p {
+                let w = if a == 0 || a == p {
+                    h / (2.0 * p as f64)
+                } else {
+                    h / p as f64
+                };
+                for k in 0..4 {
+                    m[rod.q_dof(e * p + a, k)] += w;
+                }
+            }
+        }
+    }
+    m
 }
 
 /// Mean tip height over the rods (m).

@@ -17,12 +17,12 @@ use crate::discretisation::system::System;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, CholeskySymbolicParams,
+    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, CholeskySymbolicParams, LdltRef,
     SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
-use faer::{Par, Side};
+use faer::{Conj, MatMut, Par, Side};
 
 /// Counts of the signs of the pivots of `K_ρδ`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,6 +48,8 @@ pub struct InertiaCounter {
     symbolic: SymbolicCholesky<usize>,
     /// For each stored entry of `K`, its slot in the augmented pattern.
     k_slots: Vec<usize>,
+    /// For each stored entry of `K`, its (row, column).
+    k_entry: Vec<(usize, usize)>,
     /// Products `(k value a, k value b, slot)` making `JᵀJ`.
     jtj: Vec<(usize, usize, usize)>,
     /// Slots of the dual diagonal.
@@ -60,6 +62,8 @@ pub struct InertiaCounter {
     l_values: Vec<f64>,
     /// Penalty of the last factorisation: the mean magnitude of the Hessian's diagonal.
     pub rho: f64,
+    /// The last lowest mode found (primal unknowns), to start the next search from.
+    last_mode: Option<Vec<f64>>,
     buffer: MemBuffer,
 }
 
@@ -104,9 +108,11 @@ impl InertiaCounter {
         let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
             .map_err(|_| InertiaError::OutOfMemory)?;
         let mut k_slots = Vec::with_capacity(ri.len());
+        let mut k_entry = Vec::with_capacity(ri.len());
         for col in 0..n {
             for p in cp[col]..cp[col + 1] {
                 k_slots.push(slot(&pattern, ri[p], col));
+                k_entry.push((ri[p], col));
             }
         }
         let mut jtj = Vec::new();
@@ -140,10 +146,12 @@ impl InertiaCounter {
             constraints: n - n_primal,
             values: vec![0.0; pattern.row_idx().len()],
             rho: 1.0,
+            last_mode: None,
             l_values: vec![0.0; symbolic.len_val()],
             pattern,
             symbolic,
             k_slots,
+            k_entry,
             jtj,
             dual_diagonal,
             primal_diagonal,
@@ -240,6 +248,114 @@ impl InertiaCounter {
             }
         }
         Ok(inertia)
+    }
+
+    /// Solves `K(σ) z = b` with the last factorisation, for a right-hand side `b` whose
+    /// constraint part is zero, refining against the unregularised `K_ρ0(σ)` (which has the
+    /// same solution as `K(σ)` for such `b`).
+    fn solve_refined(&mut self, b: &[f64], n_primal: usize, delta: f64) -> Vec<f64> {
+        let n = b.len();
+        let mut z = b.to_vec();
+        self.ldlt_solve(&mut z);
+        for _ in 0..2 {
+            // r = b − K_ρ0 z, K_ρ0 = stored values with the dual diagonal −δ removed
+            let mut r = b.to_vec();
+            let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
+            for j in 0..n {
+                for p in cp[j]..cp[j + 1] {
+                    r[ri[p]] -= self.values[p] * z[j];
+                }
+            }
+            for i in n_primal..n {
+                r[i] -= delta * z[i];
+            }
+            self.ldlt_solve(&mut r);
+            for (zi, ri) in z.iter_mut().zip(&r) {
+                *zi += ri;
+            }
+        }
+        z
+    }
+
+    fn ldlt_solve(&mut self, x: &mut [f64]) {
+        let n = x.len();
+        LdltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(x, n, 1),
+            Par::Seq,
+            MemStack::new(&mut self.buffer),
+        );
+    }
+
+    /// Lowest eigenvalue of the constrained pencil `(H, M)` (`M = diag(metric)` on the
+    /// primal unknowns) and its mode (primal part, unit in `M`), by inverse iteration with
+    /// a shift placed below the spectrum by inertia counts. `kkt` are the KKT values at the
+    /// state, `n_primal` the number of primal unknowns.
+    pub fn lowest_eigenvalue(
+        &mut self,
+        kkt: &[f64],
+        metric: &[f64],
+        n_primal: usize,
+    ) -> Option<(f64, Vec<f64>)> {
+        let n = self.constraints + n_primal;
+        // shift below the spectrum: σ = 0 if nothing is below 0, else −1, −4, −16, …
+        let mut sigma = 0.0;
+        let mut guess = 1.0;
+        loop {
+            let inertia = self.inertia(kkt, sigma, metric).ok()?;
+            if self.unstable_directions(inertia) <= 0 {
+                break;
+            }
+            if guess > 1e30 {
+                return None;
+            }
+            sigma = -guess;
+            guess *= 4.0;
+        }
+        let delta = 1e-8 / self.rho;
+        // start from the last mode: along a path it changes little
+        let mut u: Vec<f64> = match self.last_mode.take() {
+            Some(m) if m.len() == n_primal => m,
+            _ => (0..n_primal)
+                .map(|i| metric[i] * (1.0 + (i % 7) as f64 * 0.1))
+                .collect(),
+        };
+        let mut estimate = f64::NAN;
+        // the Hessian block of K for Rayleigh quotients
+        let mut hv = vec![0.0; n_primal];
+        for _ in 0..80 {
+            let mut b = vec![0.0; n];
+            for i in 0..n_primal {
+                b[i] = metric[i] * u[i];
+            }
+            let v = self.solve_refined(&b, n_primal, delta);
+            let norm = (0..n_primal)
+                .map(|i| metric[i] * v[i] * v[i])
+                .sum::<f64>()
+                .sqrt();
+            if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
+                return None;
+            }
+            let v: Vec<f64> = v[..n_primal].iter().map(|x| x / norm).collect();
+            // Rayleigh quotient vᵀ H v / vᵀ M v with H the primal block of the KKT values
+            hv.iter_mut().for_each(|h| *h = 0.0);
+            for (p, &s) in self.k_slots.iter().enumerate() {
+                let (row, col) = self.k_entry[p];
+                if row < n_primal && col < n_primal {
+                    let _ = s;
+                    hv[row] += kkt[p] * v[col];
+                }
+            }
+            let rq: f64 = (0..n_primal).map(|i| v[i] * hv[i]).sum();
+            let done = (rq - estimate).abs() <= 1e-9 * rq.abs().max(1e-12);
+            estimate = rq;
+            u = v;
+            if done {
+                break;
+            }
+        }
+        self.last_mode = Some(u.clone());
+        estimate.is_finite().then_some((estimate, u))
     }
 
     /// Negative directions of the constrained Hessian: negative pivots less constraints.
