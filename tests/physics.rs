@@ -632,3 +632,66 @@ fn tip_reactions_balance_base_reactions_and_joint_forces_cancel_in_the_sum() {
     assert!(total.norm() < 1e-8, "{total:?}");
     let _ = End::Tip;
 }
+
+// ---------------------------------------------------------------- run-time changes
+
+#[test]
+fn releasing_the_base_hinge_mid_path_reaches_the_state_of_a_path_released_from_the_start() {
+    // an elastic, conservative problem: where the equilibrium is stable and unique, the
+    // state at ε under given conditions does not depend on the path that led there (with
+    // sliding tips it is not unique: the helix buckles sideways, as Haringx found)
+    use spira::model::boundary::{EndCondition, Rotation, Translation};
+    let hinge = BoundaryConditions {
+        base: EndCondition {
+            translation: Translation::Fixed,
+            rotation: Rotation::Free,
+        },
+        ..Default::default()
+    };
+    let mut case = thesis(1);
+    case.discretisation.elements = 24;
+    let mut changed = case.simulation().unwrap();
+    changed.advance_to(0.1).unwrap();
+    changed.set_boundary_conditions(hinge).unwrap();
+    changed.advance_to(0.2).unwrap();
+    case.boundary = hinge;
+    let mut from_start = case.simulation().unwrap();
+    from_start.advance_to(0.2).unwrap();
+    assert_eq!(changed.stability().map(|s| s.unstable_directions), Some(0));
+    assert_eq!(
+        from_start.stability().map(|s| s.unstable_directions),
+        Some(0)
+    );
+    let (a, b) = (changed.load_point(1), from_start.load_point(1));
+    for k in 0..3 {
+        assert!((a.reactions[0].tip.force[k] - b.reactions[0].tip.force[k]).abs() < 1e-7);
+        assert!((a.reactions[0].tip.moment[k] - b.reactions[0].tip.moment[k]).abs() < 1e-7);
+    }
+    // the free base carries no moment
+    let m = Vector3::from(a.reactions[0].base.moment).norm();
+    assert!(m < 1e-9, "{m}");
+}
+
+#[test]
+fn switching_between_displacement_and_load_control_keeps_the_state() {
+    let mut case = thesis(1);
+    case.discretisation.elements = 24;
+    let mut sim = case.simulation().unwrap();
+    sim.advance_to(0.2).unwrap();
+    let before = sim.load_point(1);
+    sim.set_control(Control::Force).unwrap();
+    // the load parameter is the compressive force over Pcrit; the state is unchanged
+    assert!((sim.parameter() + before.load[2]).abs() < 1e-9);
+    let after = sim.load_point(1);
+    assert!((after.eps - 0.2).abs() < 1e-9);
+    for k in 0..3 {
+        assert!((after.load[k] - before.load[k]).abs() < 1e-8);
+    }
+    // more load, then back to displacement control at the new state
+    let p = sim.parameter();
+    sim.advance_to(p * 1.1).unwrap();
+    assert!(sim.eps() > 0.2);
+    sim.set_control(Control::Displacement).unwrap();
+    assert!((sim.parameter() - sim.eps()).abs() < 1e-12);
+    assert!((-sim.load_point(2).load[2] - p * 1.1).abs() < 1e-7);
+}
