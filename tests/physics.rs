@@ -408,6 +408,7 @@ fn check_perfect_helix(b: f64) {
             ..r.helix
         })
         .collect();
+    let x = model.helix_state(&targets);
     let bc = BoundaryConditions {
         joints: false,
         ..Default::default()
@@ -416,7 +417,7 @@ fn check_perfect_helix(b: f64) {
         model,
         bc,
         Control::Displacement,
-        model_state(&targets),
+        x,
         ContinuationSettings::default(),
     )
     .expect("perfect helix equilibrium converges");
@@ -469,22 +470,6 @@ fn check_perfect_helix(b: f64) {
             }
         }
     }
-}
-
-fn model_state(targets: &[Helix]) -> Vec<f64> {
-    let length = 7.0 * PI * c();
-    let asm = Assembly::new(2, A, B, length);
-    DiscreteModel::new(
-        asm,
-        Stiffness {
-            b1: 1.0,
-            b2: 1.0,
-            b3: 2.0,
-        },
-        LOVE_ELEMENTS,
-        Order::Quadratic,
-    )
-    .helix_state(targets)
 }
 
 #[test]
