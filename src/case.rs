@@ -83,6 +83,20 @@ pub struct Discretisation {
     /// Elements per rod (at least; vertices are added at joints).
     pub elements: usize,
     pub order: Order,
+    /// A target accuracy given instead of a mesh (`accuracy` key). While it is set,
+    /// `elements` and `order` are placeholders: `precision::resolve_accuracy` replaces them
+    /// by the mesh it chooses (and clears this) before anything is solved.
+    pub accuracy: Option<Accuracy>,
+}
+
+/// A relative accuracy asked of the response (the axial reaction `Fz` at the target under
+/// displacement control, `ε` under load control): issue 5, part 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Accuracy {
+    /// Relative error allowed, in (0, 1).
+    pub target: f64,
+    /// The element order when the case names one; otherwise both are tried.
+    pub order: Option<Order>,
 }
 
 /// A case-file error: where, which key, what was expected. Every variant displays as one
@@ -358,6 +372,7 @@ struct RawLoading {
 struct RawDiscretisation {
     elements: Option<Spanned<i64>>,
     order: Option<Order>,
+    accuracy: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize, Default)]
@@ -585,15 +600,37 @@ impl Case {
             steps,
             branch: raw.loading.branch.unwrap_or(Branch::Fundamental),
         };
+        let rd = &raw.discretisation;
+        let accuracy = match (&rd.accuracy, &rd.elements) {
+            (Some(a), Some(_)) => {
+                return Err(ck.invalid(
+                    "discretisation.accuracy",
+                    a.span(),
+                    "give either `elements` (a mesh) or `accuracy` (a target the mesh is chosen for), not both",
+                ))
+            }
+            (Some(_), None) => Some(Accuracy {
+                target: ck.number(
+                    "discretisation.accuracy",
+                    &rd.accuracy,
+                    0.0,
+                    |v| v > 0.0 && v < 1.0,
+                    "a relative accuracy between 0 and 1 (e.g. 1e-3)",
+                )?,
+                order: rd.order,
+            }),
+            (None, _) => None,
+        };
         let discretisation = Discretisation {
             elements: ck.integer(
                 "discretisation.elements",
-                &raw.discretisation.elements,
+                &rd.elements,
                 48,
                 (1, 100_000),
                 "a number of elements per rod",
             )?,
-            order: raw.discretisation.order.unwrap_or(Order::Quadratic),
+            order: rd.order.unwrap_or(Order::Quadratic),
+            accuracy,
         };
         let d = ContinuationSettings::default();
         let sv = &raw.solver;

@@ -70,6 +70,8 @@ fn is_invalid(e: &CaseError) -> bool {
 /// Every fixture, with the test below that checks its message. A new file in the folder
 /// must be added here (and get a test), so none goes unchecked.
 const FIXTURES: &[&str] = &[
+    "accuracy-above-one",
+    "accuracy-and-elements",
     "array-of-tables",
     "bad-order",
     "bad-translation",
@@ -360,6 +362,62 @@ fn both_turns_and_length() {
         "geometry.length",
         &["either `turns` or `length`, not both"],
     );
+}
+
+#[test]
+fn accuracy_and_elements_together() {
+    let e = rejected("accuracy-and-elements");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        4,
+        "discretisation.accuracy",
+        &["either `elements` (a mesh) or `accuracy`", "not both"],
+    );
+}
+
+#[test]
+fn accuracy_above_one() {
+    let e = rejected("accuracy-above-one");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "discretisation.accuracy",
+        &["a relative accuracy between 0 and 1", "found 5"],
+    );
+}
+
+#[test]
+fn accuracy_replaces_the_mesh_and_may_name_the_order() {
+    let case = Case::parse(
+        "[discretisation]\naccuracy = 1e-4\norder = \"linear\"\n",
+        "a.toml",
+        "a",
+    )
+    .expect("valid");
+    let acc = case.discretisation.accuracy.expect("an accuracy");
+    assert_eq!(acc.target, 1e-4);
+    assert_eq!(acc.order, Some(Order::Linear));
+    let case = Case::parse("[discretisation]\naccuracy = 1e-2\n", "a.toml", "a").expect("valid");
+    assert_eq!(case.discretisation.accuracy.unwrap().order, None);
+    // no accuracy: the mesh as given
+    assert_eq!(
+        Case::parse("", "a.toml", "a")
+            .unwrap()
+            .discretisation
+            .accuracy,
+        None
+    );
+    for bad in ["0", "-1e-3", "1.0", "nan"] {
+        let e = Case::parse(
+            &format!("[discretisation]\naccuracy = {bad}\n"),
+            "a.toml",
+            "a",
+        )
+        .expect_err(bad);
+        assert_eq!(e.key(), Some("discretisation.accuracy"), "{bad}: {e}");
+    }
 }
 
 #[test]
