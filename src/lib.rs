@@ -8,9 +8,11 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod case;
+pub mod chart;
 pub mod discretisation;
 pub mod model;
 pub mod output;
+pub mod precision;
 pub mod results;
 pub mod run;
 pub mod solver;

@@ -4,6 +4,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use spira::case::Case;
+use spira::precision::{order_name, resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
 use spira::results::euler_load;
 use spira::run::run_path;
 use std::path::{Path, PathBuf};
@@ -43,6 +44,19 @@ enum Command {
         /// Folder for exported CSV files.
         #[arg(long, default_value = ".")]
         out: PathBuf,
+    },
+    /// Work-precision study: solve the case's path on a ladder of meshes of linear and
+    /// quadratic elements, time each and measure its error; print the table and write
+    /// precision.csv and precision.svg.
+    Precision {
+        /// Case file (TOML).
+        case: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// Timed runs per mesh after one warm-up run (the best is kept).
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
     },
     /// Time the load path of a case (default: thesis n = 8 to eps = 0.5).
     Bench {
@@ -89,6 +103,7 @@ fn main() {
             Ok(())
         }),
         Some(Command::Bench { case, repeats, .. }) => bench(case.as_deref(), repeats),
+        Some(Command::Precision { case, out, repeats }) => precision(&case, &out, repeats),
     };
     if let Err(e) = result {
         eprintln!("spira: error: {e:#}");
@@ -97,7 +112,7 @@ fn main() {
 }
 
 fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result<()> {
-    let case = Case::from_file(path)?;
+    let (case, choice) = resolve(Case::from_file(path)?)?;
     let target = to.unwrap_or(case.loading.target);
     if let Err(msg) = case.check_target(target) {
         bail!("--to: {msg}");
@@ -151,16 +166,21 @@ fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result
             if outcome.switched_at == Some(i) { "; the path switched branch here" } else { "" }
         );
     }
-    let files = spira::output::write_run(
+    let last = outcome.points.last().expect("step 0 is always there");
+    // the a-posteriori estimate needs the response of the run itself
+    let note = choice
+        .as_ref()
+        .map(|c| c.note(c.estimate_with(response(&case, last))));
+    let files = spira::output::write_run_noted(
         out,
         &case.name,
+        note.as_deref(),
         &outcome.points,
         &outcome.snapshot,
         &outcome.critical,
         &outcome.model,
     )
     .with_context(|| format!("writing results into {}", out.display()))?;
-    let last = outcome.points.last().expect("step 0 is always there");
     println!(
         "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
         last.eps,
@@ -173,6 +193,9 @@ fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result
         last.load[2],
         last.energy
     );
+    if let Some(n) = &note {
+        println!("{n}");
+    }
     let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     println!("wrote {}", names.join(", "));
     if let Some(err) = outcome.error {
@@ -185,7 +208,7 @@ fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result
 }
 
 fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
-    let case = load_case(path)?;
+    let (case, _) = resolve(load_case(path)?)?;
     let eps = case.output_eps(case.loading.target, case.loading.steps);
     println!(
         "spira bench: case {} (n = {}, {} {:?} elements per rod), eps 0 -> {} in {} output steps, {} timed runs after a warm-up",
@@ -230,6 +253,115 @@ fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
         best * 1e3 / eps.len() as f64,
         best * 1e3 / o.stats.steps.max(1) as f64,
         best * 1e3 / o.stats.iterations.max(1) as f64
+    );
+    Ok(())
+}
+
+/// The case with its mesh: when it gives an accuracy instead, the mesh chosen for it
+/// (issue 5), said on the way.
+fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
+    let Some(acc) = case.discretisation.accuracy else {
+        return Ok((case, None));
+    };
+    println!(
+        "choosing the mesh for accuracy {:e} on the response ({}) from two coarse solves per element order:",
+        acc.target,
+        Problem::Path(Box::new(case.clone())).response_label()
+    );
+    let (resolved, choice) = resolve_accuracy(&case)?;
+    if let Some(c) = &choice {
+        for line in c.pilot_lines() {
+            println!("  {line}");
+        }
+        println!(
+            "  chosen: {} elements, {} per rod, predicted error {:.1e} ({:.0} ms of pilot solves)",
+            order_name(c.order),
+            c.elements,
+            c.estimated_error,
+            c.cost.as_secs_f64() * 1e3
+        );
+    }
+    Ok((resolved, choice))
+}
+
+/// The response an accuracy refers to: `Fz/(n Pcrit)` under displacement control, `ε` under
+/// load control.
+fn response(case: &Case, point: &spira::results::LoadPoint) -> f64 {
+    match case.loading.control {
+        spira::solver::continuation::Control::Displacement => point.load[2],
+        spira::solver::continuation::Control::Force => point.eps,
+    }
+}
+
+fn precision(path: &Path, out: &Path, repeats: usize) -> Result<()> {
+    let case = Case::from_file(path)?;
+    let problem = Problem::Path(Box::new(case.clone()));
+    let ladder = Ladder::standard(&problem);
+    println!(
+        "spira precision: case {} ({}), {} meshes, each timed by {}",
+        case.name,
+        problem.describe(),
+        ladder.rungs.len(),
+        match repeats {
+            0 => "one run (no warm-up)".to_string(),
+            1 => "one run after a warm-up".to_string(),
+            k => format!("the best of {k} runs after a warm-up"),
+        }
+    );
+    let t0 = Instant::now();
+    let study = run_study(&problem, &ladder, repeats, |p| {
+        let r = p.last;
+        match &r.values {
+            Ok(v) => println!(
+                "  [{}/{}] {} {} elements/rod: {:.1} ms",
+                p.done,
+                p.total,
+                order_name(r.rung.order),
+                v.elements,
+                r.time.as_secs_f64() * 1e3
+            ),
+            Err(e) => println!(
+                "  [{}/{}] {} {} elements/rod: failed: {e}",
+                p.done,
+                p.total,
+                order_name(r.rung.order),
+                r.rung.elements
+            ),
+        }
+        std::ops::ControlFlow::Continue(())
+    })?;
+    println!();
+    for line in study.header() {
+        println!("{line}");
+    }
+    println!();
+    print!("{}", study.table());
+    if let Some(acc) = case.discretisation.accuracy {
+        match study.cheapest_meeting(acc.target) {
+            Some(r) => println!(
+                "cheapest mesh of the ladder meeting the case's accuracy {:e}: {} {} elements/rod",
+                acc.target,
+                order_name(r.rung.order),
+                r.elements()
+            ),
+            None => println!(
+                "no mesh of the ladder meets the case's accuracy {:e}",
+                acc.target
+            ),
+        }
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let csv = out.join("precision.csv");
+    let svg = out.join("precision.svg");
+    spira::output::write_atomic(&csv, &study.csv())
+        .with_context(|| format!("writing {}", csv.display()))?;
+    spira::output::write_atomic(&svg, &study.svg())
+        .with_context(|| format!("writing {}", svg.display()))?;
+    println!(
+        "wrote {}, {} in {:.1} s",
+        csv.display(),
+        svg.display(),
+        t0.elapsed().as_secs_f64()
     );
     Ok(())
 }

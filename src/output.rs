@@ -193,12 +193,35 @@ pub fn state_csv(case: &str, snapshot: &Snapshot) -> String {
     s
 }
 
+/// `csv` (a file of this module) with `note` as one more `#` line after its first line,
+/// e.g. the mesh an accuracy target chose and its estimated error.
+pub fn with_note(csv: &str, note: &str) -> String {
+    let note = note.replace(['\n', '\r'], " ");
+    match csv.split_once('\n') {
+        Some((first, rest)) => format!("{first}\n# {note}\n{rest}"),
+        None => format!("{csv}\n# {note}\n"),
+    }
+}
+
 /// The files of a run, written into `dir` (created if needed): load, reactions and state,
 /// and when there are critical points, `critical.csv` and one `mode-<k>.csv` each.
 /// Returns their paths.
 pub fn write_run(
     dir: &Path,
     case: &str,
+    points: &[LoadPoint],
+    snapshot: &Snapshot,
+    critical: &[CriticalPoint],
+    model: &DiscreteModel,
+) -> io::Result<Vec<PathBuf>> {
+    write_run_noted(dir, case, None, points, snapshot, critical, model)
+}
+
+/// [`write_run`] with `note`, when given, as a `#` line in the header of every file.
+pub fn write_run_noted(
+    dir: &Path,
+    case: &str,
+    note: Option<&str>,
     points: &[LoadPoint],
     snapshot: &Snapshot,
     critical: &[CriticalPoint],
@@ -218,6 +241,10 @@ pub fn write_run(
     }
     let mut out = Vec::new();
     for (name, text) in files {
+        let text = match note {
+            Some(n) => with_note(&text, n),
+            None => text,
+        };
         let p = dir.join(name);
         write_atomic(&p, &text)?;
         out.push(p);
