@@ -8,10 +8,12 @@ use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 use ratatui::Terminal;
 use spira::case::Case;
+use spira::discretisation::element::Order;
 use spira::model::boundary::{BoundaryConditions, Rotation, Translation};
 use spira::output;
+use spira::precision::{Reference, Rung, RungResult, Study, Values};
 use spira::solver::continuation::Simulation;
-use spira::tui::app::{App, Effect, Message};
+use spira::tui::app::{App, Effect, Message, PrecisionView};
 use spira::tui::stability::{stretches, Stretch};
 use spira::tui::ui::{self, K1Scale, K1_PALETTE};
 use spira::tui::worker::{coalesce, Job, Request, Solved, Worker, WorkerEvent};
@@ -832,4 +834,277 @@ fn screen_uses_the_room_of_a_large_terminal() {
     let small = braille_cells(&text(&draw(&app, 80, 24)));
     let large = braille_cells(&text(&draw(&app, 200, 60)));
     assert!(large > 3 * small, "{large} vs {small} braille cells");
+}
+
+// ---- work-precision chart and accuracy-driven meshes (issue 5) ----
+
+/// The one work-precision request in `effects`.
+fn precision_request(effects: &[Effect]) -> Request {
+    let r: Vec<&Request> = requests(effects)
+        .into_iter()
+        .filter(|r| matches!(r.job, Job::Precision(_)))
+        .collect();
+    assert_eq!(r.len(), 1, "expected one study request, got {effects:?}");
+    r[0].clone()
+}
+
+/// A study with fixed times and errors, so that its drawing does not depend on the machine:
+/// linear errors fall as h², quadratic as h⁴, each rung taking twice the time of the last.
+fn synthetic_study() -> Study {
+    let rung =
+        |order, elements: usize, ms: u64, fz: f64, k: f64, observed, by_construction| RungResult {
+            rung: Rung { order, elements },
+            time: Duration::from_millis(ms),
+            values: Ok(Values {
+                response: -3.08,
+                curvature: vec![],
+                critical: None,
+                unknowns: 11 * elements,
+                elements,
+            }),
+            errors: [Some(fz), Some(k), None],
+            observed,
+            by_construction,
+        };
+    let rungs = vec![
+        rung(Order::Linear, 32, 20, 5e-2, 5e-2, [None; 3], false),
+        rung(
+            Order::Linear,
+            64,
+            40,
+            1.25e-2,
+            2.5e-2,
+            [Some(2.0), Some(1.0), None],
+            false,
+        ),
+        rung(
+            Order::Linear,
+            128,
+            80,
+            3.125e-3,
+            1.25e-2,
+            [Some(2.0), Some(1.0), None],
+            false,
+        ),
+        rung(Order::Quadratic, 16, 15, 1e-2, 6e-2, [None; 3], false),
+        rung(
+            Order::Quadratic,
+            32,
+            30,
+            6.25e-4,
+            1.5e-2,
+            [Some(4.0), Some(2.0), None],
+            false,
+        ),
+        rung(
+            Order::Quadratic,
+            64,
+            60,
+            3.9e-5,
+            3.75e-3,
+            [Some(4.0), Some(2.0), None],
+            true,
+        ),
+    ];
+    Study {
+        name: "small".into(),
+        description: "n = 2, displacement control 0 → 0.5 in 10 steps".into(),
+        response_label: "Fz/(n Pcrit) at ε = 0.5".into(),
+        reference: Reference::Richardson {
+            order: Order::Quadratic,
+            elements: [32, 64],
+            exponents: [4.0, 2.0, 4.0],
+            check: [None; 3],
+        },
+        reference_values: Values {
+            response: -3.08,
+            curvature: vec![],
+            critical: None,
+            unknowns: 0,
+            elements: 0,
+        },
+        rungs,
+        repeats: 1,
+        uniform_curvature: false,
+    }
+}
+
+#[test]
+fn w_shows_the_work_precision_chart_and_asks_for_one_study() {
+    let (mut app, _sim) = started(small_case(2));
+    let r = precision_request(&app.handle_key(ch('w')));
+    assert!(app.show_precision);
+    match &r.job {
+        Job::Precision(case) => {
+            assert_eq!(case.geometry.helices, 2);
+            assert_eq!(case.boundary, app.boundary);
+        }
+        other => panic!("{other:?}"),
+    }
+    // the study runs beside the solver: stepping goes on
+    assert!(!app.busy(), "a study does not make the explorer busy");
+    assert!(matches!(
+        only_request(&app.handle_key(ch('l'))).job,
+        Job::Advance(_)
+    ));
+    // hiding and showing again asks for nothing new while the study is under way
+    assert!(app.handle_key(ch('w')).is_empty());
+    assert!(!app.show_precision);
+    assert!(app.handle_key(ch('w')).is_empty());
+    assert!(app.show_precision);
+}
+
+#[test]
+fn study_answers_fill_the_chart_and_stale_ones_are_dropped() {
+    let (mut app, _sim) = started(small_case(2));
+    let r = precision_request(&app.handle_key(ch('w')));
+    app.on_worker_event(WorkerEvent::PrecisionProgress {
+        generation: r.generation,
+        seq: r.seq,
+        done: 3,
+        total: 9,
+    });
+    assert_eq!(app.precision, PrecisionView::Running { done: 3, total: 9 });
+    // an answer to an older request is of another problem
+    app.on_worker_event(WorkerEvent::Precision {
+        generation: r.generation,
+        seq: r.seq - 1,
+        study: Err("old".into()),
+    });
+    assert_eq!(app.precision, PrecisionView::Running { done: 3, total: 9 });
+    app.on_worker_event(WorkerEvent::Precision {
+        generation: r.generation,
+        seq: r.seq,
+        study: Ok(Box::new(synthetic_study())),
+    });
+    assert!(matches!(app.precision, PrecisionView::Ready(_)));
+    assert!(!app.busy());
+    // new conditions make the study obsolete: a new one is asked for while shown
+    let effects = app.handle_key(ch('p'));
+    precision_request(&effects);
+    assert_eq!(app.precision, PrecisionView::Running { done: 0, total: 0 });
+    // and n too
+    let effects = app.handle_key(ch('n'));
+    let r = precision_request(&effects);
+    match r.job {
+        Job::Precision(case) => assert_eq!(case.geometry.helices, 4),
+        other => panic!("{other:?}"),
+    }
+    // hidden, a change only forgets the study
+    app.handle_key(ch('w'));
+    assert!(precision_request_count(&app.handle_key(ch('p'))) == 0);
+    assert_eq!(app.precision, PrecisionView::None);
+}
+
+fn precision_request_count(effects: &[Effect]) -> usize {
+    requests(effects)
+        .into_iter()
+        .filter(|r| matches!(r.job, Job::Precision(_)))
+        .count()
+}
+
+#[test]
+fn the_precision_thread_answers_with_a_study_of_the_case() {
+    let worker = Worker::spawn().expect("threads");
+    let text = "name = \"short\"\n[loading]\ntarget = 0.05\nsteps = 1\n";
+    let case = Case::parse(text, "short.toml", "short").expect("valid case");
+    let mut app = App::new(case, std::env::temp_dir());
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    let effects = app.handle_key(ch('w'));
+    for e in effects {
+        if let Effect::Solve(r) = e {
+            assert!(worker.send(r));
+        }
+    }
+    let deadline = Instant::now() + Duration::from_secs(300);
+    let mut progress = 0;
+    while !matches!(
+        app.precision,
+        PrecisionView::Ready(_) | PrecisionView::Failed(_)
+    ) {
+        assert!(Instant::now() < deadline, "no study");
+        if let Ok(ev) = worker.events.recv_timeout(Duration::from_millis(200)) {
+            if matches!(ev, WorkerEvent::PrecisionProgress { .. }) {
+                progress += 1;
+            }
+            app.on_worker_event(ev);
+        }
+    }
+    let PrecisionView::Ready(study) = &app.precision else {
+        panic!("{:?}", app.precision)
+    };
+    assert_eq!(progress, study.rungs.len(), "a progress report per mesh");
+    assert_eq!(study.rungs.len(), 9);
+    assert!(study.rungs.iter().all(|r| r.values.is_ok()));
+    worker.join();
+}
+
+#[test]
+fn screen_work_precision_chart_80x24() {
+    let (mut app, _sim) = started(small_case(2));
+    let r = precision_request(&app.handle_key(ch('w')));
+    let running = text(&draw(&app, 80, 24));
+    assert!(
+        running.contains("work-precision study: starting"),
+        "{running}"
+    );
+    app.on_worker_event(WorkerEvent::Precision {
+        generation: r.generation,
+        seq: r.seq,
+        study: Ok(Box::new(synthetic_study())),
+    });
+    app.message = None;
+    let screen = text(&draw(&app, 80, 24));
+    for want in [
+        "work-precision",
+        "Fz error",
+        "κ error",
+        "linear",
+        "quadratic",
+        "1e-2",
+        "ref: Richardson quadratic 32/64",
+    ] {
+        assert!(screen.contains(want), "`{want}` missing:\n{screen}");
+    }
+    // the orders observed between the two finest meshes of each order (not the one that
+    // defines the reference)
+    assert!(
+        screen.contains("linear 2.0") && screen.contains("quadratic 4.0"),
+        "{screen}"
+    );
+    // the chart panels only: the views above belong to other snapshots
+    let panels: String = screen
+        .lines()
+        .skip(10)
+        .take(10)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert_snapshot("precision_80x24", &panels);
+}
+
+#[test]
+fn the_mesh_chosen_for_an_accuracy_is_on_the_status_line() {
+    let worker = Worker::spawn().expect("threads");
+    let text_case =
+        "name = \"acc\"\n[loading]\ntarget = 0.1\nsteps = 2\n[discretisation]\naccuracy = 1e-3\n";
+    let case = Case::parse(text_case, "acc.toml", "acc").expect("valid case");
+    let mut app = App::new(case, std::env::temp_dir());
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    let mesh = app.mesh.clone().expect("a mesh chosen for the accuracy");
+    assert!(mesh.estimated_error <= 1e-3);
+    assert_eq!(app.eps(), Some(0.0));
+    let screen = text(&draw(&app, 80, 24));
+    let want = format!(
+        "mesh {} {}, err {:.0e}",
+        mesh.elements,
+        spira::precision::order_name(mesh.order),
+        mesh.estimated_error
+    );
+    assert!(screen.contains(&want), "`{want}` missing:\n{screen}");
+    // the state on screen is of that mesh
+    let nodes = app.state.as_ref().unwrap().snapshot.rods[0].nodes.len();
+    assert_eq!(nodes, mesh.order.degree() * mesh.elements + 1);
+    worker.join();
 }

@@ -7,6 +7,7 @@ use super::worker::{Job, Request, Solved, WorkerEvent};
 use crate::case::Case;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
 use crate::output;
+use crate::precision::{MeshChoice, Study};
 use crate::results::{LoadPoint, Snapshot};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::{Path, PathBuf};
@@ -26,6 +27,20 @@ pub enum Effect {
     Export,
     /// Leave the explorer.
     Quit,
+}
+
+/// The explorer's work-precision study of the current case (issue 5).
+#[derive(Clone, Debug, PartialEq)]
+pub enum PrecisionView {
+    /// None asked for since the case or its conditions last changed.
+    None,
+    /// Running: `done` of `total` meshes solved (`total` is 0 until the first is).
+    Running {
+        done: usize,
+        total: usize,
+    },
+    Ready(Box<Study>),
+    Failed(String),
 }
 
 /// A line for the user under the status line.
@@ -64,6 +79,13 @@ pub struct App {
     pub natural_k1: Option<f64>,
     /// Where exports go.
     pub out_dir: PathBuf,
+    /// The mesh chosen for the case's accuracy target, when it gives one.
+    pub mesh: Option<MeshChoice>,
+    /// The work-precision chart replaces the curvature and load plots.
+    pub show_precision: bool,
+    pub precision: PrecisionView,
+    /// Sequence number of the last study asked for (answers to older ones are dropped).
+    precision_seq: u64,
     generation: u64,
     next_seq: u64,
     /// Sequence number of the last request sent, and of the last one answered.
@@ -94,6 +116,10 @@ impl App {
             solving: None,
             natural_k1: None,
             out_dir,
+            mesh: None,
+            show_precision: false,
+            precision: PrecisionView::None,
+            precision_seq: 0,
             generation: 0,
             next_seq: 0,
             last_sent: 0,
@@ -158,6 +184,32 @@ impl App {
         })
     }
 
+    /// A work-precision study of the case as it stands (its `n` and the conditions asked
+    /// for), on the solver's precision thread; it does not make the app busy.
+    fn request_precision(&mut self) -> Effect {
+        self.next_seq += 1;
+        self.precision_seq = self.next_seq;
+        self.precision = PrecisionView::Running { done: 0, total: 0 };
+        let mut case = self.case.with_helices(self.helices);
+        case.boundary = self.boundary;
+        Effect::Solve(Request {
+            generation: self.generation,
+            seq: self.next_seq,
+            job: Job::Precision(Box::new(case)),
+        })
+    }
+
+    /// The case or its conditions changed: the study on screen is of another problem. A new
+    /// one is asked for when the chart is shown.
+    fn precision_obsolete(&mut self) -> Vec<Effect> {
+        self.precision = PrecisionView::None;
+        if self.show_precision {
+            vec![self.request_precision()]
+        } else {
+            vec![]
+        }
+    }
+
     /// The first request: solve the case's natural state.
     pub fn start(&mut self) -> Vec<Effect> {
         self.restart()
@@ -175,7 +227,10 @@ impl App {
         self.selected_rod = self.selected_rod.min(self.helices.saturating_sub(1));
         let mut case = self.case.with_helices(self.helices);
         case.boundary = self.boundary;
-        vec![self.request(Job::Start(Box::new(case)))]
+        self.mesh = None;
+        let mut effects = vec![self.request(Job::Start(Box::new(case)))];
+        effects.extend(self.precision_obsolete());
+        effects
     }
 
     /// Asks for `ε = eps` if the geometry admits it.
@@ -212,7 +267,9 @@ impl App {
             "{what}; the path continues from ε = {:.5} under the new conditions",
             self.requested_eps
         )));
-        vec![self.request(Job::SetBoundary(bc))]
+        let mut effects = vec![self.request(Job::SetBoundary(bc))];
+        effects.extend(self.precision_obsolete());
+        effects
     }
 
     /// Transition on a key press.
@@ -344,6 +401,17 @@ impl App {
                 self.restart()
             }
             KeyCode::Char('e') => vec![Effect::Export],
+            KeyCode::Char('w') => {
+                self.show_precision = !self.show_precision;
+                if self.show_precision && self.precision == PrecisionView::None {
+                    self.message = Some(Message::Info(
+                        "work-precision study of the path to the target started on its own thread; the explorer stays live".into(),
+                    ));
+                    vec![self.request_precision()]
+                } else {
+                    vec![]
+                }
+            }
             _ => vec![],
         }
     }
@@ -379,6 +447,27 @@ impl App {
                 }
             }
             WorkerEvent::Unchanged { seq, .. } => self.finish(seq),
+            WorkerEvent::MeshChosen { choice, .. } => {
+                self.mesh = Some(*choice);
+                vec![]
+            }
+            WorkerEvent::PrecisionProgress {
+                seq, done, total, ..
+            } => {
+                if seq == self.precision_seq {
+                    self.precision = PrecisionView::Running { done, total };
+                }
+                vec![]
+            }
+            WorkerEvent::Precision { seq, study, .. } => {
+                if seq == self.precision_seq {
+                    self.precision = match study {
+                        Ok(s) => PrecisionView::Ready(s),
+                        Err(e) => PrecisionView::Failed(e),
+                    };
+                }
+                vec![]
+            }
             WorkerEvent::Failed {
                 seq,
                 reason,

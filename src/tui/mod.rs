@@ -84,14 +84,18 @@ fn restore_terminal() {
 }
 
 /// Restores the terminal before the default report of a panic on the UI thread. A panic on
-/// the solver thread is caught there and shown on screen, so it leaves the terminal alone
-/// and prints nothing over the screen.
+/// the solver thread (or the thread of work-precision studies) is caught there and shown on
+/// screen, so it leaves the terminal alone and prints nothing over the screen.
 fn install_panic_hook() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
-            if std::thread::current().name() == Some(worker::THREAD_NAME) {
+            let name = std::thread::current().name().map(str::to_string);
+            if matches!(
+                name.as_deref(),
+                Some(worker::THREAD_NAME | worker::PRECISION_THREAD_NAME)
+            ) {
                 return;
             }
             restore_terminal();

@@ -1,8 +1,9 @@
 //! Drawing the explorer: one function per panel, each taking the [`App`] read-only. Only the
 //! 16 ANSI colours are used, so the screen reads the same on any terminal and over SSH.
 
-use super::app::{fmt_step, App, Message};
+use super::app::{fmt_step, App, Message, PrecisionView};
 use super::stability;
+use crate::precision::{self, Measure, Study, ORDERS};
 use crate::results::{LoadPoint, NodeState, RodShape, Snapshot};
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -63,8 +64,12 @@ pub fn draw(frame: &mut Frame, app: &App) {
     draw_view(frame, xy, app, View::XY, scale);
     draw_view(frame, zy, app, View::ZY, scale);
     draw_view(frame, zx, app, View::ZX, scale);
-    draw_curvature(frame, curvature, app);
-    draw_load_path(frame, load, app);
+    if app.show_precision {
+        draw_precision(frame, plots, app);
+    } else {
+        draw_curvature(frame, curvature, app);
+        draw_load_path(frame, load, app);
+    }
     draw_status(frame, status, app);
     if app.show_help {
         draw_help(frame, area, app);
@@ -623,6 +628,175 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
+/// Colour of an element order in the work-precision chart.
+fn order_color(order: crate::discretisation::element::Order) -> Color {
+    match order {
+        crate::discretisation::element::Order::Linear => Color::LightBlue,
+        crate::discretisation::element::Order::Quadratic => Color::LightRed,
+    }
+}
+
+/// `10^k` decade labels for an axis of log10 values from `lo` to `hi` (whole numbers): at
+/// most 5, evenly spaced (a chart spaces its labels evenly).
+fn decade_labels(lo: i32, hi: i32) -> Vec<Line<'static>> {
+    let span = (hi - lo).max(1);
+    let step = (1..=span)
+        .find(|s| span % s == 0 && span / s <= 4)
+        .unwrap_or(span);
+    (0..=span / step)
+        .map(|k| Line::from(format!("1e{}", lo + k * step)))
+        .collect()
+}
+
+/// Whole decades around the log10 values `v`.
+fn decade_bounds(v: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for x in v.filter(|x| x.is_finite()) {
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    if lo > hi {
+        return None;
+    }
+    let (a, b) = (lo.floor() as i32, hi.ceil() as i32);
+    Some((a, b.max(a + 1)))
+}
+
+/// The work-precision chart of the case in place of the curvature and load plots: the
+/// error of Fz and of the curvature profiles against the wall time, log-log, one line per
+/// element order (the chart `spira precision` writes).
+fn draw_precision(frame: &mut Frame, area: Rect, app: &App) {
+    let [left, right] =
+        Layout::horizontal([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(area);
+    let study = match &app.precision {
+        PrecisionView::Ready(s) => Some(s.as_ref()),
+        _ => None,
+    };
+    for (area, m) in [(left, Measure::Response), (right, Measure::Curvature)] {
+        draw_precision_panel(frame, area, app, study, m);
+    }
+}
+
+fn draw_precision_panel(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    study: Option<&Study>,
+    m: Measure,
+) {
+    let what = match m {
+        Measure::Response => " Fz error ",
+        _ => " κ error ",
+    };
+    let mut title = vec![bold(what.to_string())];
+    for o in ORDERS {
+        let order = study
+            .and_then(|s| s.finest_observed(m, o))
+            .map_or(String::new(), |k| format!(" {k:.1}"));
+        title.push(Span::styled("━", Style::new().fg(order_color(o))));
+        title.push(Span::raw(format!("{}{order} ", precision::order_name(o))));
+    }
+    let mut block = Block::new().borders(Borders::ALL).title(Line::from(title));
+    if m == Measure::Response {
+        block =
+            block.title_bottom(Line::from(" work-precision, log-log ").alignment(Alignment::Left));
+    }
+    let Some(study) = study else {
+        let text = match &app.precision {
+            PrecisionView::Running { done, total } if *total > 0 => {
+                format!("work-precision study: {done} of {total} meshes solved…")
+            }
+            PrecisionView::Running { .. } => "work-precision study: starting…".to_string(),
+            PrecisionView::Failed(e) => format!("work-precision study failed: {e}"),
+            _ => "no study (w asks for one)".to_string(),
+        };
+        let inner = block.inner(area);
+        frame.render_widget(block, area);
+        if inner.height > 0 {
+            frame.render_widget(
+                Paragraph::new(text)
+                    .style(Style::new().fg(DIM))
+                    .alignment(Alignment::Center)
+                    .wrap(Wrap { trim: true }),
+                Rect {
+                    y: inner.y + inner.height / 2,
+                    height: inner.height - inner.height / 2,
+                    ..inner
+                },
+            );
+        }
+        return;
+    };
+    let reference = match &study.reference {
+        precision::Reference::ClosedForm(_) => " ref: closed form ".to_string(),
+        precision::Reference::Richardson {
+            order, elements, ..
+        } => format!(
+            " ref: Richardson {} {}/{} ",
+            precision::order_name(*order),
+            elements[0],
+            elements[1]
+        ),
+    };
+    if m != Measure::Response {
+        block = block.title_bottom(Line::from(reference).alignment(Alignment::Right));
+    }
+    let series: Vec<(crate::discretisation::element::Order, Vec<(f64, f64)>)> = ORDERS
+        .iter()
+        .map(|&o| {
+            let pts = study
+                .points(o, m)
+                .iter()
+                .map(|p| (p.x.log10(), p.y.log10()))
+                .collect();
+            (o, pts)
+        })
+        .collect();
+    let all = || series.iter().flat_map(|(_, p)| p.iter());
+    let (Some(xb), Some(yb)) = (
+        decade_bounds(all().map(|p| p.0)),
+        decade_bounds(all().map(|p| p.1)),
+    ) else {
+        frame.render_widget(block, area);
+        return;
+    };
+    let mut datasets = Vec::new();
+    for (o, pts) in &series {
+        let style = Style::new().fg(order_color(*o));
+        datasets.push(
+            Dataset::default()
+                .data(pts)
+                .graph_type(GraphType::Line)
+                .marker(Marker::Braille)
+                .style(style),
+        );
+        datasets.push(
+            Dataset::default()
+                .data(pts)
+                .graph_type(GraphType::Scatter)
+                .marker(Marker::Block)
+                .style(style),
+        );
+    }
+    let chart = Chart::new(datasets)
+        .block(block)
+        .legend_position(None)
+        .x_axis(
+            Axis::default()
+                .title("time (s)")
+                .bounds([xb.0 as f64, xb.1 as f64])
+                .labels(decade_labels(xb.0, xb.1))
+                .style(Style::new().fg(DIM)),
+        )
+        .y_axis(
+            Axis::default()
+                .bounds([yb.0 as f64, yb.1 as f64])
+                .labels(decade_labels(yb.0, yb.1))
+                .style(Style::new().fg(DIM)),
+        );
+    frame.render_widget(chart, area);
+}
+
 fn sep() -> Span<'static> {
     Span::styled(" │ ", Style::new().fg(DIM))
 }
@@ -680,6 +854,16 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
             if in_force.joints { "on" } else { "off" }
         )),
     ];
+    if let Some(m) = &app.mesh {
+        // the mesh an accuracy target chose, with the error estimated for it
+        line2.push(sep());
+        line2.push(Span::raw(format!(
+            "mesh {} {}, err {:.0e}",
+            m.elements,
+            precision::order_name(m.order),
+            m.estimated_error
+        )));
+    }
     if pending {
         line2.push(sep());
         line2.push(Span::styled(
@@ -748,7 +932,7 @@ fn fmt_duration(d: std::time::Duration) -> String {
 }
 
 /// The keys, in the help overlay.
-pub const KEYS: [(&str, &str); 17] = [
+pub const KEYS: [(&str, &str); 18] = [
     ("→ l", "step compression forward by Δε"),
     ("← h", "step compression back by Δε"),
     ("+ =", "double the step Δε"),
@@ -764,6 +948,7 @@ pub const KEYS: [(&str, &str); 17] = [
     ("n N", "more / fewer helices (1 2 4 8 16), start over"),
     ("r", "reset: ε = 0, the case's conditions"),
     ("e", "export state and load path to CSV"),
+    ("w", "work-precision chart of the case (on/off)"),
     ("?", "this help (any key closes it)"),
     ("q Esc", "quit (also Ctrl-C)"),
 ];

@@ -6,12 +6,20 @@
 //! the next one is taken, an earlier pending request of the same kind is dropped in favour of
 //! the later one, and a pending [`Job::Start`] drops everything queued before it. The thread
 //! stops when the request channel closes.
+//!
+//! Work-precision studies ([`Job::Precision`]) run on a second thread of their own, so that
+//! a study of many meshes never holds up the user's steps; there the last request wins too,
+//! and a newer request stops the study in progress after its current mesh.
 
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
+use crate::precision::{
+    resolve_accuracy, run_study, Ladder, MeshChoice, Problem, Study, StudyError,
+};
 use crate::results::{LoadPoint, Snapshot};
 use crate::solver::continuation::{Simulation, SolveError};
 use std::collections::VecDeque;
+use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};
 use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
 use std::thread::{self, JoinHandle};
@@ -19,6 +27,11 @@ use std::time::{Duration, Instant};
 
 /// Name of the solver thread; the explorer's panic hook recognises it.
 pub const THREAD_NAME: &str = "spira-solver";
+/// Name of the thread of work-precision studies.
+pub const PRECISION_THREAD_NAME: &str = "spira-precision";
+/// Timed runs per mesh of the explorer's work-precision study (after a warm-up each): one,
+/// to keep the study short; `spira precision` takes the best of several.
+pub const PRECISION_REPEATS: usize = 1;
 
 /// Work for the solver.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,6 +43,8 @@ pub enum Job {
     Advance(f64),
     /// Change the boundary conditions and re-solve at the current `ε` from the current state.
     SetBoundary(BoundaryConditions),
+    /// A work-precision study of `case`'s path (on the precision thread).
+    Precision(Box<Case>),
 }
 
 impl Job {
@@ -43,6 +58,9 @@ impl Job {
             Job::Start(case) => format!("natural state, n = {}", case.geometry.helices),
             Job::Advance(eps) => format!("ε → {eps:.5}"),
             Job::SetBoundary(_) => "new boundary conditions".to_string(),
+            Job::Precision(case) => {
+                format!("work-precision study, n = {}", case.geometry.helices)
+            }
         }
     }
 }
@@ -95,6 +113,25 @@ pub enum WorkerEvent {
         reason: String,
         boundary: Option<BoundaryConditions>,
     },
+    /// The case gives an accuracy: the mesh chosen for it (before the natural state).
+    MeshChosen {
+        generation: u64,
+        seq: u64,
+        choice: Box<MeshChoice>,
+    },
+    /// A work-precision study has solved `done` of its `total` meshes.
+    PrecisionProgress {
+        generation: u64,
+        seq: u64,
+        done: usize,
+        total: usize,
+    },
+    /// A work-precision study is finished, or why it failed.
+    Precision {
+        generation: u64,
+        seq: u64,
+        study: Result<Box<Study>, String>,
+    },
 }
 
 impl WorkerEvent {
@@ -103,7 +140,10 @@ impl WorkerEvent {
             WorkerEvent::Started { generation, .. }
             | WorkerEvent::Solved { generation, .. }
             | WorkerEvent::Unchanged { generation, .. }
-            | WorkerEvent::Failed { generation, .. } => *generation,
+            | WorkerEvent::Failed { generation, .. }
+            | WorkerEvent::MeshChosen { generation, .. }
+            | WorkerEvent::PrecisionProgress { generation, .. }
+            | WorkerEvent::Precision { generation, .. } => *generation,
         }
     }
 }
@@ -123,10 +163,12 @@ pub fn coalesce(queue: &mut VecDeque<Request>) {
     });
 }
 
-/// Handle of the solver thread: send requests, receive events. Dropping it closes the
-/// request channel, and the thread ends after its current solve.
+/// Handle of the solver thread (and of the thread of work-precision studies): send
+/// requests, receive events. Dropping it closes the request channels, and the threads end
+/// after their current solve (a study: after its current mesh).
 pub struct Worker {
     requests: Sender<Request>,
+    precision: Sender<Request>,
     pub events: Receiver<WorkerEvent>,
     thread: Option<JoinHandle<()>>,
 }
@@ -134,20 +176,30 @@ pub struct Worker {
 impl Worker {
     pub fn spawn() -> std::io::Result<Worker> {
         let (requests, rx) = mpsc::channel();
+        let (precision, precision_rx) = mpsc::channel();
         let (tx, events) = mpsc::channel();
+        let precision_tx = tx.clone();
         let thread = thread::Builder::new()
             .name(THREAD_NAME.to_string())
             .spawn(move || serve(rx, tx))?;
+        thread::Builder::new()
+            .name(PRECISION_THREAD_NAME.to_string())
+            .spawn(move || serve_precision(precision_rx, precision_tx))?;
         Ok(Worker {
             requests,
+            precision,
             events,
             thread: Some(thread),
         })
     }
 
-    /// Queues a request; false if the solver thread has stopped.
+    /// Queues a request (a work-precision study on its own thread); false if the thread
+    /// that takes it has stopped.
     pub fn send(&self, request: Request) -> bool {
-        self.requests.send(request).is_ok()
+        match request.job {
+            Job::Precision(_) => self.precision.send(request).is_ok(),
+            _ => self.requests.send(request).is_ok(),
+        }
     }
 
     /// Whether the solver thread has ended (it only does when its channels close or it
@@ -156,12 +208,99 @@ impl Worker {
         self.thread.as_ref().is_none_or(|t| t.is_finished())
     }
 
-    /// Closes the request channel and waits for the thread to finish its current solve.
+    /// Closes the request channels and waits for the solver thread to finish its current
+    /// solve (a study in progress stops by itself after its current mesh).
     pub fn join(mut self) {
         let (closed, _) = mpsc::channel();
         drop(std::mem::replace(&mut self.requests, closed));
+        let (closed, _) = mpsc::channel();
+        drop(std::mem::replace(&mut self.precision, closed));
         if let Some(t) = self.thread.take() {
             let _ = t.join();
+        }
+    }
+}
+
+/// The precision thread: one study at a time, the latest request first; a newer request
+/// stops the study in progress after its current mesh.
+fn serve_precision(rx: Receiver<Request>, tx: Sender<WorkerEvent>) {
+    let mut next: Option<Request> = None;
+    loop {
+        let mut request = match next.take() {
+            Some(r) => r,
+            None => match rx.recv() {
+                Ok(r) => r,
+                Err(_) => return,
+            },
+        };
+        let mut closed = false;
+        loop {
+            match rx.try_recv() {
+                Ok(r) => request = r,
+                Err(TryRecvError::Empty) => break,
+                Err(TryRecvError::Disconnected) => {
+                    closed = true;
+                    break;
+                }
+            }
+        }
+        if closed {
+            return;
+        }
+        let Request {
+            generation,
+            seq,
+            job: Job::Precision(case),
+        } = request
+        else {
+            continue;
+        };
+        let problem = Problem::Path(case);
+        let ladder = Ladder::standard(&problem);
+        let study = panic::catch_unwind(AssertUnwindSafe(|| {
+            run_study(&problem, &ladder, PRECISION_REPEATS, |p| {
+                match rx.try_recv() {
+                    Ok(r) => {
+                        next = Some(r);
+                        return ControlFlow::Break(());
+                    }
+                    Err(TryRecvError::Disconnected) => {
+                        closed = true;
+                        return ControlFlow::Break(());
+                    }
+                    Err(TryRecvError::Empty) => {}
+                }
+                let progress = WorkerEvent::PrecisionProgress {
+                    generation,
+                    seq,
+                    done: p.done,
+                    total: p.total,
+                };
+                if tx.send(progress).is_err() {
+                    closed = true;
+                    return ControlFlow::Break(());
+                }
+                ControlFlow::Continue(())
+            })
+        }));
+        let study = match study {
+            Ok(Err(StudyError::Cancelled)) => {
+                if closed {
+                    return;
+                }
+                continue;
+            }
+            Ok(Ok(s)) => Ok(Box::new(s)),
+            Ok(Err(e)) => Err(e.to_string()),
+            Err(_) => Err("the work-precision study panicked".to_string()),
+        };
+        let event = WorkerEvent::Precision {
+            generation,
+            seq,
+            study,
+        };
+        if tx.send(event).is_err() {
+            return;
         }
     }
 }
@@ -266,18 +405,39 @@ impl Solver {
                 self.generation = generation;
                 self.points = 0;
                 self.sim = None;
+                // an accuracy target becomes a mesh here, before the natural state
+                let (case, choice) = match resolve_accuracy(&case) {
+                    Ok(resolved) => resolved,
+                    Err(e) => {
+                        return vec![WorkerEvent::Failed {
+                            generation,
+                            seq,
+                            reason: format!("no mesh for the case's accuracy: {e}"),
+                            boundary: None,
+                        }]
+                    }
+                };
+                let mut events: Vec<WorkerEvent> = choice
+                    .map(|c| WorkerEvent::MeshChosen {
+                        generation,
+                        seq,
+                        choice: Box::new(c),
+                    })
+                    .into_iter()
+                    .collect();
                 match case.simulation() {
                     Ok(sim) => {
                         self.sim = Some(sim);
-                        self.solved(seq, true, t0).into_iter().collect()
+                        events.extend(self.solved(seq, true, t0));
                     }
-                    Err(e) => vec![WorkerEvent::Failed {
+                    Err(e) => events.push(WorkerEvent::Failed {
                         generation,
                         seq,
                         reason: format!("no natural state: {e}"),
                         boundary: None,
-                    }],
+                    }),
                 }
+                events
             }
             Job::Advance(eps) => self.move_on(seq, t0, |sim| sim.advance_to(eps)),
             Job::SetBoundary(bc) => {
@@ -290,6 +450,12 @@ impl Solver {
                 }
                 self.move_on(seq, t0, |sim| sim.set_boundary_conditions(bc))
             }
+            Job::Precision(_) => vec![WorkerEvent::Failed {
+                generation,
+                seq,
+                reason: "work-precision studies run on their own thread".into(),
+                boundary: None,
+            }],
         }
     }
 
