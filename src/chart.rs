@@ -279,8 +279,21 @@ fn panel(s: &mut String, p: &Panel, x0: f64, y0: f64) {
         }
         s.push_str("</g>\n");
     }
-    // legend, bottom left inside the plot: work-precision lines run from the top left
-    // (cheap, inaccurate) to the bottom right, so that corner stays clear
+    // legend in the corner of the plot that hides least of the lines (tried in the order
+    // bottom left, top right, bottom right, top left: work-precision lines run from the top
+    // left, cheap and inaccurate, to the bottom right)
+    let drawn: Vec<Vec<(f64, f64)>> = p
+        .series
+        .iter()
+        .map(|series| {
+            series
+                .points
+                .iter()
+                .filter(|q| q.x > 0.0 && q.y > 0.0 && q.x.is_finite() && q.y.is_finite())
+                .map(|q| (map_x(q.x), map_y(q.y)))
+                .collect()
+        })
+        .collect();
     let widest = p
         .series
         .iter()
@@ -289,7 +302,16 @@ fn panel(s: &mut String, p: &Panel, x0: f64, y0: f64) {
         .unwrap_or(0) as f64;
     let lw = 36.0 + 6.2 * widest;
     let lh = 8.0 + 16.0 * p.series.len() as f64;
-    let (lx, ly) = (px + 6.0, py + ph - lh - 6.0);
+    let corners = [
+        (px + 6.0, py + ph - lh - 6.0),
+        (px + pw - lw - 6.0, py + 6.0),
+        (px + pw - lw - 6.0, py + ph - lh - 6.0),
+        (px + 6.0, py + 6.0),
+    ];
+    let (lx, ly) = corners
+        .into_iter()
+        .min_by_key(|&(x, y)| covered(&drawn, x - 4.0, y - 4.0, lw + 8.0, lh + 8.0))
+        .expect("four corners");
     let _ = writeln!(s, "<g class=\"legend\">");
     let _ = writeln!(
         s,
@@ -315,6 +337,34 @@ fn panel(s: &mut String, p: &Panel, x0: f64, y0: f64) {
         );
     }
     s.push_str("</g>\n</g>\n");
+}
+
+/// How much of the polylines `lines` lies in the rectangle `(x, y, w, h)`: the number of
+/// samples (20 per segment, and the vertices) inside it.
+fn covered(lines: &[Vec<(f64, f64)>], x: f64, y: f64, w: f64, h: f64) -> usize {
+    let inside = |(a, b): (f64, f64)| a >= x && a <= x + w && b >= y && b <= y + h;
+    lines
+        .iter()
+        .map(|l| {
+            let vertices = l.iter().filter(|&&q| inside(q)).count();
+            let along: usize = l
+                .windows(2)
+                .map(|w2| {
+                    (1..20)
+                        .filter(|&k| {
+                            let t = k as f64 / 20.0;
+                            inside((
+                                w2[0].0 + t * (w2[1].0 - w2[0].0),
+                                w2[0].1 + t * (w2[1].1 - w2[0].1),
+                            ))
+                        })
+                        .count()
+                })
+                .sum();
+            // a marker and its label weigh more than a stretch of line
+            5 * vertices + along
+        })
+        .sum()
 }
 
 fn marker(s: &mut String, style: Style, x: f64, y: f64, r: f64, hollow: bool) {

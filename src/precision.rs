@@ -979,7 +979,7 @@ impl Study {
             format!("work-precision study, case {}: {}", self.name, self.description),
             format!("reference: {}", self.reference.describe()),
             format!(
-                "response: {} = {:.10e} (reference); time: {} of the whole solve",
+                "response: {} = {:.10e} (reference); time of the whole solve: {}",
                 self.response_label,
                 self.reference_values.response,
                 self.timing()
@@ -1124,7 +1124,7 @@ impl Study {
         let mut notes = vec![
             format!("reference: {}", self.reference.describe()),
             format!(
-                "time: {} of the whole solve; points labelled by elements per rod; legend: orders observed in h (element length) between the two finest meshes",
+                "time of the whole solve: {}; points labelled by elements per rod; legend: orders observed in h (element length) between the two finest meshes",
                 self.timing()
             ),
         ];
