@@ -1006,8 +1006,8 @@ fn precision_request_count(effects: &[Effect]) -> usize {
 #[test]
 fn the_precision_thread_answers_with_a_study_of_the_case() {
     let worker = Worker::spawn().expect("threads");
-    let text = "name = \"short\"\n[loading]\ntarget = 0.05\nsteps = 1\n";
-    let case = Case::parse(text, "short.toml", "short").expect("valid case");
+    let source = "name = \"short\"\n[loading]\ntarget = 0.05\nsteps = 1\n";
+    let case = Case::parse(source, "short.toml", "short").expect("valid case");
     let mut app = App::new(case, std::env::temp_dir());
     let start = app.start();
     settle(&mut app, &worker, start);
@@ -1037,6 +1037,19 @@ fn the_precision_thread_answers_with_a_study_of_the_case() {
     assert_eq!(progress, study.rungs.len(), "a progress report per mesh");
     assert_eq!(study.rungs.len(), 9);
     assert!(study.rungs.iter().all(|r| r.values.is_ok()));
+    // drawn from a real study: both panels with their lines and the reference used
+    app.message = None;
+    let screen = text(&draw(&app, 80, 24));
+    let panels: String = screen.lines().skip(10).take(10).collect();
+    assert!(
+        panels.contains("Fz error") && panels.contains("κ error"),
+        "{screen}"
+    );
+    assert!(
+        panels.contains("ref: Richardson quadratic 64/128"),
+        "{screen}"
+    );
+    assert!(braille_cells(&panels) > 20, "lines drawn:\n{screen}");
     worker.join();
 }
 
