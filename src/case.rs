@@ -87,6 +87,10 @@ pub struct Discretisation {
     /// `elements` and `order` are placeholders: `precision::resolve_accuracy` replaces them
     /// by the mesh it chooses (and clears this) before anything is solved.
     pub accuracy: Option<Accuracy>,
+    /// Solve one right/left pair and take the other rods as its images (the assembly's
+    /// `m`-fold rotational symmetry, `n = 2m`, `m ≥ 2`); stability is still judged on the
+    /// full model. Key `symmetric`, default false.
+    pub symmetric: bool,
 }
 
 /// A relative accuracy asked of the response (the axial reaction `Fz` at the target under
@@ -373,6 +377,7 @@ struct RawDiscretisation {
     elements: Option<Spanned<i64>>,
     order: Option<Order>,
     accuracy: Option<Spanned<f64>>,
+    symmetric: Option<Spanned<bool>>,
 }
 
 #[derive(Deserialize, Default)]
@@ -631,6 +636,17 @@ impl Case {
             )?,
             order: rd.order.unwrap_or(Order::Quadratic),
             accuracy,
+            symmetric: match &rd.symmetric {
+                Some(flag) if *flag.get_ref() && (helices < 4 || helices % 2 == 1) => {
+                    return Err(ck.invalid(
+                        "discretisation.symmetric",
+                        flag.span(),
+                        format!("expected false: {helices} helix(es) have no rotational symmetry to reduce (it needs n = 2m helices with m ≥ 2)"),
+                    ))
+                }
+                Some(flag) => *flag.get_ref(),
+                None => false,
+            },
         };
         let d = ContinuationSettings::default();
         let sv = &raw.solver;
@@ -703,14 +719,35 @@ impl Case {
     pub fn with_helices(&self, n: usize) -> Case {
         let mut c = self.clone();
         c.geometry.helices = n;
+        // the symmetric reduction needs n = 2m, m ≥ 2
+        c.discretisation.symmetric &= n >= 4 && n % 2 == 0;
+        c
+    }
+
+    /// The case as the explorer solves it interactively (issue 5, "a model no bigger than
+    /// the scene"): one symmetric pair standing for the assembly when it has the symmetry,
+    /// and stability as the count of unstable directions only (on the full model), without
+    /// the lowest eigenvalue. Everything shown is still of the whole assembly.
+    pub fn for_explorer(&self) -> Case {
+        let mut c = self.clone();
+        let n = c.geometry.helices;
+        c.discretisation.symmetric |= n >= 4 && n % 2 == 0;
+        c.solver.lowest_eigenvalue = false;
         c
     }
 
     /// The discrete model of the case.
     pub fn model(&self) -> DiscreteModel {
         let g = &self.geometry;
+        let full = Assembly::new(g.helices, g.radius, g.pitch, g.length);
+        let assembly = if self.discretisation.symmetric {
+            full.symmetric_pair()
+                .expect("validated: the case has the symmetry")
+        } else {
+            full
+        };
         DiscreteModel::new(
-            Assembly::new(g.helices, g.radius, g.pitch, g.length),
+            assembly,
             self.stiffness,
             self.discretisation.elements,
             self.discretisation.order,

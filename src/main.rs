@@ -220,12 +220,84 @@ fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
         case.loading.steps,
         repeats.max(1)
     );
+    let (best, mean, o) = time_path(&case, &eps, repeats)?;
+    println!("unknowns (incl. multipliers): {}", o.unknowns);
+    println!(
+        "internal steps: {} ({} rejected), Newton iterations: {}, factorisations: {}",
+        o.stats.steps, o.stats.rejected, o.stats.iterations, o.stats.factorisations
+    );
+    println!(
+        "time per path: best {:.1} ms, mean {:.1} ms (stability of every step counted, lowest eigenvalue at every output step)",
+        best * 1e3,
+        mean * 1e3
+    );
+    println!(
+        "time per output step: {:.2} ms; per internal step: {:.2} ms; per Newton iteration: {:.2} ms",
+        best * 1e3 / eps.len() as f64,
+        best * 1e3 / o.stats.steps.max(1) as f64,
+        best * 1e3 / o.stats.iterations.max(1) as f64
+    );
+    // the same path without stability, and as a symmetric pair when the case has the symmetry
+    let mut plain = case.clone();
+    plain.solver.track_stability = false;
+    let (plain_best, _, _) = time_path(&plain, &eps, repeats)?;
+    println!(
+        "without stability: best {:.1} ms per path, {:.2} ms per output step",
+        plain_best * 1e3,
+        plain_best * 1e3 / eps.len() as f64
+    );
+    let n = case.geometry.helices;
+    if !case.discretisation.symmetric && n >= 4 && n % 2 == 0 {
+        for track in [true, false] {
+            let mut pair = case.clone();
+            pair.discretisation.symmetric = true;
+            pair.solver.track_stability = track;
+            let (pb, _, po) = time_path(&pair, &eps, repeats)?;
+            let reference = if track { best } else { plain_best };
+            let (a, b) = (
+                o.points.last().expect("points"),
+                po.points.last().expect("points"),
+            );
+            let diff = a
+                .reactions
+                .iter()
+                .zip(&b.reactions)
+                .flat_map(|(ra, rb)| (0..3).map(move |k| (ra.tip.force[k] - rb.tip.force[k]).abs()))
+                .fold(0.0f64, f64::max)
+                / a.reactions[0]
+                    .tip
+                    .force
+                    .iter()
+                    .map(|f| f * f)
+                    .sum::<f64>()
+                    .sqrt();
+            println!(
+                "symmetric pair ({} unknowns{}): best {:.1} ms per path, {:.2} ms per output step, speed-up {:.1}x; largest tip-force difference to the full model {:.1e} (relative)",
+                po.unknowns,
+                if track { ", stability on the full model" } else { ", no stability" },
+                pb * 1e3,
+                pb * 1e3 / eps.len() as f64,
+                reference / pb,
+                diff
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Best and mean wall time (s) of `repeats` runs of a path after a warm-up, and the last
+/// outcome.
+fn time_path(
+    case: &Case,
+    eps: &[f64],
+    repeats: usize,
+) -> Result<(f64, f64, spira::run::PathOutcome)> {
     let mut best = f64::INFINITY;
     let mut times = Vec::new();
     let mut last = None;
     for r in 0..=repeats.max(1) {
         let t = Instant::now();
-        let outcome = run_path(&case, &eps, |_, _| {})?;
+        let outcome = run_path(case, eps, |_, _| {})?;
         let dt = t.elapsed().as_secs_f64();
         if r > 0 {
             best = best.min(dt);
@@ -236,25 +308,8 @@ fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
         }
         last = Some(outcome);
     }
-    let o = last.expect("at least one run");
     let mean = times.iter().sum::<f64>() / times.len() as f64;
-    println!("unknowns (incl. multipliers): {}", o.unknowns);
-    println!(
-        "internal steps: {} ({} rejected), Newton iterations: {}, factorisations: {}",
-        o.stats.steps, o.stats.rejected, o.stats.iterations, o.stats.factorisations
-    );
-    println!(
-        "time per path: best {:.1} ms, mean {:.1} ms",
-        best * 1e3,
-        mean * 1e3
-    );
-    println!(
-        "time per output step: {:.2} ms; per internal step: {:.2} ms; per Newton iteration: {:.2} ms",
-        best * 1e3 / eps.len() as f64,
-        best * 1e3 / o.stats.steps.max(1) as f64,
-        best * 1e3 / o.stats.iterations.max(1) as f64
-    );
-    Ok(())
+    Ok((best, mean, last.expect("at least one run")))
 }
 
 /// The case with its mesh: when it gives an accuracy instead, the mesh chosen for it

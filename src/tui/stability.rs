@@ -20,7 +20,6 @@ pub fn label(unstable: Option<bool>) -> &'static str {
     }
 }
 
-
 /// A run of consecutive load-path points drawn alike: `points` indexes the path, and
 /// consecutive stretches share their end point so the drawn path has no gaps.
 #[derive(Clone, Debug, PartialEq, Eq)]

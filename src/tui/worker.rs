@@ -425,7 +425,7 @@ impl Solver {
                     })
                     .into_iter()
                     .collect();
-                match case.simulation() {
+                match case.for_explorer().simulation() {
                     Ok(sim) => {
                         self.sim = Some(sim);
                         events.extend(self.solved(seq, true, t0));
