@@ -181,7 +181,7 @@ fn orders_on_the_thesis_helix_match_the_theory_of_each_element() {
 
 /// Euler's clamped column under load control buckles at P = 4π²B/L² = Pcrit (DESIGN.md §6),
 /// load parameter 1 exactly. The critical load is an eigenvalue: error O(h^{2p}), order 2
-/// for linear elements.
+/// for linear and 4 for quadratic elements.
 #[test]
 fn critical_load_of_eulers_column_converges_at_the_order_of_an_eigenvalue() {
     let text = "name = \"euler\"\n[geometry]\nradius = 0.0\nlength = 1.0\n[loading]\ncontrol = \"force\"\ntarget = 1.1\nsteps = 1\n[discretisation]\norder = \"linear\"\n";
@@ -195,21 +195,23 @@ fn critical_load_of_eulers_column_converges_at_the_order_of_an_eigenvalue() {
         elements: 0,
     };
     let probes = problem.vertices(8);
-    let errors: Vec<f64> = [8, 16, 32]
-        .iter()
-        .map(|&n| {
-            let v = problem.solve(Order::Linear, n, &probes).expect("solve");
-            measured(&v, &exact)[2].expect("a critical point")
-        })
-        .collect();
-    let theory = Measure::Critical.theoretical_order(Order::Linear, false);
-    assert_eq!(theory, 2.0);
-    for w in errors.windows(2) {
-        let k = (w[0] / w[1]).log2();
-        assert!(
-            (k - theory).abs() <= SLOPE_TOLERANCE,
-            "critical load errors {errors:?}: order {k}"
-        );
+    for (order, expected) in [(Order::Linear, 2.0), (Order::Quadratic, 4.0)] {
+        let errors: Vec<f64> = [8, 16, 32]
+            .iter()
+            .map(|&n| {
+                let v = problem.solve(order, n, &probes).expect("solve");
+                measured(&v, &exact)[2].expect("a critical point")
+            })
+            .collect();
+        let theory = Measure::Critical.theoretical_order(order, false);
+        assert_eq!(theory, expected);
+        for w in errors.windows(2) {
+            let k = (w[0] / w[1]).log2();
+            assert!(
+                (k - theory).abs() <= SLOPE_TOLERANCE,
+                "{order:?}: critical load errors {errors:?}: order {k}"
+            );
+        }
     }
 }
 

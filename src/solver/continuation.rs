@@ -721,6 +721,18 @@ impl Simulation {
         Ok(counter.unstable_directions(inertia).max(0) as usize)
     }
 
+    /// The eigenvalue nearest zero of the constrained Hessian at state `x` (of the full
+    /// model for a symmetric pair).
+    fn eigenvalue_nearest_zero_at(&mut self, x: &[f64]) -> Option<f64> {
+        let (values, model) = self.stability_matrix(x);
+        let metric = metric(model);
+        let np = model.n_primal;
+        self.inertia
+            .as_mut()?
+            .eigenvalue_nearest_zero(&values, &metric, np)
+            .map(|(l, _)| l)
+    }
+
     /// Lowest eigenvalue (J/m) and mode of the constrained Hessian at the current state (of
     /// the full model for a symmetric pair), by inverse iteration below the spectrum.
     fn lowest_eigenvalue(&mut self) -> Option<(f64, Vec<f64>)> {
@@ -761,6 +773,7 @@ impl Simulation {
         let norm = ((0..np).map(|i| d[i] * d[i]).sum::<f64>() + (l1 - l0).powi(2)).sqrt();
         let (mut lo, mut hi) = (0.0, 1.0); // fractions of the step
         let mut best: Option<(Vec<f64>, f64)> = Some((x1.clone(), l1));
+        let mut below: Option<(Vec<f64>, f64, f64)> = None; // the state at `lo`
         let tx: Vec<f64> = if arclength {
             (0..np).map(|i| d[i] / norm).collect()
         } else {
@@ -805,7 +818,10 @@ impl Simulation {
             };
             offset = 0.5;
             match self.unstable_directions_at(&t.x) {
-                Ok(c) if c == before.unstable_directions => lo = mid,
+                Ok(c) if c == before.unstable_directions => {
+                    lo = mid;
+                    below = Some((t.x, t.lambda, mid));
+                }
                 Ok(_) => {
                     hi = mid;
                     best = Some((t.x, t.lambda));
@@ -814,6 +830,47 @@ impl Simulation {
                     // a zero pivot: we are on the critical point
                     best = Some((t.x, t.lambda));
                     break;
+                }
+            }
+        }
+        // the counts resolve the crossing only to the rounding of the LDLᵀ near a zero
+        // eigenvalue; finish with a secant on the eigenvalue nearest zero (a Rayleigh
+        // quotient, accurate to the square of its vector's error), which crosses zero there
+        if let Some((xl, _, fl)) = below.clone() {
+            let probe = |this: &mut Self, f: f64| -> Option<(f64, Vec<f64>, f64)> {
+                let xp: Vec<f64> = x0.iter().zip(&d).map(|(p, q)| p + f * q).collect();
+                let lp = l0 + f * (l1 - l0);
+                let ds = if arclength { f * norm } else { lp - l0 };
+                this.ws.fresh = false;
+                let step = StepEquation {
+                    tx: &tx,
+                    tl,
+                    x0,
+                    l0,
+                    ds,
+                };
+                let t = this.correct(xp, lp, step).ok()?;
+                let mu = this.eigenvalue_nearest_zero_at(&t.x)?;
+                Some((mu, t.x, t.lambda))
+            };
+            let mu_l = self.eigenvalue_nearest_zero_at(&xl);
+            let fb = (fl - 0.02).max(0.0);
+            if let (Some(mu_a), Some((mu_b, _, _))) = (mu_l, probe(self, fb)) {
+                let (mut fa, mut ma, mut fb, mut mb) = (fl, mu_a, fb, mu_b);
+                for _ in 0..6 {
+                    if (ma - mb).abs() <= f64::EPSILON * ma.abs() || fa == fb {
+                        break;
+                    }
+                    let f = (fa - ma * (fa - fb) / (ma - mb)).clamp(0.0, 1.0);
+                    let Some((mu, x, l)) = probe(self, f) else {
+                        break;
+                    };
+                    best = Some((x, l));
+                    let converged = (f - fa).abs() <= 1e-13;
+                    (fb, mb, fa, ma) = (fa, ma, f, mu);
+                    if converged {
+                        break;
+                    }
                 }
             }
         }

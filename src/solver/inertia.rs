@@ -297,7 +297,6 @@ impl InertiaCounter {
         metric: &[f64],
         n_primal: usize,
     ) -> Option<(f64, Vec<f64>)> {
-        let n = self.constraints + n_primal;
         // shift below the spectrum: σ = 0 if nothing is below 0, else −1, −4, −16, …
         let mut sigma = 0.0;
         let mut guess = 1.0;
@@ -312,6 +311,30 @@ impl InertiaCounter {
             sigma = -guess;
             guess *= 4.0;
         }
+        self.inverse_iteration(kkt, metric, n_primal)
+    }
+
+    /// The eigenvalue of the constrained pencil nearest zero (the one that crosses zero at
+    /// a critical point) and its mode.
+    pub fn eigenvalue_nearest_zero(
+        &mut self,
+        kkt: &[f64],
+        metric: &[f64],
+        n_primal: usize,
+    ) -> Option<(f64, Vec<f64>)> {
+        self.inertia(kkt, 0.0, metric).ok()?;
+        self.inverse_iteration(kkt, metric, n_primal)
+    }
+
+    /// Inverse iteration with the last factorisation (of `K − σM`): converges to the
+    /// eigenvalue nearest `σ`; returns its Rayleigh quotient with the unshifted Hessian.
+    fn inverse_iteration(
+        &mut self,
+        kkt: &[f64],
+        metric: &[f64],
+        n_primal: usize,
+    ) -> Option<(f64, Vec<f64>)> {
+        let n = self.constraints + n_primal;
         let delta = 1e-8 / self.rho;
         // start from the last mode: along a path it changes little
         let mut u: Vec<f64> = match self.last_mode.take() {
