@@ -29,8 +29,7 @@ use crate::chart::{self, Panel, Series};
 use crate::discretisation::element::{self, Order, Stiffness, MAX_NODES};
 use crate::discretisation::system::DiscreteModel;
 use crate::model::assembly::Assembly;
-use crate::model::boundary::BoundaryConditions;
-use crate::model::helix::{Chirality, Helix};
+use crate::model::helix::Chirality;
 use crate::results::{RodShape, Snapshot};
 use crate::run::run_path;
 use crate::solver::continuation::{ContinuationSettings, Control, Simulation};
@@ -393,25 +392,10 @@ impl Problem {
             }
             Problem::Love(love) => {
                 let model = love.model(order, elements);
-                let targets: Vec<Helix> = model
-                    .rods
-                    .iter()
-                    .map(|r| Helix {
-                        radius: love.radius(),
-                        pitch: love.pitch,
-                        ..r.helix
-                    })
-                    .collect();
-                let x = model.helix_state(&targets);
-                let bc = BoundaryConditions {
-                    joints: false,
-                    ..Default::default()
-                };
-                let sim = Simulation::from_state(
+                let sim = Simulation::held_on_helices(
                     model,
-                    bc,
-                    Control::Displacement,
-                    x,
+                    love.radius(),
+                    love.pitch,
                     ContinuationSettings::default(),
                 )
                 .map_err(|e| e.to_string())?;

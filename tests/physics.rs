@@ -408,19 +408,8 @@ fn check_perfect_helix(b: f64) {
             ..r.helix
         })
         .collect();
-    let x = model.helix_state(&targets);
-    let bc = BoundaryConditions {
-        joints: false,
-        ..Default::default()
-    };
-    let sim = Simulation::from_state(
-        model,
-        bc,
-        Control::Displacement,
-        x,
-        ContinuationSettings::default(),
-    )
-    .expect("perfect helix equilibrium converges");
+    let sim = Simulation::held_on_helices(model, a, b, ContinuationSettings::default())
+        .expect("perfect helix equilibrium converges");
     let lp = sim.load_point(0);
     for (rod, target) in lp.reactions.iter().zip(&targets) {
         let chi = target.chirality.sign();

@@ -296,6 +296,32 @@ impl Simulation {
         Ok(sim)
     }
 
+    /// The perfect-helix equilibria of DESIGN.md §6 (Love): every rod held at both ends
+    /// (clamped, no joints) on the helix of the given radius and pitch parameter (m) with
+    /// its own arc length, chirality and base angle, and solved there.
+    pub fn held_on_helices(
+        model: DiscreteModel,
+        radius: f64,
+        pitch: f64,
+        settings: ContinuationSettings,
+    ) -> Result<Simulation, SolveError> {
+        let targets: Vec<crate::model::helix::Helix> = model
+            .rods
+            .iter()
+            .map(|r| crate::model::helix::Helix {
+                radius,
+                pitch,
+                ..r.helix
+            })
+            .collect();
+        let x = model.helix_state(&targets);
+        let bc = BoundaryConditions {
+            joints: false,
+            ..Default::default()
+        };
+        Simulation::from_state(model, bc, Control::Displacement, x, settings)
+    }
+
     /// Euler load of a clamped–clamped rod, `Pcrit = B1 (2π/L)²` (N): the unit of `λ`
     /// under load control.
     pub fn pcrit(&self) -> f64 {
