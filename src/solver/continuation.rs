@@ -644,7 +644,7 @@ impl Simulation {
                     self.update_stability(false);
                     if let (Some(b), Some(a)) = (before, self.stability) {
                         if a.unstable_directions != b.unstable_directions {
-                            self.locate_critical(&x_before, l_before, was_arclength, h, dir, b, a);
+                            self.locate_critical(&x_before, l_before, was_arclength, b, a);
                         }
                     }
                     // adapt the step length to the Newton effort
@@ -724,11 +724,14 @@ impl Simulation {
         (values, model)
     }
 
-    /// Counts the eigenvalues of the constrained Hessian below `−τ`, `τ = 1e-6 B_min / L²`
-    /// (the eigenvalues scale as `B/L²` in this metric, whatever the mesh): a neutral
-    /// direction (e.g. turning a buckled isotropic rod about its axis), whose computed
-    /// eigenvalue is rounding noise, counts as stable. A symmetric pair is judged on the
-    /// full model.
+    /// Counts the eigenvalues of the constrained Hessian below `−τ`, `τ = 1e-9 ρ / m̄` (`ρ`
+    /// the mean diagonal of the Hessian, `m̄` the mean metric weight): the rounding level
+    /// of the regularised LDLᵀ's pivots in eigenvalue units, which grows as the mesh is
+    /// refined. Eigenvalues closer to zero than the count can resolve — a neutral direction
+    /// such as a buckled isotropic rod turning about its axis, or the two halves of a
+    /// double critical eigenvalue — count as stable, so a double eigenvalue crosses as one
+    /// event; critical points are then placed by a secant on the eigenvalue itself. A
+    /// symmetric pair is judged on the full model.
     fn unstable_directions_at(&mut self, x: &[f64]) -> Result<usize, InertiaError> {
         if self.inertia.is_none() {
             let counter = match &self.full {
@@ -771,15 +774,13 @@ impl Simulation {
             .lowest_eigenvalue(&values, &metric, np)
     }
 
-    /// Bisection on the step from `(x0, λ0)` for the change of the unstable count.
-    #[allow(clippy::too_many_arguments)]
+    /// Locates the critical point crossed by the accepted step from `(x0, λ0)`: bisection
+    /// on the change of the unstable count, then a secant on the eigenvalue nearest zero.
     fn locate_critical(
         &mut self,
         x0: &[f64],
         l0: f64,
         arclength: bool,
-        h: f64,
-        dir: f64,
         before: Stability,
         after: Stability,
     ) {
@@ -806,11 +807,6 @@ impl Simulation {
             vec![0.0; np]
         };
         let tl = if arclength { (l1 - l0) / norm } else { 1.0 };
-        let scale = if arclength {
-            norm
-        } else {
-            (l1 - l0).abs().max(h * dir.abs())
-        };
         // near the critical point the KKT matrix is nearly singular: linear solves there
         // have relative residuals up to cond·ε, so the probes accept them (Newton's own
         // residual test still decides convergence)
@@ -900,7 +896,6 @@ impl Simulation {
                 }
             }
         }
-        let _ = scale;
         self.settings.newton.singular_threshold = strict;
         if let Some((xc, lc)) = best {
             // critical mode: inverse iteration on the KKT matrix there
