@@ -361,7 +361,7 @@ impl System {
 
     /// Number of stored entries of the KKT matrix.
     pub fn nnz(&self) -> usize {
-        self.slots.len().min(self.pattern.row_idx().len())
+        self.pattern.row_idx().len()
     }
 
     /// A zeroed value array matching the pattern.

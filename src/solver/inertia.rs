@@ -362,10 +362,8 @@ impl InertiaCounter {
             let v: Vec<f64> = v[..n_primal].iter().map(|x| x / norm).collect();
             // Rayleigh quotient vᵀ H v / vᵀ M v with H the primal block of the KKT values
             hv.iter_mut().for_each(|h| *h = 0.0);
-            for (p, &s) in self.k_slots.iter().enumerate() {
-                let (row, col) = self.k_entry[p];
+            for (p, &(row, col)) in self.k_entry.iter().enumerate() {
                 if row < n_primal && col < n_primal {
-                    let _ = s;
                     hv[row] += kkt[p] * v[col];
                 }
             }

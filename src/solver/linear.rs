@@ -96,8 +96,14 @@ impl SparseLu {
 }
 
 /// `‖A x − b‖∞ / max(‖b‖∞, tiny)`: the check that tells a singular matrix from a good solve.
-pub fn relative_residual(a: SparseColMatRef<'_, usize, f64>, x: &[f64], b: &[f64]) -> f64 {
-    let mut ax = vec![0.0; b.len()];
+/// `ax` is scratch of the length of `b`.
+pub fn relative_residual(
+    a: SparseColMatRef<'_, usize, f64>,
+    x: &[f64],
+    b: &[f64],
+    ax: &mut [f64],
+) -> f64 {
+    ax.iter_mut().for_each(|v| *v = 0.0);
     let col_ptr = a.symbolic().col_ptr();
     let row_idx = a.symbolic().row_idx();
     let val = a.val();

@@ -55,6 +55,10 @@ pub struct Workspace {
     pub residual: Vec<f64>,
     pub values: Vec<f64>,
     pub delta: Vec<f64>,
+    /// Right-hand side of the Newton solve.
+    rhs: Vec<f64>,
+    /// Scratch for the check of each linear solve.
+    check: Vec<f64>,
     pub lu: SparseLu,
     /// A factorisation is held (of the Jacobian at some recent iterate) and may be reused.
     pub fresh: bool,
@@ -66,6 +70,8 @@ impl Workspace {
             residual: vec![0.0; system.n],
             values: system.new_values(),
             delta: vec![0.0; system.n],
+            rhs: vec![0.0; system.n],
+            check: vec![0.0; system.n],
             lu: SparseLu::default(),
             fresh: false,
         }
@@ -95,7 +101,7 @@ impl Workspace {
     ) -> Result<(), LinearError> {
         out.copy_from_slice(rhs);
         self.lu.solve(out);
-        let rel = relative_residual(system.matrix(&self.values), out, rhs);
+        let rel = relative_residual(system.matrix(&self.values), out, rhs, &mut self.check);
         if rel.is_nan() || rel > threshold {
             return Err(LinearError::Singular {
                 relative_residual: rel,
@@ -200,17 +206,23 @@ pub fn solve(
             iteration: it,
             source,
         };
-        if b.is_none() && border.tx.iter().any(|&t| t != 0.0) {
+        // K b = −∂R/∂λ, once per factorisation (∂R/∂λ is constant)
+        let load_solution = |ws: &mut Workspace| -> Result<Vec<f64>, LinearError> {
             let rhs: Vec<f64> = border.dr_dl.iter().map(|v| -v).collect();
             let mut out = vec![0.0; system.n];
-            ws.solve_checked(system, &rhs, &mut out, settings.singular_threshold)
-                .map_err(linear)?;
-            b = Some(out);
+            ws.solve_checked(system, &rhs, &mut out, settings.singular_threshold)?;
+            Ok(out)
+        };
+        if b.is_none() && border.tx.iter().any(|&t| t != 0.0) {
+            b = Some(load_solution(ws).map_err(linear)?);
         }
-        let rhs: Vec<f64> = ws.residual.iter().map(|v| -v).collect();
-        let mut a = std::mem::take(&mut ws.delta);
+        // K a = −R, into ws.delta, with ws.rhs as the right-hand side
+        for (r, v) in ws.rhs.iter_mut().zip(&ws.residual) {
+            *r = -v;
+        }
+        let (rhs, mut a) = (std::mem::take(&mut ws.rhs), std::mem::take(&mut ws.delta));
         let checked = ws.solve_checked(system, &rhs, &mut a, settings.singular_threshold);
-        ws.delta = a;
+        (ws.rhs, ws.delta) = (rhs, a);
         checked.map_err(linear)?;
         // δλ from the linearised step equation
         let (ta, tb) = match &b {
@@ -233,11 +245,7 @@ pub fn solve(
         if dl != 0.0 {
             // δx = a + δλ b; in natural-parameter steps b is computed only when λ moves
             if b.is_none() {
-                let rhs: Vec<f64> = border.dr_dl.iter().map(|v| -v).collect();
-                let mut out = vec![0.0; system.n];
-                ws.solve_checked(system, &rhs, &mut out, settings.singular_threshold)
-                    .map_err(linear)?;
-                b = Some(out);
+                b = Some(load_solution(ws).map_err(linear)?);
             }
             let bb = b.as_ref().expect("computed above");
             for (d, bi) in ws.delta.iter_mut().zip(bb) {
