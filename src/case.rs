@@ -4,11 +4,13 @@
 //! minimal case is a few lines. Unknown keys and bad values are rejected with the file,
 //! line, key and what was expected.
 
-use crate::discretisation::element::{Order, Stiffness};
-use crate::discretisation::system::DiscreteModel;
+use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::shape::Order;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
-use crate::solver::continuation::{Branch, ContinuationSettings, Control, Simulation, SolveError};
+use crate::model::loading::{Branch, Control};
+use crate::model::stiffness::Stiffness;
+use crate::solver::continuation::ContinuationSettings;
 use serde::Deserialize;
 use std::f64::consts::PI;
 use std::fmt;
@@ -752,13 +754,6 @@ impl Case {
             self.discretisation.elements,
             self.discretisation.order,
         )
-    }
-
-    /// A simulation at the natural state (`ε = 0`, solved).
-    pub fn simulation(&self) -> Result<Simulation, SolveError> {
-        let model = self.model();
-        let x0 = model.natural_state();
-        Simulation::from_state(model, self.boundary, self.loading.control, x0, self.solver)
     }
 
     /// The output compression ratios: `steps` equal increments from 0 (exclusive) to `target`.

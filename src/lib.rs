@@ -15,5 +15,6 @@ pub mod output;
 pub mod precision;
 pub mod results;
 pub mod run;
+pub mod simulation;
 pub mod solver;
 pub mod tui;

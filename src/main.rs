@@ -4,8 +4,8 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use spira::case::Case;
+use spira::model::stiffness::euler_load;
 use spira::precision::{order_name, resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
-use spira::results::euler_load;
 use spira::run::run_path;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -343,8 +343,8 @@ fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
 /// load control.
 fn response(case: &Case, point: &spira::results::LoadPoint) -> f64 {
     match case.loading.control {
-        spira::solver::continuation::Control::Displacement => point.load[2],
-        spira::solver::continuation::Control::Force => point.eps,
+        spira::model::loading::Control::Displacement => point.load[2],
+        spira::model::loading::Control::Force => point.eps,
     }
 }
 

@@ -2,9 +2,9 @@
 //! lines giving the case and the units, then a header line. Files are written to a
 //! temporary name and renamed, so a failed write leaves nothing half-written.
 
-use crate::discretisation::system::DiscreteModel;
+use crate::discretisation::model::DiscreteModel;
+use crate::results::CriticalPoint;
 use crate::results::{LoadPoint, Snapshot};
-use crate::solver::continuation::CriticalPoint;
 use std::fmt::Write as _;
 use std::io;
 use std::path::{Path, PathBuf};

@@ -26,14 +26,17 @@
 
 use crate::case::{Accuracy, Case};
 use crate::chart::{self, Panel, Series};
-use crate::discretisation::element::{self, Order, Stiffness, MAX_NODES};
-use crate::discretisation::system::DiscreteModel;
+use crate::discretisation::element;
+use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::shape::{self, Order, MAX_NODES};
 use crate::model::assembly::Assembly;
 use crate::model::helix::Chirality;
+use crate::model::loading::Control;
+use crate::model::love::LoveHelix;
 use crate::results::{RodShape, Snapshot};
 use crate::run::run_path;
-use crate::solver::continuation::{ContinuationSettings, Control, Simulation};
-use std::f64::consts::PI;
+use crate::simulation::Simulation;
+use crate::solver::continuation::ContinuationSettings;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
@@ -136,77 +139,16 @@ impl Measure {
 
 // ---------------------------------------------------------------- problems
 
-/// Love's helical equilibrium (DESIGN.md §6): one right-handed rod, naturally a helix of
-/// radius `a0` and pitch parameter `b0`, both ends held (clamped) on the helix of the same
-/// length and number of turns with pitch parameter `b`. The exact solution is that helix,
-/// held by an axial force and an axial couple only. One rod has no joints, so its meshes
-/// are uniform and a doubling ladder nests.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LoveHelix {
-    /// Natural radius `a0` and pitch parameter `b0` (m).
-    pub radius0: f64,
-    pub pitch0: f64,
-    /// Rod length `L` (m).
-    pub length: f64,
-    /// `B1 = B2 = B` (bending) and `B3 = C` (torsion), N m².
-    pub stiffness: Stiffness,
-    /// Pitch parameter `b` of the held helix (m).
-    pub pitch: f64,
-}
-
-impl LoveHelix {
-    /// The thesis rods (a0 = 0.06 m, b0 = 0.025 m, 3.5 turns, B = 1, C = 2 N m²) held on
-    /// the helix of pitch parameter `pitch` with the same `c`.
-    pub fn thesis(pitch: f64) -> LoveHelix {
-        let (a0, b0) = (0.06, 0.025);
-        LoveHelix {
-            radius0: a0,
-            pitch0: b0,
-            length: 7.0 * PI * f64::hypot(a0, b0),
-            stiffness: Stiffness {
-                b1: 1.0,
-                b2: 1.0,
-                b3: 2.0,
-            },
-            pitch,
-        }
-    }
-
-    fn c0(&self) -> f64 {
-        self.radius0.hypot(self.pitch0)
-    }
-
-    /// Radius `a` of the held helix: the same `c` (arc length per turn) as the natural one.
-    pub fn radius(&self) -> f64 {
-        (self.c0().powi(2) - self.pitch.powi(2)).sqrt()
-    }
-
-    /// Axial force on the tip (N, tension positive):
-    /// `F = [C (τ − τ0) a − B (K − K0) b] / (a c)`, with `K = a/c²`, `τ = b/c²`.
-    pub fn force(&self) -> f64 {
-        let (a, b) = (self.radius(), self.pitch);
-        let (c0, c) = (self.c0(), a.hypot(b));
-        let (k0, t0) = (self.radius0 / (c0 * c0), self.pitch0 / (c0 * c0));
-        let (k, t) = (a / (c * c), b / (c * c));
-        let (bend, twist) = (self.stiffness.b1, self.stiffness.b3);
-        (twist * (t - t0) * a - bend * (k - k0) * b) / (a * c)
-    }
-
-    /// Curvatures `(−a/c², 0, χ b/c²)` of the held helix (1/m).
-    pub fn curvature(&self, chirality: Chirality) -> [f64; 3] {
-        let (a, b) = (self.radius(), self.pitch);
-        let c2 = a * a + b * b;
-        [-a / c2, 0.0, chirality.sign() * b / c2]
-    }
-
-    fn model(&self, order: Order, elements: usize) -> DiscreteModel {
-        DiscreteModel::new(
-            Assembly::new(1, self.radius0, self.pitch0, self.length),
-            self.stiffness,
-            elements,
-            order,
-        )
-    }
+/// The discrete model of Love's problem (DESIGN.md §6): one right-handed rod, naturally the
+/// helix `(a0, b0)`. One rod has no joints, so its meshes are uniform and a doubling ladder
+/// nests.
+fn love_model(love: &LoveHelix, order: Order, elements: usize) -> DiscreteModel {
+    DiscreteModel::new(
+        Assembly::new(1, love.radius0, love.pitch0, love.length),
+        love.stiffness,
+        elements,
+        order,
+    )
 }
 
 /// What a study solves.
@@ -287,14 +229,14 @@ impl Problem {
     fn turns(&self) -> f64 {
         match self {
             Problem::Path(case) => case.geometry.turns(),
-            Problem::Love(love) => love.length / (2.0 * PI * love.c0()),
+            Problem::Love(love) => love.turns(),
         }
     }
 
     fn model(&self, order: Order, elements: usize) -> DiscreteModel {
         match self {
             Problem::Path(case) => with_mesh(case, order, elements).model(),
-            Problem::Love(love) => love.model(order, elements),
+            Problem::Love(love) => love_model(love, order, elements),
         }
     }
 
@@ -351,7 +293,7 @@ impl Problem {
         let Problem::Love(love) = self else {
             return None;
         };
-        let model = love.model(Order::Linear, 1);
+        let model = love_model(love, Order::Linear, 1);
         let curvature = model
             .rods
             .iter()
@@ -391,7 +333,7 @@ impl Problem {
                 })
             }
             Problem::Love(love) => {
-                let model = love.model(order, elements);
+                let model = love_model(love, order, elements);
                 let sim = Simulation::held_on_helices(
                     model,
                     love.radius(),
@@ -470,7 +412,7 @@ pub fn curvature_at(model: &DiscreteModel, shape: &RodShape, s: f64) -> [f64; 3]
     let ne = mesh.elements();
     let tol = 1e-9 * v[ne];
     let limit = |e: usize, xi: f64| {
-        let (n, dn) = element::shape(model.order, xi);
+        let (n, dn) = shape::shape(model.order, xi);
         let h = v[e + 1] - v[e];
         let (mut q, mut dq) = ([0.0; 4], [0.0; 4]);
         for a in 0..model.order.nodes().min(MAX_NODES) {

@@ -2,8 +2,11 @@
 //! the tests.
 
 use crate::case::Case;
+use crate::model::loading::Branch;
+use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, Snapshot};
-use crate::solver::continuation::{Branch, CriticalKind, CriticalPoint, SolveError, Statistics};
+use crate::simulation::Simulation;
+use crate::solver::continuation::{SolveError, Statistics};
 use std::time::{Duration, Instant};
 
 /// Arclength (unit-norm mode over the primal unknowns) of the first step off a bifurcation.
@@ -21,7 +24,7 @@ pub struct PathOutcome {
     pub unknowns: usize,
     pub critical: Vec<CriticalPoint>,
     /// The discrete model (for mode output).
-    pub model: crate::discretisation::system::DiscreteModel,
+    pub model: crate::discretisation::model::DiscreteModel,
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
@@ -39,7 +42,7 @@ pub fn run_path(
     mut on_step: impl FnMut(&LoadPoint, Duration),
 ) -> Result<PathOutcome, SolveError> {
     let t0 = Instant::now();
-    let mut sim = case.simulation()?;
+    let mut sim = Simulation::from_case(case)?;
     let first = sim.load_point(0);
     on_step(&first, t0.elapsed());
     let mut points = vec![first];

@@ -3,7 +3,7 @@
 //! the key, and saying what was expected.
 
 use spira::case::{Case, CaseError};
-use spira::discretisation::element::Order;
+use spira::discretisation::shape::Order;
 use spira::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
 use spira::solver::continuation::ContinuationSettings;
 use std::f64::consts::PI;

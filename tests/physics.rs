@@ -6,13 +6,19 @@
 
 use nalgebra::Vector3;
 use spira::case::Case;
-use spira::discretisation::element::{self, Order, Stiffness};
-use spira::discretisation::system::{DiscreteModel, End, System, TipLoad};
+use spira::discretisation::element;
+use spira::discretisation::model::{DiscreteModel, End};
+use spira::discretisation::shape::Order;
+use spira::discretisation::system::System;
 use spira::model::assembly::Assembly;
 use spira::model::boundary::BoundaryConditions;
 use spira::model::helix::{Chirality, Helix};
+use spira::model::loading::Control;
+use spira::model::loading::TipLoad;
 use spira::model::quaternion;
-use spira::solver::continuation::{ContinuationSettings, Control, Simulation};
+use spira::model::stiffness::Stiffness;
+use spira::simulation::Simulation;
+use spira::solver::continuation::ContinuationSettings;
 use std::f64::consts::PI;
 
 const A: f64 = 0.06;
@@ -476,7 +482,7 @@ fn perfect_helix_in_extension_is_held_by_loves_axial_force_and_couple() {
 fn reaction_norm_at_rest(n: usize, elements: usize) -> f64 {
     let mut case = thesis(n);
     case.discretisation.elements = elements;
-    let sim = case.simulation().unwrap();
+    let sim = Simulation::from_case(&case).unwrap();
     sim.load_point(0)
         .reactions
         .iter()
@@ -488,8 +494,8 @@ fn reaction_norm_at_rest(n: usize, elements: usize) -> f64 {
 fn natural_state_carries_no_force_up_to_discretisation_error_that_falls_at_fourth_order() {
     for n in [1, 8] {
         let case = thesis(n);
-        let pcrit = spira::results::euler_load(1.0, case.geometry.length);
-        let sim = case.simulation().unwrap();
+        let pcrit = spira::model::stiffness::euler_load(1.0, case.geometry.length);
+        let sim = Simulation::from_case(&case).unwrap();
         let lp = sim.load_point(0);
         assert_eq!(lp.eps, 0.0);
         for k in 0..3 {
@@ -512,7 +518,7 @@ fn natural_state_carries_no_force_up_to_discretisation_error_that_falls_at_fourt
 fn eight_helices_share_the_load_equally_with_no_sideways_force() {
     let mut case = thesis(8);
     case.loading.target = 0.3;
-    let mut sim = case.simulation().unwrap();
+    let mut sim = Simulation::from_case(&case).unwrap();
     sim.advance_to(0.3).unwrap();
     let lp = sim.load_point(1);
     assert!(
@@ -541,7 +547,7 @@ fn eight_helices_share_the_load_equally_with_no_sideways_force() {
 #[test]
 fn a_single_helix_bows_sideways_under_clamped_compression() {
     let case = thesis(1);
-    let mut sim = case.simulation().unwrap();
+    let mut sim = Simulation::from_case(&case).unwrap();
     sim.advance_to(0.5).unwrap();
     let lp = sim.load_point(1);
     // thesis fig. 4.17: Fx reaches about 0.3 Pcrit by eps = 0.5
@@ -596,7 +602,7 @@ fn rotating_the_assembly_about_its_axis_changes_no_force_magnitude_or_curvature(
 #[test]
 fn tip_reactions_balance_base_reactions_and_joint_forces_cancel_in_the_sum() {
     // overall equilibrium of the assembly: Σ (F_tip + F_base) = 0
-    let mut sim = thesis(4).simulation().unwrap();
+    let mut sim = Simulation::from_case(&thesis(4)).unwrap();
     sim.advance_to(0.2).unwrap();
     let lp = sim.load_point(1);
     let mut total = Vector3::zeros();
@@ -624,12 +630,12 @@ fn releasing_the_base_hinge_mid_path_reaches_the_state_of_a_path_released_from_t
     };
     let mut case = thesis(1);
     case.discretisation.elements = 24;
-    let mut changed = case.simulation().unwrap();
+    let mut changed = Simulation::from_case(&case).unwrap();
     changed.advance_to(0.1).unwrap();
     changed.set_boundary_conditions(hinge).unwrap();
     changed.advance_to(0.2).unwrap();
     case.boundary = hinge;
-    let mut from_start = case.simulation().unwrap();
+    let mut from_start = Simulation::from_case(&case).unwrap();
     from_start.advance_to(0.2).unwrap();
     assert_eq!(changed.stability().map(|s| s.unstable_directions), Some(0));
     assert_eq!(
@@ -650,7 +656,7 @@ fn releasing_the_base_hinge_mid_path_reaches_the_state_of_a_path_released_from_t
 fn switching_between_displacement_and_load_control_keeps_the_state() {
     let mut case = thesis(1);
     case.discretisation.elements = 24;
-    let mut sim = case.simulation().unwrap();
+    let mut sim = Simulation::from_case(&case).unwrap();
     sim.advance_to(0.2).unwrap();
     let before = sim.load_point(1);
     sim.set_control(Control::Force).unwrap();

@@ -8,10 +8,11 @@
 //! checked against them, so that a test never compares the program with itself.
 
 use spira::case::Case;
-use spira::discretisation::element::Order;
+use spira::discretisation::shape::Order;
+use spira::model::love::LoveHelix;
 use spira::precision::{
-    choose_mesh, measured, resolve_accuracy, run_study, Ladder, LoveHelix, Measure, Problem,
-    Reference, Rung, Study, Values,
+    choose_mesh, measured, resolve_accuracy, run_study, Ladder, Measure, Problem, Reference, Rung,
+    Study, Values,
 };
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};

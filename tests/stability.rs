@@ -3,12 +3,13 @@
 //! continuation where Newton fails.
 
 use spira::case::Case;
-use spira::discretisation::system::DiscreteModel;
+use spira::discretisation::model::DiscreteModel;
 use spira::model::boundary::BoundaryConditions;
+use spira::model::loading::Control;
+use spira::results::CriticalKind;
 use spira::run::run_path;
-use spira::solver::continuation::{
-    ContinuationSettings, Control, CriticalKind, Simulation, StopReason,
-};
+use spira::simulation::Simulation;
+use spira::solver::continuation::{ContinuationSettings, StopReason};
 use spira::solver::linear::LinearError;
 use spira::solver::newton::NewtonError;
 use std::f64::consts::PI;
@@ -63,7 +64,7 @@ fn elliptic_integrals_match_tabulated_values() {
 }
 
 fn run_to_target(case: &Case) -> Simulation {
-    let mut sim = case.simulation().expect("start");
+    let mut sim = Simulation::from_case(&case).expect("start");
     let targets = case.output_eps(case.loading.target, case.loading.steps);
     for t in targets {
         sim.advance_to(t).expect("fundamental path");
@@ -217,9 +218,9 @@ fn two_helices_leave_the_symmetric_path_at_a_bifurcation_onto_a_stable_softer_br
     assert!(!end.stability.unwrap().is_stable());
     // switching in either direction gives mirror-image states of equal energy and load
     let mut switch = fundamental.clone();
-    switch.loading.branch = spira::solver::continuation::Branch::Switch;
+    switch.loading.branch = spira::model::loading::Branch::Switch;
     let plus = run_path(&switch, &targets, |_, _| {}).unwrap();
-    switch.loading.branch = spira::solver::continuation::Branch::SwitchNegative;
+    switch.loading.branch = spira::model::loading::Branch::SwitchNegative;
     let minus = run_path(&switch, &targets, |_, _| {}).unwrap();
     let (p, m) = (plus.points.last().unwrap(), minus.points.last().unwrap());
     assert!(p.stability.unwrap().is_stable() && m.stability.unwrap().is_stable());
@@ -237,7 +238,7 @@ fn a_step_far_too_long_is_cut_and_the_path_recovers() {
     c.solver.initial_step = 0.5;
     c.solver.max_step = 0.5;
     c.solver.newton.max_iterations = 6;
-    let mut sim = c.simulation().unwrap();
+    let mut sim = Simulation::from_case(&c).unwrap();
     sim.advance_to(0.5).expect("recovers by cutting the step");
     assert!(sim.stats.rejected > 0, "{:?}", sim.stats);
     let (a, b) = (sim.load_point(1), reference.load_point(1));

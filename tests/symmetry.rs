@@ -4,7 +4,7 @@
 use nalgebra::Vector3;
 use spira::case::{Case, CaseError};
 use spira::model::assembly::Assembly;
-use spira::solver::continuation::Simulation;
+use spira::simulation::Simulation;
 use std::path::Path;
 
 fn thesis(n: usize) -> Case {
@@ -12,7 +12,7 @@ fn thesis(n: usize) -> Case {
 }
 
 fn solve(case: &Case, eps: f64) -> Simulation {
-    let mut sim = case.simulation().unwrap();
+    let mut sim = Simulation::from_case(&case).unwrap();
     for k in 1..=6 {
         sim.advance_to(eps * k as f64 / 6.0).unwrap();
     }
@@ -92,6 +92,6 @@ fn assemblies_without_the_symmetry_are_refused_the_reduction() {
     // and a symmetric pair cannot switch to a branch that breaks its symmetry
     let mut c = thesis(4);
     c.discretisation.symmetric = true;
-    let mut sim = c.simulation().unwrap();
+    let mut sim = Simulation::from_case(&c).unwrap();
     assert!(sim.switch_branch(0, 1.0, 0.05).is_err());
 }

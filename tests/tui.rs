@@ -8,11 +8,11 @@ use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 use ratatui::Terminal;
 use spira::case::Case;
-use spira::discretisation::element::Order;
+use spira::discretisation::shape::Order;
 use spira::model::boundary::{BoundaryConditions, Rotation, Translation};
 use spira::output;
 use spira::precision::{Reference, Rung, RungResult, Study, Values};
-use spira::solver::continuation::Simulation;
+use spira::simulation::Simulation;
 use spira::tui::app::{App, Effect, Message, PrecisionView};
 use spira::tui::stability::{stretches, Stretch};
 use spira::tui::ui::{self, K1Scale, K1_PALETTE};
@@ -85,7 +85,7 @@ fn started(case: Case) -> (App, Simulation) {
     let mut app = App::new(case.clone(), PathBuf::from("."));
     let start = only_request(&app.start());
     assert!(matches!(start.job, Job::Start(_)));
-    let sim = case.simulation().expect("natural state");
+    let sim = Simulation::from_case(&case).expect("natural state");
     let effects = app.on_worker_event(answer(&start, solved(&sim, 0)));
     assert!(effects.is_empty());
     assert!(!app.busy());
@@ -767,7 +767,7 @@ fn screen_colours_k1_bins_selected_rod_and_joints() {
 #[test]
 fn k1_scale_bins_and_legend() {
     let case = small_case(1);
-    let sim = case.simulation().unwrap();
+    let sim = Simulation::from_case(&case).unwrap();
     let snap = sim.snapshot();
     let k = snap.rods[0].nodes[3].curvature[0];
     let scale = K1Scale::of(&snap, Some(k));

@@ -6,101 +6,12 @@
 //! are evaluated for the normalised rotation (`u = 2 Im(q̄ q')/|q|²`, `d3 = R(q) e3/|q|²`),
 //! so every point of the element carries a proper rotation.
 
+use super::shape::{Order, QuadraturePoint, MAX_NODES};
+use crate::model::stiffness::Stiffness;
 use nalgebra::Vector3;
 
-/// Largest number of quaternion nodes of an element (quadratic elements).
-pub const MAX_NODES: usize = 3;
 /// Largest number of quaternion unknowns of an element.
 pub const MAX_Q: usize = 4 * MAX_NODES;
-
-/// Bending stiffnesses `B1`, `B2` and torsional stiffness `B3` (N m²).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stiffness {
-    pub b1: f64,
-    pub b2: f64,
-    pub b3: f64,
-}
-
-impl Stiffness {
-    fn as_array(&self) -> [f64; 3] {
-        [self.b1, self.b2, self.b3]
-    }
-}
-
-/// Polynomial order of the quaternion interpolation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Order {
-    Linear,
-    Quadratic,
-}
-
-impl Order {
-    /// Polynomial degree `p`.
-    pub fn degree(self) -> usize {
-        match self {
-            Order::Linear => 1,
-            Order::Quadratic => 2,
-        }
-    }
-    /// Quaternion nodes per element, `p + 1`.
-    pub fn nodes(self) -> usize {
-        self.degree() + 1
-    }
-}
-
-/// One quadrature point on the reference element `ξ ∈ [0, 1]`: weight, shape functions
-/// and their `ξ`-derivatives.
-#[derive(Clone, Copy, Debug)]
-pub struct QuadraturePoint {
-    pub xi: f64,
-    pub weight: f64,
-    pub n: [f64; MAX_NODES],
-    pub dn: [f64; MAX_NODES],
-}
-
-/// Lagrange shape functions on equally spaced nodes `ξ_a = a/p` and their derivatives.
-pub fn shape(order: Order, xi: f64) -> ([f64; MAX_NODES], [f64; MAX_NODES]) {
-    match order {
-        Order::Linear => ([1.0 - xi, xi, 0.0], [-1.0, 1.0, 0.0]),
-        Order::Quadratic => (
-            [
-                (1.0 - xi) * (1.0 - 2.0 * xi),
-                4.0 * xi * (1.0 - xi),
-                xi * (2.0 * xi - 1.0),
-            ],
-            [4.0 * xi - 3.0, 4.0 - 8.0 * xi, 4.0 * xi - 1.0],
-        ),
-    }
-}
-
-/// Gauss–Legendre rule on `[0, 1]` used for an element of the given order: 2 points for
-/// linear and 3 for quadratic elements (exact for polynomials of degree 3 and 5).
-pub fn quadrature(order: Order) -> Vec<QuadraturePoint> {
-    let rule: &[(f64, f64)] = match order {
-        Order::Linear => &[
-            (-0.577_350_269_189_625_8, 1.0),
-            (0.577_350_269_189_625_8, 1.0),
-        ],
-        Order::Quadratic => &[
-            (-0.774_596_669_241_483_4, 5.0 / 9.0),
-            (0.0, 8.0 / 9.0),
-            (0.774_596_669_241_483_4, 5.0 / 9.0),
-        ],
-    };
-    rule.iter()
-        .map(|&(x, w)| {
-            let xi = 0.5 * (x + 1.0);
-            let (n, dn) = shape(order, xi);
-            QuadraturePoint {
-                xi,
-                weight: 0.5 * w,
-                n,
-                dn,
-            }
-        })
-        .collect()
-}
 
 /// `u_i = 2 qᵀ C_i p / |q|²` with `p = q'`: the non-zero entries `(j, k, sign)` of `C_i`,
 /// from `Im(q̄ ∘ p) = q4 p_v − p4 q_v − q_v × p_v`.

@@ -1,6 +1,6 @@
 //! Meshes of the rods: element vertices placed at every joint's arc length.
 
-use super::element::Order;
+use super::shape::Order;
 
 /// The mesh of one rod of length `L`: element vertices `0 = s_0 < s_1 < … < s_ne = L`.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,5 +1,12 @@
-//! The discretisation: rod meshes, quaternion elements and the global KKT system.
+//! The discretisation (DESIGN.md §5): shape functions and quadrature, quaternion rod
+//! elements, meshes, the discrete model and its unknowns, the constraints, the global KKT
+//! system, what a discrete state says (reactions, shapes), and the symmetric pair.
 
+pub mod constraints;
 pub mod element;
+pub mod fields;
 pub mod mesh;
+pub mod model;
+pub mod shape;
+pub mod symmetry;
 pub mod system;

@@ -1,6 +1,7 @@
 //! Tubular assemblies of helices and their pin joints (DESIGN.md §2).
 
 use super::helix::{Chirality, Helix};
+use super::symmetry::{Symmetry, SymmetryError};
 use std::f64::consts::PI;
 
 /// Handle of a rod in an assembly (index into [`Assembly::rods`]).
@@ -17,38 +18,6 @@ pub struct Joint {
     pub s: f64,
     /// Rotation (rad) about z of the left rod's image that the joint ties.
     pub left_turn: f64,
-}
-
-/// The `m`-fold rotational symmetry of an assembly of `n = 2m` helices reduced to one
-/// right/left pair: rod `R_k` is `R_0` turned by `2πk/m`, `L_k` is `L_0` turned by `−2πk/m`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Symmetry {
-    pub m: usize,
-}
-
-impl Symmetry {
-    /// Number of rods of the full assembly.
-    pub fn full_rods(&self) -> usize {
-        2 * self.m
-    }
-
-    /// For rod `k` of the full assembly: the rod of the pair it is an image of (0 right,
-    /// 1 left) and the angle (rad) it is turned by about z.
-    pub fn image(&self, k: usize) -> (RodId, f64) {
-        let step = 2.0 * PI / self.m as f64;
-        if k < self.m {
-            (0, step * k as f64)
-        } else {
-            (1, -step * (k - self.m) as f64)
-        }
-    }
-}
-
-/// Why an assembly cannot be reduced by its symmetry.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum SymmetryError {
-    #[error("{n} helix(es) have no rotational symmetry to reduce: the reduction needs n = 2m helices with m ≥ 2")]
-    TooFewHelices { n: usize },
 }
 
 /// The natural (stress-free) geometry of an assembly of `n` helices of equal radius,

@@ -1,6 +1,11 @@
-//! The continuum model: rotations, helices, assemblies, boundary conditions.
+//! The continuum model (DESIGN.md §1–§3, §6–§7): rotations, helices, assemblies and their
+//! symmetry, boundary conditions, loading, stiffness and Love's closed-form helices.
 
 pub mod assembly;
 pub mod boundary;
 pub mod helix;
+pub mod loading;
+pub mod love;
 pub mod quaternion;
+pub mod stiffness;
+pub mod symmetry;

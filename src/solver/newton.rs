@@ -1,7 +1,9 @@
 //! Newton's method on the KKT system `R(x) = 0`.
 
 use super::linear::{relative_residual, LinearError, SparseLu};
-use crate::discretisation::system::{DiscreteModel, System, TipLoad};
+use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::system::System;
+use crate::model::loading::TipLoad;
 
 /// Newton settings.
 #[derive(Clone, Copy, Debug, PartialEq)]

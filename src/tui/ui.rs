@@ -629,10 +629,10 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
 }
 
 /// Colour of an element order in the work-precision chart.
-fn order_color(order: crate::discretisation::element::Order) -> Color {
+fn order_color(order: crate::discretisation::shape::Order) -> Color {
     match order {
-        crate::discretisation::element::Order::Linear => Color::LightBlue,
-        crate::discretisation::element::Order::Quadratic => Color::LightRed,
+        crate::discretisation::shape::Order::Linear => Color::LightBlue,
+        crate::discretisation::shape::Order::Quadratic => Color::LightRed,
     }
 }
 
@@ -741,7 +741,7 @@ fn draw_precision_panel(
     if m != Measure::Response {
         block = block.title_bottom(Line::from(reference).alignment(Alignment::Right));
     }
-    let series: Vec<(crate::discretisation::element::Order, Vec<(f64, f64)>)> = ORDERS
+    let series: Vec<(crate::discretisation::shape::Order, Vec<(f64, f64)>)> = ORDERS
         .iter()
         .map(|&o| {
             let pts = study

@@ -17,7 +17,8 @@ use crate::precision::{
     resolve_accuracy, run_study, Ladder, MeshChoice, Problem, Study, StudyError,
 };
 use crate::results::{LoadPoint, Snapshot};
-use crate::solver::continuation::{Simulation, SolveError};
+use crate::simulation::Simulation;
+use crate::solver::continuation::SolveError;
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};
@@ -425,7 +426,7 @@ impl Solver {
                     })
                     .into_iter()
                     .collect();
-                match case.for_explorer().simulation() {
+                match Simulation::from_case(&case.for_explorer()) {
                     Ok(sim) => {
                         self.sim = Some(sim);
                         events.extend(self.solved(seq, true, t0));
