@@ -64,7 +64,7 @@ fn elliptic_integrals_match_tabulated_values() {
 }
 
 fn run_to_target(case: &Case) -> Simulation {
-    let mut sim = Simulation::from_case(&case).expect("start");
+    let mut sim = Simulation::from_case(case).expect("start");
     let targets = case.output_eps(case.loading.target, case.loading.steps);
     for t in targets {
         sim.advance_to(t).expect("fundamental path");

@@ -12,7 +12,7 @@ fn thesis(n: usize) -> Case {
 }
 
 fn solve(case: &Case, eps: f64) -> Simulation {
-    let mut sim = Simulation::from_case(&case).unwrap();
+    let mut sim = Simulation::from_case(case).unwrap();
     for k in 1..=6 {
         sim.advance_to(eps * k as f64 / 6.0).unwrap();
     }
