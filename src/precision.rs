@@ -346,10 +346,10 @@ impl Problem {
                     / point.reactions.len() as f64;
                 Ok(Values {
                     response,
-                    curvature: sample_curvature(&sim.model, &sim.snapshot(), probes),
+                    curvature: sample_curvature(sim.model(), &sim.snapshot(), probes),
                     critical: None,
                     unknowns: sim.system().n,
-                    elements: mesh_elements(&sim.model),
+                    elements: mesh_elements(sim.model()),
                 })
             }
         }

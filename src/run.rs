@@ -6,7 +6,8 @@ use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, Snapshot};
 use crate::simulation::Simulation;
-use crate::solver::continuation::{SolveError, Statistics};
+use crate::simulation::SolveError;
+use crate::solver::stats::Statistics;
 use std::time::{Duration, Instant};
 
 /// Arclength (unit-norm mode over the primal unknowns) of the first step off a bifurcation.
@@ -86,10 +87,10 @@ pub fn run_path(
     Ok(PathOutcome {
         points,
         snapshot: sim.snapshot(),
-        stats: sim.stats,
+        stats: sim.statistics(),
         unknowns: sim.system().n,
         critical: sim.critical_points().to_vec(),
-        model: sim.model.clone(),
+        model: sim.model().clone(),
         switched_at,
         error,
     })

@@ -88,7 +88,7 @@ fn clamped_euler_column_bifurcates_at_four_pi_squared_b_over_l_squared() {
     // B1 = B2: the mode is double, which the count of unstable directions sees
     assert_eq!((first.unstable_before, first.unstable_after), (0, 2));
     // clamped–clamped mode: lateral deflection ∝ 1 − cos(2π s/L)
-    let model = &sim.model;
+    let model = &sim.model();
     let rod = &model.rods[0];
     let l = model.length();
     let lateral: Vec<(f64, [f64; 2])> = rod
@@ -240,7 +240,7 @@ fn a_step_far_too_long_is_cut_and_the_path_recovers() {
     c.solver.newton.max_iterations = 6;
     let mut sim = Simulation::from_case(&c).unwrap();
     sim.advance_to(0.5).expect("recovers by cutting the step");
-    assert!(sim.stats.rejected > 0, "{:?}", sim.stats);
+    assert!(sim.statistics().rejected > 0, "{:?}", sim.statistics());
     let (a, b) = (sim.load_point(1), reference.load_point(1));
     for k in 0..3 {
         assert!(

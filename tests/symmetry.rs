@@ -26,7 +26,7 @@ fn symmetric_pair_reproduces_the_full_assembly() {
         let mut pair_case = full_case.clone();
         pair_case.discretisation.symmetric = true;
         let (full, pair) = (solve(&full_case, 0.3), solve(&pair_case, 0.3));
-        assert_eq!(pair.model.rods.len(), 2);
+        assert_eq!(pair.model().rods.len(), 2);
         assert!(pair.system().n * (n / 2) <= full.system().n + 10 * n);
         let (a, b) = (full.load_point(1), pair.load_point(1));
         assert_eq!(a.reactions.len(), b.reactions.len());

@@ -8,18 +8,20 @@ use crate::model::symmetry::TurnZ;
 /// Expands the state `x` of a symmetric pair (in `pair_system`'s layout) to the state of
 /// the full model in `full_system`'s layout: every rod is the image of one rod of the pair
 /// turned about z; support and joint multipliers are zero (they do not enter the Hessian).
+/// `out` has the length of the full system's unknowns.
 pub fn expand_state(
     pair: &DiscreteModel,
     pair_system: &System,
     x: &[f64],
     full: &DiscreteModel,
     full_system: &System,
-) -> Vec<f64> {
+    out: &mut [f64],
+) {
     let sym = pair
         .assembly
         .symmetry
         .expect("expand_state needs a symmetric pair");
-    let mut out = vec![0.0; full_system.n];
+    out.iter_mut().for_each(|v| *v = 0.0);
     for (k, rod) in full.rods.iter().enumerate() {
         let (src, angle) = sym.image(k);
         let from = &pair.rods[src];
@@ -49,5 +51,4 @@ pub fn expand_state(
             out[full_row..full_row + 3].copy_from_slice(&l);
         }
     }
-    out
 }

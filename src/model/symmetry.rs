@@ -2,7 +2,6 @@
 //! `2π/m` about the axis maps right rod `k` to right rod `k + 1` and left rod `k` to left rod
 //! `k − 1`, so one right/left pair stands for the whole assembly.
 
-use super::assembly::RodId;
 use super::quaternion::{self, Quat};
 use std::f64::consts::PI;
 
@@ -21,7 +20,7 @@ impl Symmetry {
 
     /// For rod `k` of the full assembly: the rod of the pair it is an image of (0 right,
     /// 1 left) and the angle (rad) it is turned by about z.
-    pub fn image(&self, k: usize) -> (RodId, f64) {
+    pub fn image(&self, k: usize) -> (usize, f64) {
         let step = 2.0 * PI / self.m as f64;
         if k < self.m {
             (0, step * k as f64)

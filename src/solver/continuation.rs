@@ -1,8 +1,19 @@
-//! Continuation in a load parameter `λ`: step-length control, the errors that stop a path,
-//! and the statistics of its work.
+//! Continuation of the solutions of `R(x, λ) = 0` in the load parameter `λ` (DESIGN.md §5):
+//! tangent predictor, modified-Newton corrector, adaptive step length with cut-backs,
+//! pseudo-arclength steps where natural ones fail (folds), the stability of every converged
+//! state, critical points where the count of unstable directions changes
+//! ([`super::critical`]), and branch switching at bifurcations.
+//!
+//! The engine knows nothing of rods: it follows any [`Problem`].
 
-use super::newton::{NewtonError, NewtonSettings};
-use std::time::Duration;
+use super::critical::Critical;
+use super::linear::LinearError;
+use super::newton::{Newton, NewtonError, NewtonReport, NewtonSettings, StepEquation};
+use super::path_state::PathState;
+use super::problem::Problem;
+use super::stats::Statistics;
+use crate::results::Stability;
+use std::time::Instant;
 
 /// Step-length control of the continuation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,21 +54,6 @@ impl Default for ContinuationSettings {
     }
 }
 
-/// The continuation could not reach its target; the last converged state is kept.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("continuation stopped at eps = {eps:.6} ({control} parameter {reached:.6}, target {target:.6}): {reason}")]
-pub struct SolveError {
-    pub control: &'static str,
-    /// Last converged load parameter.
-    pub reached: f64,
-    /// Compression ratio of the last converged state.
-    pub eps: f64,
-    pub target: f64,
-    /// The last step tried.
-    pub step: f64,
-    pub reason: StopReason,
-}
-
 /// Why a continuation stopped.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum StopReason {
@@ -71,14 +67,387 @@ pub enum StopReason {
     NoCriticalPoint { index: usize },
 }
 
-/// Counters of a continuation.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Statistics {
-    pub steps: usize,
-    pub rejected: usize,
-    pub iterations: usize,
-    pub factorisations: usize,
-    /// Arclength steps among `steps`.
-    pub arclength_steps: usize,
-    pub time: Duration,
+/// The continuation could not go on; the last converged state is kept.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[error("continuation stopped at parameter {reached:.6} (target {target:.6}): {reason}")]
+pub struct ContinuationError {
+    /// Last converged load parameter.
+    pub reached: f64,
+    pub target: f64,
+    /// The last step tried.
+    pub step: f64,
+    pub reason: StopReason,
+}
+
+/// Arclength steps after which a path that has turned back is given up.
+const MAX_ARCLENGTH_STEPS: usize = 2000;
+
+/// A trial step's outcome (not yet accepted).
+pub(super) struct Trial {
+    pub x: Vec<f64>,
+    pub lambda: f64,
+    pub report: NewtonReport,
+}
+
+/// A problem at a converged point of its path, that can be moved along it.
+pub struct Continuation<P: Problem> {
+    pub(super) problem: P,
+    pub(super) state: PathState,
+    pub(super) newton: Newton,
+    pub(super) settings: ContinuationSettings,
+    pub(super) stats: Statistics,
+    pub(super) critical: Vec<Critical>,
+}
+
+impl<P: Problem> Continuation<P> {
+    /// Starts at `(x, λ)` (`x` padded with zero multipliers to the problem's size) and
+    /// solves there at fixed `λ`, then judges the stability of the solution.
+    pub fn new(
+        problem: P,
+        mut x: Vec<f64>,
+        lambda: f64,
+        settings: ContinuationSettings,
+    ) -> Result<Continuation<P>, ContinuationError> {
+        x.resize(problem.unknowns(), 0.0);
+        let newton = Newton::new(&problem);
+        let mut path = Continuation {
+            problem,
+            state: PathState::start(x, lambda, settings.initial_step),
+            newton,
+            settings,
+            stats: Statistics::default(),
+            critical: Vec::new(),
+        };
+        path.correct_in_place()?;
+        path.update_stability(true);
+        Ok(path)
+    }
+
+    pub fn problem(&self) -> &P {
+        &self.problem
+    }
+
+    /// The problem, to evaluate things at the converged state; the engine calls
+    /// [`Problem::restore`] before it evaluates anything itself.
+    pub fn problem_mut(&mut self) -> &mut P {
+        &mut self.problem
+    }
+
+    /// The converged state.
+    pub fn state(&self) -> &PathState {
+        &self.state
+    }
+
+    pub fn settings(&self) -> &ContinuationSettings {
+        &self.settings
+    }
+
+    /// Counters of the work done so far.
+    pub fn statistics(&self) -> Statistics {
+        Statistics {
+            factorisations: self.newton.factorisations(),
+            ..self.stats
+        }
+    }
+
+    /// Critical points located so far.
+    pub fn critical_points(&self) -> &[Critical] {
+        &self.critical
+    }
+
+    pub(super) fn error(&self, target: f64, step: f64, reason: StopReason) -> ContinuationError {
+        ContinuationError {
+            reached: self.state.lambda,
+            target,
+            step,
+            reason,
+        }
+    }
+
+    /// Runs the bordered Newton corrector from `(x, λ)` with `settings`; counts its work.
+    /// The problem is restored to the converged point afterwards.
+    pub(super) fn correct(
+        &mut self,
+        mut x: Vec<f64>,
+        mut lambda: f64,
+        step: &StepEquation,
+        settings: &NewtonSettings,
+    ) -> Result<Trial, NewtonError> {
+        let t0 = Instant::now();
+        let out = self
+            .newton
+            .solve(&mut self.problem, &mut x, &mut lambda, step, settings);
+        self.stats.time += t0.elapsed();
+        self.problem.restore(&self.state.x, self.state.lambda);
+        out.map(|report| {
+            self.stats.iterations += report.iterations;
+            Trial { x, lambda, report }
+        })
+    }
+
+    /// Newton at fixed `λ` from the current state; keeps the old state on failure.
+    fn correct_in_place(&mut self) -> Result<(), ContinuationError> {
+        let x0 = self.state.x.clone();
+        let l0 = self.state.lambda;
+        let step = StepEquation {
+            tx: None,
+            tl: 1.0,
+            x0: &x0,
+            l0,
+            ds: 0.0,
+        };
+        let settings = self.settings.newton;
+        match self.correct(x0.clone(), l0, &step, &settings) {
+            Ok(t) => {
+                self.state.x = t.x;
+                self.state.solve = t.report;
+                self.state.tangent = None;
+                self.state.previous = None;
+                Ok(())
+            }
+            Err(cause) => Err(self.error(l0, 0.0, StopReason::Newton { step: 0.0, cause })),
+        }
+    }
+
+    /// `dx/dλ` at the current state, with linear solves checked against `threshold`. The
+    /// factorisation at the converged state is kept for the next corrector.
+    pub(super) fn compute_tangent(&mut self, threshold: f64) -> Option<Vec<f64>> {
+        self.newton
+            .tangent(
+                &mut self.problem,
+                &self.state.x,
+                self.state.lambda,
+                threshold,
+            )
+            .ok()
+    }
+
+    /// Unit tangent `(t_x, t_λ)` over the primal unknowns and `λ`, and the full-length
+    /// predictor direction, for an arclength step heading towards increasing `dir · λ`.
+    fn arclength_direction(&mut self, dir: f64) -> Option<(Vec<f64>, f64, Vec<f64>)> {
+        let np = self.problem.primal_unknowns();
+        let (full, dl) = match &self.state.previous {
+            Some((xp, lp)) => {
+                let d: Vec<f64> = self.state.x.iter().zip(xp).map(|(a, b)| a - b).collect();
+                (d, self.state.lambda - lp)
+            }
+            None => {
+                if self.state.tangent.is_none() {
+                    self.state.tangent =
+                        self.compute_tangent(self.settings.newton.singular_threshold);
+                }
+                let t = self.state.tangent.clone()?;
+                (t.iter().map(|v| v * dir).collect(), dir)
+            }
+        };
+        let norm = ((0..np).map(|i| full[i] * full[i]).sum::<f64>() + dl * dl).sqrt();
+        if norm.is_nan() || norm <= 0.0 {
+            return None;
+        }
+        let full: Vec<f64> = full.iter().map(|v| v / norm).collect();
+        Some((full[..np].to_vec(), dl / norm, full))
+    }
+
+    /// One step of length `h` (natural: in `λ` towards `dir`; arclength: along the path).
+    fn try_step(&mut self, h: f64, dir: f64) -> Result<Trial, NewtonError> {
+        let settings = self.settings.newton;
+        if self.state.arclength {
+            let Some((tx, tl, full)) = self.arclength_direction(dir) else {
+                return Err(NewtonError::Linear {
+                    iteration: 0,
+                    source: LinearError::Singular {
+                        relative_residual: f64::INFINITY,
+                    },
+                });
+            };
+            let x: Vec<f64> = self
+                .state
+                .x
+                .iter()
+                .zip(&full)
+                .map(|(a, t)| a + h * t)
+                .collect();
+            let lambda = self.state.lambda + h * tl;
+            let x0 = self.state.x.clone();
+            let step = StepEquation {
+                tx: Some(&tx),
+                tl,
+                x0: &x0,
+                l0: self.state.lambda,
+                ds: h,
+            };
+            self.correct(x, lambda, &step, &settings)
+        } else {
+            if self.state.tangent.is_none() {
+                self.state.tangent = self.compute_tangent(settings.singular_threshold);
+            }
+            let d = dir * h;
+            let mut x = self.state.x.clone();
+            if let Some(t) = &self.state.tangent {
+                for (xi, ti) in x.iter_mut().zip(t) {
+                    *xi += ti * d;
+                }
+            }
+            let x0 = self.state.x.clone();
+            let step = StepEquation {
+                tx: None,
+                tl: 1.0,
+                x0: &x0,
+                l0: self.state.lambda,
+                ds: d,
+            };
+            self.correct(x, self.state.lambda + d, &step, &settings)
+        }
+    }
+
+    pub(super) fn accept(&mut self, trial: Trial) {
+        let old = std::mem::replace(&mut self.state.x, trial.x);
+        self.state.previous = Some((old, self.state.lambda));
+        self.state.lambda = trial.lambda;
+        self.problem.restore(&self.state.x, self.state.lambda);
+        self.state.solve = trial.report;
+        self.state.tangent = None;
+        self.stats.steps += 1;
+        if self.state.arclength {
+            self.stats.arclength_steps += 1;
+        }
+    }
+
+    /// Continues to load parameter `target` with as many internal steps as needed.
+    /// On failure the last converged state is kept and the error says where and why.
+    pub fn advance_to(&mut self, target: f64) -> Result<(), ContinuationError> {
+        let s = self.settings;
+        let mut arclength_steps = 0;
+        while (target - self.state.lambda).abs() > 1e-14 * (1.0 + target.abs()) {
+            let dir = (target - self.state.lambda).signum();
+            let remaining = (target - self.state.lambda).abs();
+            // `nominal` is the adaptive step; the last natural step is shortened to land
+            // on the target without shrinking the step for what follows
+            let mut nominal = self.state.step.min(s.max_step);
+            let h = if self.state.arclength {
+                nominal
+            } else {
+                nominal.min(remaining)
+            };
+            match self.try_step(h, dir) {
+                Ok(t) => {
+                    // an arclength step that overshoots the target: land on it exactly
+                    let overshoot = self.state.arclength && (t.lambda - target) * dir > 0.0;
+                    if overshoot {
+                        self.state.arclength = false;
+                        self.state.step = remaining.max(s.min_step);
+                        self.newton.discard_factorisation();
+                        continue;
+                    }
+                    let iterations = t.report.iterations;
+                    let (x_before, l_before) = (self.state.x.clone(), self.state.lambda);
+                    let (stability_before, was_arclength) =
+                        (self.state.stability, self.state.arclength);
+                    self.accept(t);
+                    if self.state.arclength {
+                        arclength_steps += 1;
+                        if arclength_steps > MAX_ARCLENGTH_STEPS {
+                            return Err(self.error(
+                                target,
+                                h,
+                                StopReason::TurnedBack {
+                                    steps: MAX_ARCLENGTH_STEPS,
+                                },
+                            ));
+                        }
+                    }
+                    self.update_stability(false);
+                    if let (Some(b), Some(a)) = (stability_before, self.state.stability) {
+                        if a.unstable_directions != b.unstable_directions {
+                            self.locate_critical(&x_before, l_before, was_arclength, b, a);
+                        }
+                    }
+                    // adapt the step length to the Newton effort
+                    if iterations + 1 < s.target_iterations {
+                        nominal = (nominal * 1.5).min(s.max_step);
+                    } else if iterations > s.target_iterations + 2 {
+                        nominal = h * 0.6;
+                    }
+                    self.state.step = nominal.max(s.min_step);
+                }
+                Err(cause) => {
+                    self.stats.rejected += 1;
+                    self.newton.discard_factorisation();
+                    if h <= s.min_step * 1.000001 {
+                        if !self.state.arclength && s.arclength_fallback {
+                            // change strategy: pseudo-arclength from here
+                            self.state.arclength = true;
+                            self.state.step = s.initial_step.min(s.max_step);
+                            continue;
+                        }
+                        self.state.step = s.min_step;
+                        return Err(self.error(target, h, StopReason::Newton { step: h, cause }));
+                    }
+                    self.state.step = (h * 0.5).max(s.min_step);
+                }
+            }
+        }
+        self.state.lambda = target;
+        self.problem.restore(&self.state.x, self.state.lambda);
+        // the count is that of the last accepted step; the lowest eigenvalue is added at
+        // output points only
+        if s.track_stability && s.lowest_eigenvalue {
+            self.update_stability(true);
+        }
+        Ok(())
+    }
+
+    /// Counts unstable directions at the current state (and the lowest eigenvalue when
+    /// `eigenvalue` is set and the settings ask for it).
+    pub(super) fn update_stability(&mut self, eigenvalue: bool) {
+        if !self.settings.track_stability {
+            self.state.stability = None;
+            return;
+        }
+        let (x, lambda) = (&self.state.x, self.state.lambda);
+        let count = self.problem.unstable_directions(x, lambda).ok();
+        let lowest = eigenvalue && self.settings.lowest_eigenvalue;
+        self.state.stability = count.map(|c| Stability {
+            unstable_directions: c,
+            lowest_eigenvalue: if lowest {
+                self.problem.lowest_eigenvalue(x, lambda)
+            } else {
+                None
+            },
+        });
+    }
+
+    /// Replaces the problem (e.g. other boundary conditions) and solves it from `(x, λ)`;
+    /// the statistics and critical points go on. On failure the old problem and state are
+    /// kept.
+    pub fn restart_with(
+        &mut self,
+        problem: P,
+        mut x: Vec<f64>,
+        lambda: f64,
+    ) -> Result<(), ContinuationError> {
+        x.resize(problem.unknowns(), 0.0);
+        let mut newton = Newton::new(&problem);
+        newton.carry_count(self.newton.factorisations());
+        let old_problem = std::mem::replace(&mut self.problem, problem);
+        let mut old_newton = std::mem::replace(&mut self.newton, newton);
+        let old_state = self.state.clone();
+        self.state.x = x;
+        self.state.lambda = lambda;
+        self.state.arclength = false;
+        match self.correct_in_place() {
+            Ok(()) => {
+                self.state.step = self.settings.initial_step;
+                self.update_stability(true);
+                Ok(())
+            }
+            Err(e) => {
+                old_newton.carry_count(self.newton.factorisations());
+                self.problem = old_problem;
+                self.newton = old_newton;
+                self.state = old_state;
+                Err(e)
+            }
+        }
+    }
 }

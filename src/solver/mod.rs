@@ -1,6 +1,13 @@
-//! Solvers: sparse linear algebra, Newton on the KKT system, continuation.
+//! The continuation engine, which knows nothing of rods: sparse linear algebra, Newton's
+//! method bordered by the step equation, continuation in a load parameter, critical points
+//! and branch switching, stability from the inertia of the KKT matrix. It follows any
+//! [`problem::Problem`].
 
 pub mod continuation;
-pub mod inertia;
+pub mod critical;
 pub mod linear;
 pub mod newton;
+pub mod path_state;
+pub mod problem;
+pub mod stability;
+pub mod stats;

@@ -1,9 +1,9 @@
-//! Newton's method on the KKT system `R(x) = 0`.
+//! Newton's method on `R(x, λ) = 0` bordered by the step equation of a continuation step,
+//! with the sparse factorisation reused while it contracts the residual (modified Newton).
 
 use super::linear::{relative_residual, LinearError, SparseLu};
-use crate::discretisation::model::DiscreteModel;
-use crate::discretisation::system::System;
-use crate::model::loading::TipLoad;
+use super::problem::Problem;
+use faer::sparse::SparseColMatRef;
 
 /// Newton settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,68 +48,338 @@ pub struct NewtonReport {
     pub iterations: usize,
     /// `‖R‖∞` at the solution.
     pub residual: f64,
-    /// Elastic energy at the solution (J).
+    /// Energy at the solution (J for the rods).
     pub energy: f64,
 }
 
-/// Buffers and factorisation for one [`System`]; the hot loop allocates nothing.
-pub struct Workspace {
-    pub residual: Vec<f64>,
-    pub values: Vec<f64>,
-    pub delta: Vec<f64>,
-    /// Right-hand side of the Newton solve.
+/// The step equation of a continuation step, `t_xᵀ (x − x0) + t_λ (λ − λ0) = ds` over the
+/// primal unknowns. Natural-parameter steps are `t_x = 0, t_λ = 1`.
+#[derive(Clone, Copy, Debug)]
+pub struct StepEquation<'a> {
+    /// `t_x` over the primal unknowns, or `None` for a natural-parameter step (`t_x = 0`).
+    pub tx: Option<&'a [f64]>,
+    pub tl: f64,
+    pub x0: &'a [f64],
+    pub l0: f64,
+    pub ds: f64,
+}
+
+impl StepEquation<'_> {
+    /// `t_xᵀ (x − x0) + t_λ (λ − λ0) − ds`.
+    fn residual(&self, x: &[f64], lambda: f64) -> f64 {
+        let along = self.tx.map_or(0.0, |tx| {
+            tx.iter()
+                .zip(x)
+                .zip(self.x0)
+                .map(|((t, xi), x0)| t * (xi - x0))
+                .sum::<f64>()
+        });
+        along + self.tl * (lambda - self.l0) - self.ds
+    }
+
+    /// `t_xᵀ v`.
+    fn along(&self, v: &[f64]) -> f64 {
+        self.tx
+            .map_or(0.0, |tx| tx.iter().zip(v).map(|(t, vi)| t * vi).sum())
+    }
+
+    /// Whether `λ` may move by itself (an arclength step): then `K⁻¹ ∂R/∂λ` is needed from
+    /// the first iteration.
+    fn has_tangent_part(&self) -> bool {
+        self.tx.is_some_and(|tx| tx.iter().any(|&t| t != 0.0))
+    }
+}
+
+/// Buffers and factorisation of Newton's method for one problem's pattern; the hot loop
+/// allocates nothing.
+pub struct Newton {
+    residual: Vec<f64>,
+    /// Jacobian values in the problem's pattern, of the last factorisation.
+    values: Vec<f64>,
+    delta: Vec<f64>,
+    /// Right-hand side of a solve.
     rhs: Vec<f64>,
     /// Scratch for the check of each linear solve.
     check: Vec<f64>,
-    pub lu: SparseLu,
+    /// `∂R/∂λ` and `K⁻¹(−∂R/∂λ)` for the current factorisation, when computed.
+    load_derivative: Vec<f64>,
+    load_solution: Vec<f64>,
+    load_solution_valid: bool,
+    load_derivative_valid: bool,
+    lu: SparseLu,
     /// A factorisation is held (of the Jacobian at some recent iterate) and may be reused.
-    pub fresh: bool,
+    fresh: bool,
 }
 
-impl Workspace {
-    pub fn new(system: &System) -> Workspace {
-        Workspace {
-            residual: vec![0.0; system.n],
-            values: system.new_values(),
-            delta: vec![0.0; system.n],
-            rhs: vec![0.0; system.n],
-            check: vec![0.0; system.n],
+impl Newton {
+    pub fn new<P: Problem>(problem: &P) -> Newton {
+        let n = problem.unknowns();
+        Newton {
+            residual: vec![0.0; n],
+            values: vec![0.0; problem.pattern().row_idx().len()],
+            delta: vec![0.0; n],
+            rhs: vec![0.0; n],
+            check: vec![0.0; n],
+            load_derivative: vec![0.0; n],
+            load_solution: vec![0.0; n],
+            load_solution_valid: false,
+            load_derivative_valid: false,
             lu: SparseLu::default(),
             fresh: false,
         }
     }
 
-    /// Factorises the KKT matrix at `x`.
-    pub fn factorize_at(
-        &mut self,
-        model: &DiscreteModel,
-        system: &System,
-        x: &[f64],
-    ) -> Result<(), LinearError> {
-        system.evaluate(model, x, &mut self.residual, &mut self.values);
+    /// Numeric factorisations done by this solver.
+    pub fn factorisations(&self) -> usize {
+        self.lu.factorisations
+    }
+
+    /// Counts `earlier` factorisations as this solver's own (a solver that replaces one).
+    pub fn carry_count(&mut self, earlier: usize) {
+        self.lu.factorisations = earlier;
+    }
+
+    /// The factorisation held is not to be reused (the next solve starts elsewhere).
+    pub fn discard_factorisation(&mut self) {
         self.fresh = false;
-        self.lu.factorize(system.matrix(&self.values))?;
+    }
+
+    fn matrix<'a, P: Problem>(&'a self, problem: &'a P) -> SparseColMatRef<'a, usize, f64> {
+        SparseColMatRef::new(problem.pattern().as_ref(), &self.values)
+    }
+
+    /// Factorises the Jacobian at `(x, λ)`.
+    pub fn factorize_at<P: Problem>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+    ) -> Result<(), LinearError> {
+        problem.jacobian(x, lambda, &mut self.residual, &mut self.values);
+        self.fresh = false;
+        self.load_solution_valid = false;
+        let matrix = SparseColMatRef::new(problem.pattern().as_ref(), &self.values);
+        self.lu.factorize(matrix)?;
         self.fresh = true;
         Ok(())
     }
 
-    /// Solves with the current factorisation and checks the solve.
-    pub fn solve_checked(
+    /// Solves `K out = rhs` with the current factorisation and checks the solve against
+    /// `threshold` (relative residual).
+    fn solve_checked<P: Problem>(
         &mut self,
-        system: &System,
+        problem: &P,
         rhs: &[f64],
         out: &mut [f64],
         threshold: f64,
     ) -> Result<(), LinearError> {
         out.copy_from_slice(rhs);
         self.lu.solve(out);
-        let rel = relative_residual(system.matrix(&self.values), out, rhs, &mut self.check);
+        let mut check = std::mem::take(&mut self.check);
+        let rel = relative_residual(self.matrix(problem), out, rhs, &mut check);
+        self.check = check;
         if rel.is_nan() || rel > threshold {
             return Err(LinearError::Singular {
                 relative_residual: rel,
             });
         }
         Ok(())
+    }
+
+    /// `dx/dλ = K⁻¹(−∂R/∂λ)` at `(x, λ)`, factorising there; the factorisation is kept for
+    /// the next corrector.
+    pub fn tangent<P: Problem>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        threshold: f64,
+    ) -> Result<Vec<f64>, LinearError> {
+        self.factorize_at(problem, x, lambda)?;
+        self.update_load_derivative(problem, x, lambda);
+        let rhs: Vec<f64> = self.load_derivative.iter().map(|v| -v).collect();
+        let mut t = vec![0.0; rhs.len()];
+        self.solve_checked(problem, &rhs, &mut t, threshold)?;
+        Ok(t)
+    }
+
+    /// A near-null vector of the Jacobian at `(x, λ)` by inverse iteration (30 passes from a
+    /// fixed start), scaled to unit norm over the primal unknowns.
+    pub fn null_vector<P: Problem>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+    ) -> Option<Vec<f64>> {
+        let np = problem.primal_unknowns();
+        let n = problem.unknowns();
+        self.factorize_at(problem, x, lambda).ok()?;
+        let mut v: Vec<f64> = (0..n)
+            .map(|i| {
+                if i < np {
+                    1.0 + (i % 5) as f64 * 0.3
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        for _ in 0..30 {
+            self.lu.solve(&mut v);
+            let norm = (0..np).map(|i| v[i] * v[i]).sum::<f64>().sqrt();
+            if !(norm > 0.0 && norm.is_finite()) {
+                return None;
+            }
+            v.iter_mut().for_each(|x| *x /= norm);
+        }
+        Some(v)
+    }
+
+    /// `∂R/∂λ` at `(x, λ)` into `self.load_derivative`: once for problems where it is
+    /// constant, at every call otherwise.
+    fn update_load_derivative<P: Problem>(&mut self, problem: &mut P, x: &[f64], lambda: f64) {
+        if problem.load_derivative_is_constant() && self.load_derivative_valid {
+            return;
+        }
+        problem.load_derivative(x, lambda, &mut self.load_derivative);
+        self.load_derivative_valid = true;
+        self.load_solution_valid = false;
+    }
+
+    /// `K b = −∂R/∂λ` with the current factorisation, into `self.load_solution`.
+    fn solve_load<P: Problem>(&mut self, problem: &P, threshold: f64) -> Result<(), LinearError> {
+        for (r, v) in self.rhs.iter_mut().zip(&self.load_derivative) {
+            *r = -v;
+        }
+        let (rhs, mut out) = (
+            std::mem::take(&mut self.rhs),
+            std::mem::take(&mut self.load_solution),
+        );
+        let checked = self.solve_checked(problem, &rhs, &mut out, threshold);
+        (self.rhs, self.load_solution) = (rhs, out);
+        checked?;
+        self.load_solution_valid = true;
+        Ok(())
+    }
+
+    /// `K a = −R` with the current factorisation, into `self.delta`.
+    fn solve_residual<P: Problem>(
+        &mut self,
+        problem: &P,
+        threshold: f64,
+    ) -> Result<(), LinearError> {
+        for (r, v) in self.rhs.iter_mut().zip(&self.residual) {
+            *r = -v;
+        }
+        let (rhs, mut a) = (
+            std::mem::take(&mut self.rhs),
+            std::mem::take(&mut self.delta),
+        );
+        let checked = self.solve_checked(problem, &rhs, &mut a, threshold);
+        (self.rhs, self.delta) = (rhs, a);
+        checked
+    }
+
+    /// Newton iterations on `R(x, λ) = 0` bordered by the step equation `step`, from
+    /// `(x, λ)` until `‖R‖∞ ≤ tolerance`. On error `x` and `λ` hold the last iterate, which
+    /// the caller must discard.
+    ///
+    /// Modified Newton: a factorisation already held (e.g. the Jacobian at the last
+    /// converged state, used for the predictor) is reused while it contracts the residual by
+    /// at least `REFACTOR_RATIO` per iteration; otherwise the Jacobian is refactorised at the
+    /// current iterate, so the method falls back to full Newton where it must. Each solve is
+    /// bordered: `K a = −R`, `K b = −∂R/∂λ`, then `δλ` from the step equation and
+    /// `δx = a + δλ b`.
+    pub fn solve<P: Problem>(
+        &mut self,
+        problem: &mut P,
+        x: &mut [f64],
+        lambda: &mut f64,
+        step: &StepEquation,
+        settings: &NewtonSettings,
+    ) -> Result<NewtonReport, NewtonError> {
+        const REFACTOR_RATIO: f64 = 0.25;
+        let threshold = settings.singular_threshold;
+        let np = problem.primal_unknowns();
+        let mut first = f64::NAN;
+        let mut previous = f64::INFINITY;
+        let mut stale = false; // the factorisation is not of the current iterate
+        let mut last = f64::NAN;
+        for it in 0..=settings.max_iterations {
+            let energy = problem.residual(x, *lambda, &mut self.residual);
+            let r = norm_inf(&self.residual);
+            if it == 0 {
+                first = r;
+            }
+            last = r;
+            let step_eq = step.residual(&x[..np], *lambda);
+            if r <= settings.tolerance && step_eq.abs() <= 1e-10 * (1.0 + step.ds.abs()) {
+                return Ok(NewtonReport {
+                    iterations: it,
+                    residual: r,
+                    energy,
+                });
+            }
+            let diverging = !r.is_finite() || (it > 0 && r > 1e6 * first.max(settings.tolerance));
+            if diverging && (!stale || !r.is_finite()) {
+                return Err(NewtonError::Diverged {
+                    iteration: it,
+                    residual: r,
+                });
+            }
+            if it == settings.max_iterations {
+                break;
+            }
+            let linear = |source| NewtonError::Linear {
+                iteration: it,
+                source,
+            };
+            // refactorise unless a factorisation is at hand and still contracting well
+            let contracting = r <= REFACTOR_RATIO * previous;
+            if !self.fresh || (stale && !contracting) {
+                self.factorize_at(problem, x, *lambda).map_err(linear)?;
+            }
+            previous = r;
+            self.update_load_derivative(problem, x, *lambda);
+            // K b = −∂R/∂λ, once per factorisation where ∂R/∂λ is constant
+            if !self.load_solution_valid && step.has_tangent_part() {
+                self.solve_load(problem, threshold).map_err(linear)?;
+            }
+            self.solve_residual(problem, threshold).map_err(linear)?;
+            // δλ from the linearised step equation
+            let (ta, tb) = if self.load_solution_valid {
+                (
+                    step.along(&self.delta[..np]),
+                    step.along(&self.load_solution[..np]),
+                )
+            } else {
+                (0.0, 0.0)
+            };
+            let denominator = tb + step.tl;
+            if denominator.abs() < 1e-14 {
+                return Err(linear(LinearError::Singular {
+                    relative_residual: f64::INFINITY,
+                }));
+            }
+            let dl = (-step_eq - ta) / denominator;
+            if dl != 0.0 {
+                // δx = a + δλ b; in natural-parameter steps b is computed only when λ moves
+                if !self.load_solution_valid {
+                    self.solve_load(problem, threshold).map_err(linear)?;
+                }
+                for (d, bi) in self.delta.iter_mut().zip(&self.load_solution) {
+                    *d += dl * bi;
+                }
+            }
+            for (xi, di) in x.iter_mut().zip(&self.delta) {
+                *xi += di;
+            }
+            *lambda += dl;
+            stale = true;
+        }
+        Err(NewtonError::NotConverged {
+            iterations: settings.max_iterations,
+            residual: last,
+        })
     }
 }
 
@@ -118,150 +388,4 @@ fn norm_inf(v: &[f64]) -> f64 {
         0.0f64,
         |m, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
     )
-}
-
-/// The extra equation of a continuation step, `t_xᵀ (x − x0) + t_λ (λ − λ0) = ds` over
-/// the primal unknowns, and `∂R/∂λ`. Natural-parameter steps are `t_x = 0, t_λ = 1`.
-pub struct Border<'a> {
-    pub tx: &'a [f64],
-    pub tl: f64,
-    pub x0: &'a [f64],
-    pub l0: f64,
-    pub ds: f64,
-    /// `∂R/∂λ` over all unknowns (constant: the load enters linearly).
-    pub dr_dl: &'a [f64],
-}
-
-/// Newton iterations on `R(x, λ) = 0` bordered by the step equation of `border`, from
-/// `(x, λ)` until `‖R‖∞ ≤ tolerance`; `load(λ)` sets the system's tip load. On error `x`
-/// and `λ` hold the last iterate, which the caller must discard.
-///
-/// Modified Newton: a factorisation already in `ws` (e.g. the Jacobian at the last
-/// converged state, used for the predictor) is reused while it contracts the residual by
-/// at least `REFACTOR_RATIO` per iteration; otherwise the Jacobian is refactorised at the
-/// current iterate, so the method falls back to full Newton where it must. Each solve is
-/// bordered: `K a = −R`, `K b = −∂R/∂λ`, then `δλ` from the step equation and `δx = a + δλ b`.
-#[allow(clippy::too_many_arguments)]
-pub fn solve(
-    model: &DiscreteModel,
-    system: &mut System,
-    x: &mut [f64],
-    lambda: &mut f64,
-    load: &dyn Fn(f64) -> TipLoad,
-    border: &Border,
-    ws: &mut Workspace,
-    settings: &NewtonSettings,
-) -> Result<NewtonReport, NewtonError> {
-    const REFACTOR_RATIO: f64 = 0.25;
-    let np = model.n_primal;
-    let mut first = f64::NAN;
-    let mut previous = f64::INFINITY;
-    let mut stale = false; // the factorisation is not of the current iterate
-    let mut last = f64::NAN;
-    let mut b: Option<Vec<f64>> = None; // K⁻¹(−∂R/∂λ) for the current factorisation
-    for it in 0..=settings.max_iterations {
-        system.set_tip_load(load(*lambda));
-        let ev = system.residual(model, x, &mut ws.residual);
-        let r = norm_inf(&ws.residual);
-        if it == 0 {
-            first = r;
-        }
-        last = r;
-        let step_eq: f64 = (0..np)
-            .map(|i| border.tx[i] * (x[i] - border.x0[i]))
-            .sum::<f64>()
-            + border.tl * (*lambda - border.l0)
-            - border.ds;
-        if r <= settings.tolerance && step_eq.abs() <= 1e-10 * (1.0 + border.ds.abs()) {
-            return Ok(NewtonReport {
-                iterations: it,
-                residual: r,
-                energy: ev.energy,
-            });
-        }
-        let diverging = !r.is_finite() || (it > 0 && r > 1e6 * first.max(settings.tolerance));
-        if diverging && (!stale || !r.is_finite()) {
-            return Err(NewtonError::Diverged {
-                iteration: it,
-                residual: r,
-            });
-        }
-        if it == settings.max_iterations {
-            break;
-        }
-        // refactorise unless a factorisation is at hand and still contracting well
-        let contracting = r <= REFACTOR_RATIO * previous;
-        if !ws.fresh || (stale && !contracting) {
-            system.evaluate(model, x, &mut ws.residual, &mut ws.values);
-            ws.fresh = false;
-            ws.lu
-                .factorize(system.matrix(&ws.values))
-                .map_err(|source| NewtonError::Linear {
-                    iteration: it,
-                    source,
-                })?;
-            ws.fresh = true;
-            b = None;
-        }
-        previous = r;
-        let linear = |source| NewtonError::Linear {
-            iteration: it,
-            source,
-        };
-        // K b = −∂R/∂λ, once per factorisation (∂R/∂λ is constant)
-        let load_solution = |ws: &mut Workspace| -> Result<Vec<f64>, LinearError> {
-            let rhs: Vec<f64> = border.dr_dl.iter().map(|v| -v).collect();
-            let mut out = vec![0.0; system.n];
-            ws.solve_checked(system, &rhs, &mut out, settings.singular_threshold)?;
-            Ok(out)
-        };
-        if b.is_none() && border.tx.iter().any(|&t| t != 0.0) {
-            b = Some(load_solution(ws).map_err(linear)?);
-        }
-        // K a = −R, into ws.delta, with ws.rhs as the right-hand side
-        for (r, v) in ws.rhs.iter_mut().zip(&ws.residual) {
-            *r = -v;
-        }
-        let (rhs, mut a) = (std::mem::take(&mut ws.rhs), std::mem::take(&mut ws.delta));
-        let checked = ws.solve_checked(system, &rhs, &mut a, settings.singular_threshold);
-        (ws.rhs, ws.delta) = (rhs, a);
-        checked.map_err(linear)?;
-        // δλ from the linearised step equation
-        let (ta, tb) = match &b {
-            Some(b) => (
-                (0..np).map(|i| border.tx[i] * ws.delta[i]).sum::<f64>(),
-                (0..np).map(|i| border.tx[i] * b[i]).sum::<f64>(),
-            ),
-            None => (0.0, 0.0),
-        };
-        let denominator = tb + border.tl;
-        if denominator.abs() < 1e-14 {
-            return Err(NewtonError::Linear {
-                iteration: it,
-                source: LinearError::Singular {
-                    relative_residual: f64::INFINITY,
-                },
-            });
-        }
-        let dl = (-step_eq - ta) / denominator;
-        if dl != 0.0 {
-            // δx = a + δλ b; in natural-parameter steps b is computed only when λ moves
-            if b.is_none() {
-                b = Some(load_solution(ws).map_err(linear)?);
-            }
-            let bb = b.as_ref().expect("computed above");
-            for (d, bi) in ws.delta.iter_mut().zip(bb) {
-                *d += dl * bi;
-            }
-        }
-        for (xi, di) in x.iter_mut().zip(&ws.delta) {
-            *xi += di;
-        }
-        *lambda += dl;
-        stale = true;
-    }
-    Err(NewtonError::NotConverged {
-        iterations: settings.max_iterations,
-        residual: last,
-    })
 }

@@ -18,7 +18,7 @@ use crate::precision::{
 };
 use crate::results::{LoadPoint, Snapshot};
 use crate::simulation::Simulation;
-use crate::solver::continuation::SolveError;
+use crate::simulation::SolveError;
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};

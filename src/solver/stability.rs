@@ -1,4 +1,5 @@
-//! Inertia of the constrained Hessian from a sparse `LDLᵀ` (DESIGN.md §5, "Stability").
+//! Stability of an equilibrium from the inertia of its KKT matrix, by a sparse `LDLᵀ`
+//! (DESIGN.md §5, "Stability"), and the eigenvalues that place its critical points.
 //!
 //! An equilibrium is stable when the Hessian `H` of the Lagrangian is positive definite on
 //! the tangent space `J v = 0` of the constraints. The KKT matrix `K = [[H, Jᵀ], [J, 0]]`
@@ -13,7 +14,6 @@
 //! Debreu's lemma). The matrix is quasi-definite at stable states, so a symmetric `LDLᵀ`
 //! without pivoting exists for any fill-reducing ordering.
 
-use crate::discretisation::system::System;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{
@@ -62,8 +62,16 @@ pub struct InertiaCounter {
     l_values: Vec<f64>,
     /// Penalty of the last factorisation: the mean magnitude of the Hessian's diagonal.
     pub rho: f64,
-    /// The last lowest mode found (primal unknowns), to start the next search from.
-    last_mode: Option<Vec<f64>>,
+    /// The last mode found by inverse iteration (primal unknowns), to start the next search
+    /// from; empty until one is found.
+    last_mode: Vec<f64>,
+    /// Scratch of inverse iteration: right-hand side, solution and refinement residual (all
+    /// unknowns), iterate and Hessian product (primal unknowns).
+    rhs: Vec<f64>,
+    solution: Vec<f64>,
+    refinement: Vec<f64>,
+    iterate: Vec<f64>,
+    product: Vec<f64>,
     buffer: MemBuffer,
 }
 
@@ -77,11 +85,13 @@ fn slot(pattern: &SymbolicSparseColMat<usize>, row: usize, col: usize) -> usize 
 }
 
 impl InertiaCounter {
-    /// Builds the augmented pattern and its symbolic factorisation for `system`, whose first
-    /// `n_primal` unknowns are primal.
-    pub fn new(system: &System, n_primal: usize) -> Result<InertiaCounter, InertiaError> {
-        let k = system.pattern();
-        let n = system.n;
+    /// Builds the augmented pattern and its symbolic factorisation for a KKT matrix of
+    /// pattern `k` whose first `n_primal` unknowns are primal.
+    pub fn new(
+        k: &SymbolicSparseColMat<usize>,
+        n_primal: usize,
+    ) -> Result<InertiaCounter, InertiaError> {
+        let n = k.ncols();
         let (cp, ri) = (k.col_ptr(), k.row_idx());
         // constraint rows of J: (column, index into K's values), from the lower-left block
         let mut rows: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n - n_primal];
@@ -146,7 +156,12 @@ impl InertiaCounter {
             constraints: n - n_primal,
             values: vec![0.0; pattern.row_idx().len()],
             rho: 1.0,
-            last_mode: None,
+            last_mode: Vec::new(),
+            rhs: vec![0.0; n],
+            solution: vec![0.0; n],
+            refinement: vec![0.0; n],
+            iterate: vec![0.0; n_primal],
+            product: vec![0.0; n_primal],
             l_values: vec![0.0; symbolic.len_val()],
             pattern,
             symbolic,
@@ -250,16 +265,18 @@ impl InertiaCounter {
         Ok(inertia)
     }
 
-    /// Solves `K(σ) z = b` with the last factorisation, for a right-hand side `b` whose
-    /// constraint part is zero, refining against the unregularised `K_ρ0(σ)` (which has the
-    /// same solution as `K(σ)` for such `b`).
-    fn solve_refined(&mut self, b: &[f64], n_primal: usize, delta: f64) -> Vec<f64> {
-        let n = b.len();
-        let mut z = b.to_vec();
+    /// Solves `K(σ) z = b` with the last factorisation, for `b` in `self.rhs` whose
+    /// constraint part is zero, into `self.solution`, refining twice against the
+    /// unregularised `K_ρ0(σ)` (which has the same solution as `K(σ)` for such `b`).
+    fn solve_refined(&mut self, n_primal: usize, delta: f64) {
+        let n = self.rhs.len();
+        let mut z = std::mem::take(&mut self.solution);
+        let mut r = std::mem::take(&mut self.refinement);
+        z.copy_from_slice(&self.rhs);
         self.ldlt_solve(&mut z);
         for _ in 0..2 {
             // r = b − K_ρ0 z, K_ρ0 = stored values with the dual diagonal −δ removed
-            let mut r = b.to_vec();
+            r.copy_from_slice(&self.rhs);
             let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
             for j in 0..n {
                 for p in cp[j]..cp[j + 1] {
@@ -274,7 +291,8 @@ impl InertiaCounter {
                 *zi += ri;
             }
         }
-        z
+        self.solution = z;
+        self.refinement = r;
     }
 
     fn ldlt_solve(&mut self, x: &mut [f64]) {
@@ -288,15 +306,9 @@ impl InertiaCounter {
     }
 
     /// Lowest eigenvalue of the constrained pencil `(H, M)` (`M = diag(metric)` on the
-    /// primal unknowns) and its mode (primal part, unit in `M`), by inverse iteration with
-    /// a shift placed below the spectrum by inertia counts. `kkt` are the KKT values at the
-    /// state, `n_primal` the number of primal unknowns.
-    pub fn lowest_eigenvalue(
-        &mut self,
-        kkt: &[f64],
-        metric: &[f64],
-        n_primal: usize,
-    ) -> Option<(f64, Vec<f64>)> {
+    /// primal unknowns), by inverse iteration with a shift placed below the spectrum by
+    /// inertia counts. `kkt` are the KKT values at the state.
+    pub fn lowest_eigenvalue(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
         // shift below the spectrum: σ = 0 if nothing is below 0, else −1, −4, −16, …
         let mut sigma = 0.0;
         let mut guess = 1.0;
@@ -311,76 +323,167 @@ impl InertiaCounter {
             sigma = -guess;
             guess *= 4.0;
         }
-        self.inverse_iteration(kkt, metric, n_primal)
+        self.inverse_iteration(kkt, metric)
     }
 
     /// The eigenvalue of the constrained pencil nearest zero (the one that crosses zero at
-    /// a critical point) and its mode.
-    pub fn eigenvalue_nearest_zero(
-        &mut self,
-        kkt: &[f64],
-        metric: &[f64],
-        n_primal: usize,
-    ) -> Option<(f64, Vec<f64>)> {
+    /// a critical point).
+    pub fn eigenvalue_nearest_zero(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
         self.inertia(kkt, 0.0, metric).ok()?;
-        self.inverse_iteration(kkt, metric, n_primal)
+        self.inverse_iteration(kkt, metric)
     }
 
     /// Inverse iteration with the last factorisation (of `K − σM`): converges to the
     /// eigenvalue nearest `σ`; returns its Rayleigh quotient with the unshifted Hessian.
-    fn inverse_iteration(
-        &mut self,
-        kkt: &[f64],
-        metric: &[f64],
-        n_primal: usize,
-    ) -> Option<(f64, Vec<f64>)> {
-        let n = self.constraints + n_primal;
+    fn inverse_iteration(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
+        let n_primal = self.iterate.len();
         let delta = 1e-8 / self.rho;
         // start from the last mode: along a path it changes little
-        let mut u: Vec<f64> = match self.last_mode.take() {
-            Some(m) if m.len() == n_primal => m,
-            _ => (0..n_primal)
-                .map(|i| metric[i] * (1.0 + (i % 7) as f64 * 0.1))
-                .collect(),
-        };
+        let mut u = std::mem::take(&mut self.iterate);
+        if self.last_mode.len() == n_primal {
+            u.copy_from_slice(&self.last_mode);
+        } else {
+            for (i, ui) in u.iter_mut().enumerate() {
+                *ui = metric[i] * (1.0 + (i % 7) as f64 * 0.1);
+            }
+        }
         let mut estimate = f64::NAN;
         // the Hessian block of K for Rayleigh quotients
-        let mut hv = vec![0.0; n_primal];
+        let mut hv = std::mem::take(&mut self.product);
+        let mut found = true;
         for _ in 0..80 {
-            let mut b = vec![0.0; n];
+            self.rhs.iter_mut().for_each(|b| *b = 0.0);
             for i in 0..n_primal {
-                b[i] = metric[i] * u[i];
+                self.rhs[i] = metric[i] * u[i];
             }
-            let v = self.solve_refined(&b, n_primal, delta);
+            self.solve_refined(n_primal, delta);
+            let v = &self.solution;
             let norm = (0..n_primal)
                 .map(|i| metric[i] * v[i] * v[i])
                 .sum::<f64>()
                 .sqrt();
             if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
-                return None;
+                found = false;
+                break;
             }
-            let v: Vec<f64> = v[..n_primal].iter().map(|x| x / norm).collect();
+            for i in 0..n_primal {
+                u[i] = v[i] / norm;
+            }
             // Rayleigh quotient vᵀ H v / vᵀ M v with H the primal block of the KKT values
             hv.iter_mut().for_each(|h| *h = 0.0);
             for (p, &(row, col)) in self.k_entry.iter().enumerate() {
                 if row < n_primal && col < n_primal {
-                    hv[row] += kkt[p] * v[col];
+                    hv[row] += kkt[p] * u[col];
                 }
             }
-            let rq: f64 = (0..n_primal).map(|i| v[i] * hv[i]).sum();
+            let rq: f64 = (0..n_primal).map(|i| u[i] * hv[i]).sum();
             let done = (rq - estimate).abs() <= 1e-9 * rq.abs().max(1e-12);
             estimate = rq;
-            u = v;
             if done {
                 break;
             }
         }
-        self.last_mode = Some(u.clone());
-        estimate.is_finite().then_some((estimate, u))
+        if found {
+            self.last_mode.clone_from(&u);
+        } else {
+            self.last_mode.clear();
+        }
+        self.iterate = u;
+        self.product = hv;
+        (found && estimate.is_finite()).then_some(estimate)
     }
 
     /// Negative directions of the constrained Hessian: negative pivots less constraints.
     pub fn unstable_directions(&self, inertia: Inertia) -> isize {
         inertia.negative as isize - self.constraints as isize
+    }
+}
+
+/// The stability of the states of one KKT pattern: the inertia counter (built on first
+/// use) and the metric of its eigenproblem, with the count's rounding band.
+pub struct KktStability {
+    counter: Option<Box<InertiaCounter>>,
+    /// Diagonal metric `M` of the eigenproblem over the primal unknowns.
+    metric: Vec<f64>,
+    /// Mean of the metric's non-zero weights.
+    mean_metric: f64,
+    n_primal: usize,
+}
+
+impl KktStability {
+    /// For KKT matrices whose first `metric.len()` unknowns are primal, with the eigenvalue
+    /// problem `H v = μ M v`, `M = diag(metric)`.
+    pub fn new(metric: Vec<f64>) -> KktStability {
+        let mean_metric =
+            metric.iter().sum::<f64>() / metric.iter().filter(|&&m| m > 0.0).count().max(1) as f64;
+        KktStability {
+            counter: None,
+            n_primal: metric.len(),
+            metric,
+            mean_metric,
+        }
+    }
+
+    fn counter(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+    ) -> Result<&mut InertiaCounter, InertiaError> {
+        if self.counter.is_none() {
+            self.counter = Some(Box::new(InertiaCounter::new(pattern, self.n_primal)?));
+        }
+        Ok(self.counter.as_mut().expect("built above"))
+    }
+
+    /// Counts the eigenvalues of the constrained Hessian below `−τ`, `τ = 1e-9 ρ / m̄` (`ρ`
+    /// the mean diagonal of the Hessian, `m̄` the mean metric weight): the rounding level
+    /// of the regularised LDLᵀ's pivots in eigenvalue units, which grows as the mesh is
+    /// refined. Eigenvalues closer to zero than the count can resolve — a neutral direction
+    /// such as a buckled isotropic rod turning about its axis, or the two halves of a
+    /// double critical eigenvalue — count as stable, so a double eigenvalue crosses as one
+    /// event; critical points are then placed by a secant on the eigenvalue itself.
+    pub fn unstable_directions(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+    ) -> Result<usize, InertiaError> {
+        let mean_metric = self.mean_metric;
+        let metric = std::mem::take(&mut self.metric);
+        let counted = self.counter(pattern).and_then(|counter| {
+            let tau = 1e-9 * counter.hessian_scale(kkt) / mean_metric;
+            let inertia = counter.inertia(kkt, -tau, &metric)?;
+            Ok(counter.unstable_directions(inertia).max(0) as usize)
+        });
+        self.metric = metric;
+        counted
+    }
+
+    /// Lowest eigenvalue of the constrained Hessian (J/m in the rods' metric).
+    pub fn lowest_eigenvalue(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+    ) -> Option<f64> {
+        let metric = std::mem::take(&mut self.metric);
+        let lowest = self
+            .counter(pattern)
+            .ok()
+            .and_then(|c| c.lowest_eigenvalue(kkt, &metric));
+        self.metric = metric;
+        lowest
+    }
+
+    /// The eigenvalue of the constrained Hessian nearest zero.
+    pub fn eigenvalue_nearest_zero(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+    ) -> Option<f64> {
+        let metric = std::mem::take(&mut self.metric);
+        let nearest = self
+            .counter(pattern)
+            .ok()
+            .and_then(|c| c.eigenvalue_nearest_zero(kkt, &metric));
+        self.metric = metric;
+        nearest
     }
 }

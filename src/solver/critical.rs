@@ -1,0 +1,336 @@
+//! Critical points of a path (DESIGN.md §5): located where the count of unstable directions
+//! changes across an accepted step — bracketed by the counts, then placed by a secant on the
+//! eigenvalue nearest zero —, classified as folds or bifurcations, and left along their mode
+//! by branch switching.
+
+use super::continuation::{Continuation, ContinuationError, StopReason};
+use super::newton::{NewtonSettings, StepEquation};
+use super::problem::Problem;
+use crate::results::{CriticalKind, Stability};
+
+/// A critical point of the path as the engine finds it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Critical {
+    pub kind: CriticalKind,
+    /// Load parameter at the critical point.
+    pub parameter: f64,
+    pub unstable_before: usize,
+    pub unstable_after: usize,
+    /// State at the critical point (all unknowns).
+    pub state: Vec<f64>,
+    /// Critical mode: the near-null vector of the Jacobian there (all unknowns), scaled to
+    /// unit norm over the primal unknowns.
+    pub mode: Vec<f64>,
+}
+
+/// The segment of an accepted step from `(x0, λ0)` to `(x1, λ1)` on which the critical point
+/// lies, and the step equation that puts a probe at a fraction `f` of it.
+struct Segment<'a> {
+    x0: &'a [f64],
+    l0: f64,
+    /// `x1 − x0` (all unknowns) and `λ1 − λ0`.
+    dx: Vec<f64>,
+    dl: f64,
+    /// Length of the step over the primal unknowns and `λ`.
+    norm: f64,
+    /// The step's tangent over the primal unknowns, for an arclength step.
+    tx: Option<Vec<f64>>,
+    tl: f64,
+}
+
+impl<'a> Segment<'a> {
+    fn new(x0: &'a [f64], l0: f64, x1: &[f64], l1: f64, np: usize, arclength: bool) -> Self {
+        let dx: Vec<f64> = x1.iter().zip(x0).map(|(a, b)| a - b).collect();
+        let dl = l1 - l0;
+        let norm = ((0..np).map(|i| dx[i] * dx[i]).sum::<f64>() + dl.powi(2)).sqrt();
+        let (tx, tl) = if arclength {
+            (Some((0..np).map(|i| dx[i] / norm).collect()), dl / norm)
+        } else {
+            (None, 1.0)
+        };
+        Segment {
+            x0,
+            l0,
+            dx,
+            dl,
+            norm,
+            tx,
+            tl,
+        }
+    }
+
+    /// The predictor at fraction `f` of the step.
+    fn at(&self, f: f64) -> (Vec<f64>, f64) {
+        let x = self
+            .x0
+            .iter()
+            .zip(&self.dx)
+            .map(|(a, b)| a + f * b)
+            .collect();
+        (x, self.l0 + f * self.dl)
+    }
+
+    /// The step equation of a probe at fraction `f`, predictor at `lambda`.
+    fn equation(&self, f: f64, lambda: f64) -> StepEquation<'_> {
+        StepEquation {
+            tx: self.tx.as_deref(),
+            tl: self.tl,
+            x0: self.x0,
+            l0: self.l0,
+            ds: if self.tx.is_some() {
+                f * self.norm
+            } else {
+                lambda - self.l0
+            },
+        }
+    }
+}
+
+/// A solved probe of the segment.
+struct Probe {
+    x: Vec<f64>,
+    lambda: f64,
+}
+
+impl<P: Problem> Continuation<P> {
+    /// The equilibrium at fraction `f` of the segment, solved from a fresh factorisation.
+    fn probe(&mut self, segment: &Segment, f: f64, settings: &NewtonSettings) -> Option<Probe> {
+        let (xp, lp) = segment.at(f);
+        self.newton.discard_factorisation();
+        let step = segment.equation(f, lp);
+        let t = self.correct(xp, lp, &step, settings).ok()?;
+        Some(Probe {
+            x: t.x,
+            lambda: t.lambda,
+        })
+    }
+
+    /// Locates the critical point crossed by the accepted step from `(x0, λ0)` to the
+    /// current state: bisection on the change of the unstable count, then a secant on the
+    /// eigenvalue nearest zero; records it with its kind and mode, and returns to the
+    /// accepted state.
+    pub(super) fn locate_critical(
+        &mut self,
+        x0: &[f64],
+        l0: f64,
+        arclength: bool,
+        before: Stability,
+        after: Stability,
+    ) {
+        let saved = self.state.clone();
+        let np = self.problem.primal_unknowns();
+        let segment = Segment::new(x0, l0, &saved.x, saved.lambda, np, arclength);
+        // near the critical point the Jacobian is nearly singular: linear solves there have
+        // relative residuals up to cond·ε, so the probes accept them (Newton's own residual
+        // test still decides convergence)
+        let probe_settings = NewtonSettings {
+            singular_threshold: self.settings.newton.singular_threshold.max(1e-2),
+            ..self.settings.newton
+        };
+        let bracket = self.bracket_by_count(&segment, &probe_settings, before.unstable_directions);
+        let mut best = bracket.best;
+        if let Some(below) = bracket.below {
+            if let Some(refined) = self.refine_by_secant(&segment, &probe_settings, below) {
+                best = refined;
+            }
+        }
+        let (xc, lc) = best;
+        self.state.x = xc.clone();
+        self.state.lambda = lc;
+        self.problem.restore(&xc, lc);
+        let mode = self.critical_mode(&xc, lc);
+        let kind = self.classify(x0, l0, saved.tangent.clone(), &probe_settings);
+        if let Some(mode) = mode {
+            self.critical.push(Critical {
+                kind,
+                parameter: lc,
+                unstable_before: before.unstable_directions,
+                unstable_after: after.unstable_directions,
+                state: xc,
+                mode,
+            });
+        }
+        // back to the accepted state
+        self.state = saved;
+        self.state.tangent = None;
+        self.problem.restore(&self.state.x, self.state.lambda);
+        self.newton.discard_factorisation();
+    }
+
+    /// Bisection of the segment on the unstable count: the fraction below the change (with
+    /// its state) and the best state above it.
+    fn bracket_by_count(
+        &mut self,
+        segment: &Segment,
+        settings: &NewtonSettings,
+        count_before: usize,
+    ) -> Bracket {
+        let (mut lo, mut hi) = (0.0, 1.0); // fractions of the step
+        let mut bracket = Bracket {
+            best: (self.state.x.clone(), self.state.lambda),
+            below: None,
+        };
+        let mut offset = 0.5;
+        while hi - lo > self.settings.critical_tolerance.max(1e-14) {
+            let mid = lo + offset * (hi - lo);
+            let Some(p) = self.probe(segment, mid, settings) else {
+                // a probe exactly on the critical point may not converge: probe beside it
+                if offset == 0.5 {
+                    offset = 0.37;
+                    continue;
+                }
+                break;
+            };
+            offset = 0.5;
+            match self.problem.unstable_directions(&p.x, p.lambda) {
+                Ok(c) if c == count_before => {
+                    lo = mid;
+                    bracket.below = Some((p.x, p.lambda, mid));
+                }
+                Ok(_) => {
+                    hi = mid;
+                    bracket.best = (p.x, p.lambda);
+                }
+                Err(_) => {
+                    // a zero pivot: we are on the critical point
+                    bracket.best = (p.x, p.lambda);
+                    break;
+                }
+            }
+        }
+        bracket
+    }
+
+    /// The counts resolve the crossing only to the rounding of the LDLᵀ near a zero
+    /// eigenvalue; a secant on the eigenvalue nearest zero (a Rayleigh quotient, accurate to
+    /// the square of its vector's error), which crosses zero there, finishes the location.
+    fn refine_by_secant(
+        &mut self,
+        segment: &Segment,
+        settings: &NewtonSettings,
+        below: (Vec<f64>, f64, f64),
+    ) -> Option<(Vec<f64>, f64)> {
+        let (xl, ll, fl) = below;
+        let probe = |this: &mut Self, f: f64| -> Option<(f64, Probe)> {
+            let p = this.probe(segment, f, settings)?;
+            let mu = this.problem.eigenvalue_nearest_zero(&p.x, p.lambda)?;
+            Some((mu, p))
+        };
+        let mu_l = self.problem.eigenvalue_nearest_zero(&xl, ll);
+        let fb = (fl - 0.02).max(0.0);
+        let (Some(mu_a), Some((mu_b, _))) = (mu_l, probe(self, fb)) else {
+            return None;
+        };
+        let mut best = None;
+        let (mut fa, mut ma, mut fb, mut mb) = (fl, mu_a, fb, mu_b);
+        for _ in 0..6 {
+            if (ma - mb).abs() <= f64::EPSILON * ma.abs() || fa == fb {
+                break;
+            }
+            let f = (fa - ma * (fa - fb) / (ma - mb)).clamp(0.0, 1.0);
+            let Some((mu, p)) = probe(self, f) else {
+                break;
+            };
+            best = Some((p.x, p.lambda));
+            let converged = (f - fa).abs() <= 1e-13;
+            (fb, mb, fa, ma) = (fa, ma, f, mu);
+            if converged {
+                break;
+            }
+        }
+        best
+    }
+
+    /// The critical mode at `(x, λ)`: inverse iteration on the Jacobian there.
+    fn critical_mode(&mut self, x: &[f64], lambda: f64) -> Option<Vec<f64>> {
+        self.newton.null_vector(&mut self.problem, x, lambda)
+    }
+
+    /// A fold makes `dx/dλ` blow up, a bifurcation leaves it bounded: the tangent at the
+    /// critical state (the current one) against that at the start of the step (`tangent0`,
+    /// or computed at `(x0, λ0)`).
+    fn classify(
+        &mut self,
+        x0: &[f64],
+        l0: f64,
+        tangent0: Option<Vec<f64>>,
+        settings: &NewtonSettings,
+    ) -> CriticalKind {
+        let np = self.problem.primal_unknowns();
+        let (xc, lc) = (self.state.x.clone(), self.state.lambda);
+        let t_near = self.compute_tangent(settings.singular_threshold);
+        let t_start = tangent0.or_else(|| {
+            self.state.x = x0.to_vec();
+            self.state.lambda = l0;
+            self.problem.restore(x0, l0);
+            self.compute_tangent(settings.singular_threshold)
+        });
+        self.state.x = xc;
+        self.state.lambda = lc;
+        self.problem.restore(&self.state.x, lc);
+        match (&t_near, &t_start) {
+            (Some(a), Some(b)) => {
+                let na = (0..np).map(|i| a[i] * a[i]).sum::<f64>().sqrt();
+                let nb = (0..np).map(|i| b[i] * b[i]).sum::<f64>().sqrt();
+                if na > 1e3 * nb.max(1e-300) {
+                    CriticalKind::LimitPoint
+                } else {
+                    CriticalKind::Bifurcation
+                }
+            }
+            (None, _) => CriticalKind::LimitPoint,
+            _ => CriticalKind::Bifurcation,
+        }
+    }
+
+    /// Leaves the path at critical point `index` along its mode, in the direction `sign`
+    /// (±1), by an arclength step of `h` measured along the mode; continuation then goes on
+    /// in arclength steps along the new branch.
+    pub fn switch_branch(
+        &mut self,
+        index: usize,
+        sign: f64,
+        h: f64,
+    ) -> Result<(), ContinuationError> {
+        let Some(cp) = self.critical.get(index).cloned() else {
+            let lambda = self.state.lambda;
+            return Err(self.error(lambda, 0.0, StopReason::NoCriticalPoint { index }));
+        };
+        let np = self.problem.primal_unknowns();
+        let tx: Vec<f64> = cp.mode[..np].iter().map(|v| v * sign).collect();
+        let x: Vec<f64> = cp
+            .state
+            .iter()
+            .zip(&cp.mode)
+            .map(|(a, m)| a + sign * h * m)
+            .collect();
+        self.newton.discard_factorisation();
+        let step = StepEquation {
+            tx: Some(&tx),
+            tl: 0.0,
+            x0: &cp.state,
+            l0: cp.parameter,
+            ds: h,
+        };
+        let settings = self.settings.newton;
+        match self.correct(x, cp.parameter, &step, &settings) {
+            Ok(t) => {
+                self.state.x = cp.state.clone();
+                self.state.lambda = cp.parameter;
+                self.state.arclength = true;
+                self.accept(t);
+                self.state.step = h;
+                self.update_stability(true);
+                Ok(())
+            }
+            Err(cause) => Err(self.error(cp.parameter, h, StopReason::Newton { step: h, cause })),
+        }
+    }
+}
+
+/// What the bisection found: the best state at or above the change of count, and the last
+/// state below it (with its fraction of the step).
+struct Bracket {
+    best: (Vec<f64>, f64),
+    below: Option<(Vec<f64>, f64, f64)>,
+}

@@ -1,0 +1,65 @@
+//! What the continuation engine solves: a nonlinear system `R(x, λ) = 0` in unknowns `x`
+//! (primal unknowns first, then Lagrange multipliers) and one load parameter `λ`, with a
+//! sparse symmetric Jacobian, and hooks for the stability of its solutions.
+//!
+//! The rod assemblies implement it ([`crate::simulation`]), and so do the canonical problems
+//! the engine is tested on by itself (a fold, a pitchfork, the Bratu problem: `tests/`).
+
+use super::stability::InertiaError;
+use faer::sparse::SymbolicSparseColMat;
+
+/// A system `R(x, λ) = 0` that a continuation follows in `λ`.
+///
+/// `R` is the gradient of a Lagrangian (so the Jacobian `K = ∂R/∂x` is symmetric); the
+/// problem owns whatever it needs to evaluate it and may keep state that depends on the
+/// last evaluation (the engine calls [`Problem::restore`] with the converged point after
+/// every trial, accepted or not).
+pub trait Problem {
+    /// Number of unknowns, multipliers included.
+    fn unknowns(&self) -> usize;
+
+    /// Number of primal unknowns (the first ones): the arclength norm runs over these.
+    fn primal_unknowns(&self) -> usize;
+
+    /// Sparsity pattern of the Jacobian `∂R/∂x`, fixed for the life of the problem.
+    fn pattern(&self) -> &SymbolicSparseColMat<usize>;
+
+    /// `R(x, λ)` into `residual`; returns the energy of the state (0 where there is none).
+    fn residual(&mut self, x: &[f64], lambda: f64, residual: &mut [f64]) -> f64;
+
+    /// `R(x, λ)` into `residual` and the values of `∂R/∂x` (in the order of
+    /// [`Problem::pattern`]) into `jacobian`; returns the energy.
+    fn jacobian(
+        &mut self,
+        x: &[f64],
+        lambda: f64,
+        residual: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> f64;
+
+    /// `∂R/∂λ` at `(x, λ)` into `out`.
+    fn load_derivative(&mut self, x: &[f64], lambda: f64, out: &mut [f64]);
+
+    /// Whether `∂R/∂λ` is the same at every `(x, λ)` (the load enters linearly), so that the
+    /// engine evaluates it once and solves with it once per factorisation.
+    fn load_derivative_is_constant(&self) -> bool {
+        false
+    }
+
+    /// Number of unstable directions of the state `x`: negative eigenvalues of the Hessian
+    /// of the Lagrangian on the tangent space of the constraints. An error (a zero pivot)
+    /// means the state is on, or within rounding of, a critical point.
+    fn unstable_directions(&mut self, x: &[f64], lambda: f64) -> Result<usize, InertiaError>;
+
+    /// The lowest eigenvalue of that constrained Hessian, where it can be computed.
+    fn lowest_eigenvalue(&mut self, x: &[f64], lambda: f64) -> Option<f64>;
+
+    /// The eigenvalue of that constrained Hessian nearest zero: it crosses zero at a
+    /// critical point, so a secant on it places the point.
+    fn eigenvalue_nearest_zero(&mut self, x: &[f64], lambda: f64) -> Option<f64>;
+
+    /// Back to the converged point `(x, λ)` after a trial step (accepted or rejected) or the
+    /// probes of a critical-point search: whatever the problem keeps of its last evaluation
+    /// is reset to that point.
+    fn restore(&mut self, _x: &[f64], _lambda: f64) {}
+}
