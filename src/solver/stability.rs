@@ -239,26 +239,36 @@ impl InertiaCounter {
                 Default::default(),
             )
             .map_err(|_| InertiaError::ZeroPivot)?;
-        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
-            unreachable!("supernodal factorisation forced")
-        };
-        let l = SupernodalLdltRef::new(sn, &self.l_values);
         let mut inertia = Inertia {
             positive: 0,
             negative: 0,
         };
-        for s in 0..sn.n_supernodes() {
-            let node = l.supernode(s);
-            let m = node.val();
-            for j in 0..m.ncols() {
-                let d = m[(j, j)];
-                if !d.is_finite() || d == 0.0 {
-                    return Err(InertiaError::ZeroPivot);
+        let mut count = |d: f64| {
+            if !d.is_finite() || d == 0.0 {
+                return Err(InertiaError::ZeroPivot);
+            }
+            if d < 0.0 {
+                inertia.negative += 1;
+            } else {
+                inertia.positive += 1;
+            }
+            Ok(())
+        };
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => {
+                let l = SupernodalLdltRef::new(sn, &self.l_values);
+                for s in 0..sn.n_supernodes() {
+                    let m = l.supernode(s).val();
+                    for j in 0..m.ncols() {
+                        count(m[(j, j)])?;
+                    }
                 }
-                if d < 0.0 {
-                    inertia.negative += 1;
-                } else {
-                    inertia.positive += 1;
+            }
+            // faer keeps very small matrices simplicial whatever is asked: there `D` is
+            // stored on the diagonal of the unit lower factor, first in each column
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                for &start in &s.col_ptr()[..s.ncols()] {
+                    count(self.l_values[start])?;
                 }
             }
         }
