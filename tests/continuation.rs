@@ -4,6 +4,8 @@
 //! (`−u'' = λ eᵘ` on (0, 1), first fold at `λ* = 3.513830719…`). The same continuation,
 //! critical-point and branch-switching code follows the rods.
 
+#![allow(clippy::needless_range_loop)] // the residuals index neighbours as the stencils do
+
 use faer::sparse::SymbolicSparseColMat;
 use spira::results::CriticalKind;
 use spira::solver::continuation::{Continuation, ContinuationSettings, StopReason};
