@@ -365,3 +365,49 @@ pub fn with_note(csv: &str, note: &str) -> String {
         None => format!("{csv}\n# {note}\n"),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Serialize, Default)]
+    struct Row {
+        name: String,
+        #[serde(serialize_with = "format::e10")]
+        value: f64,
+        #[serde(serialize_with = "format::opt_e6")]
+        maybe: Option<f64>,
+        count: Option<usize>,
+    }
+
+    #[test]
+    fn a_table_has_its_comments_header_and_rows_in_the_given_formats() {
+        let rows = [
+            Row {
+                name: "a".into(),
+                value: 1.5,
+                maybe: Some(-2.0e-3),
+                count: Some(3),
+            },
+            Row {
+                name: "b, \"c\"".into(),
+                value: 0.0,
+                maybe: None,
+                count: None,
+            },
+        ];
+        let text = table(&["first".to_string(), "second".to_string()], rows);
+        assert_eq!(
+            text,
+            "# first\n# second\nname,value,maybe,count\n\
+             a,1.5000000000e0,-2.000000e-3,3\n\
+             \"b, \"\"c\"\"\",0.0000000000e0,,\n"
+        );
+    }
+
+    #[test]
+    fn a_table_without_rows_keeps_its_header() {
+        let text = table(&["only".to_string()], Vec::<Row>::new());
+        assert_eq!(text, "# only\nname,value,maybe,count\n");
+    }
+}

@@ -77,3 +77,55 @@ pub fn write_run_noted(
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .expect("folder")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn an_atomic_write_leaves_only_the_file_whatever_its_extension() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        for name in ["precision.svg", "precision.csv", "notes"] {
+            write_atomic(&dir.path().join(name), "first").expect("write");
+            write_atomic(&dir.path().join(name), "second").expect("overwrite");
+            let text = std::fs::read_to_string(dir.path().join(name)).expect("read");
+            assert_eq!(text, "second");
+        }
+        assert_eq!(
+            listing(dir.path()),
+            ["notes", "precision.csv", "precision.svg"]
+        );
+    }
+
+    #[test]
+    fn a_failed_atomic_write_leaves_nothing_behind() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        // a folder cannot be replaced by a file: the rename fails
+        std::fs::create_dir(dir.path().join("load.csv")).expect("folder");
+        assert!(write_atomic(&dir.path().join("load.csv"), "rows").is_err());
+        assert_eq!(listing(dir.path()), ["load.csv"]);
+        assert!(write_atomic(&dir.path().join("missing/load.csv"), "rows").is_err());
+        assert_eq!(listing(dir.path()), ["load.csv"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_atomic_write_gives_the_permissions_of_a_new_file() {
+        use std::os::unix::fs::PermissionsExt as _;
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let (plain, atomic) = (dir.path().join("plain"), dir.path().join("atomic"));
+        std::fs::write(&plain, "x").expect("write");
+        write_atomic(&atomic, "x").expect("write");
+        let mode = |p: &Path| std::fs::metadata(p).expect("metadata").permissions().mode();
+        assert_eq!(mode(&atomic), mode(&plain));
+    }
+}

@@ -77,7 +77,6 @@ impl StudyReport for Study {
         }
     }
 
-    /// The table `spira precision` prints.
     fn table(&self) -> String {
         let mut s = String::new();
         let measures: Vec<Measure> = Measure::ALL
@@ -130,7 +129,6 @@ impl StudyReport for Study {
         s
     }
 
-    /// Header lines (without `#`) of the CSV and the report.
     fn header(&self) -> Vec<String> {
         let mut lines = vec![
             format!("work-precision study, case {}: {}", self.name, self.description),
@@ -202,9 +200,6 @@ impl StudyReport for Study {
         table(&self.header(), rows)
     }
 
-    /// Chart points of one order and measure, coarse to fine: `x` the time (s), `y` the
-    /// error, labelled by elements per rod, hollow where the error is the reference's own
-    /// estimate. A zero error has no place on a log scale and is left out.
     fn points(&self, order: Order, m: Measure) -> Vec<chart::Point> {
         self.of_order(order)
             .filter_map(|r| {
@@ -220,9 +215,6 @@ impl StudyReport for Study {
             .collect()
     }
 
-    /// The work-precision chart: one panel per measure that has values, log error against
-    /// log time, one line per element order, one point per mesh (labelled by its elements
-    /// per rod).
     fn svg(&self) -> String {
         let panels: Vec<Panel> = Measure::ALL
             .into_iter()
@@ -323,7 +315,6 @@ pub trait ChoiceReport {
 }
 
 impl ChoiceReport for MeshChoice {
-    /// One line for reports: the chosen mesh and the estimated error.
     fn note(&self, estimated: f64) -> String {
         format!(
             "mesh chosen for accuracy {:e} on {}: {} elements, {} per rod, estimated relative error {:.1e}",
@@ -335,7 +326,6 @@ impl ChoiceReport for MeshChoice {
         )
     }
 
-    /// How the choice was made, one line per element order.
     fn pilot_lines(&self) -> Vec<String> {
         self.pilots
             .iter()
