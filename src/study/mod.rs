@@ -22,7 +22,7 @@
 //! and the known order, and picks the element order and number of elements that meet the
 //! target at the least predicted time.
 //!
-//! Nothing here prints, formats tables or writes files: [`crate::output::precision`] and
+//! Nothing here prints, formats tables or writes files: `output::precision` and
 //! the faces (CLI, explorer) do.
 
 pub mod accuracy;
