@@ -5,8 +5,9 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use spira::case::Case;
 use spira::model::stiffness::euler_load;
-use spira::precision::{order_name, resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
+use spira::output::precision::{ChoiceReport, StudyReport};
 use spira::run::run_path;
+use spira::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -330,7 +331,7 @@ fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
         }
         println!(
             "  chosen: {} elements, {} per rod, predicted error {:.1e} ({:.0} ms of pilot solves)",
-            order_name(c.order),
+            c.order.name(),
             c.elements,
             c.estimated_error,
             c.cost.as_secs_f64() * 1e3
@@ -371,7 +372,7 @@ fn precision(path: &Path, out: &Path, repeats: usize) -> Result<()> {
                 "  [{}/{}] {} {} elements/rod: {:.1} ms",
                 p.done,
                 p.total,
-                order_name(r.rung.order),
+                r.rung.order.name(),
                 v.elements,
                 r.time.as_secs_f64() * 1e3
             ),
@@ -379,7 +380,7 @@ fn precision(path: &Path, out: &Path, repeats: usize) -> Result<()> {
                 "  [{}/{}] {} {} elements/rod: failed: {e}",
                 p.done,
                 p.total,
-                order_name(r.rung.order),
+                r.rung.order.name(),
                 r.rung.elements
             ),
         }
@@ -396,7 +397,7 @@ fn precision(path: &Path, out: &Path, repeats: usize) -> Result<()> {
             Some(r) => println!(
                 "cheapest mesh of the ladder meeting the case's accuracy {:e}: {} {} elements/rod",
                 acc.target,
-                order_name(r.rung.order),
+                r.rung.order.name(),
                 r.elements()
             ),
             None => println!(

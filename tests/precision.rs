@@ -10,7 +10,8 @@
 use spira::case::Case;
 use spira::discretisation::shape::Order;
 use spira::model::love::LoveHelix;
-use spira::precision::{
+use spira::output::precision::{ChoiceReport, StudyReport};
+use spira::study::{
     choose_mesh, measured, resolve_accuracy, run_study, Ladder, Measure, Problem, Reference, Rung,
     Study, Values,
 };

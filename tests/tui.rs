@@ -11,8 +11,8 @@ use spira::case::Case;
 use spira::discretisation::shape::Order;
 use spira::model::boundary::{BoundaryConditions, Rotation, Translation};
 use spira::output;
-use spira::precision::{Reference, Rung, RungResult, Study, Values};
 use spira::simulation::Simulation;
+use spira::study::{Reference, Rung, RungResult, Study, Values};
 use spira::tui::app::{App, Effect, Message, PrecisionView};
 use spira::tui::stability::{stretches, Stretch};
 use spira::tui::ui::{self, K1Scale, K1_PALETTE};
@@ -1112,7 +1112,7 @@ fn the_mesh_chosen_for_an_accuracy_is_on_the_status_line() {
     let want = format!(
         "mesh {} {}, err {:.0e}",
         mesh.elements,
-        spira::precision::order_name(mesh.order),
+        mesh.order.name(),
         mesh.estimated_error
     );
     assert!(screen.contains(&want), "`{want}` missing:\n{screen}");

@@ -1,7 +1,7 @@
 //! What a discrete state says, as [`crate::results`] reports it: the reactions at the rod
 //! ends (read off the support multipliers) and the shape of every rod (positions, rotations
 //! and curvatures at the quaternion nodes), for the full assembly when the model is a
-//! symmetric pair.
+//! symmetric pair; and the curvature of a reported shape anywhere along a rod.
 
 use super::element;
 use super::model::{DiscreteModel, End};
@@ -172,4 +172,39 @@ fn chord(model: &DiscreteModel, q: &[[f64; 4]; MAX_NODES], xi: f64, h: f64) -> V
         out += r.column(2) * (0.5 * w * xi * h);
     }
     out
+}
+
+/// Curvature `(κ1, κ2, Ω)` (1/m) of a rod of `model` at arc length `s` (m), from the nodal
+/// quaternions of its reported shape: at an element vertex the mean of the limits from the
+/// elements that meet there (as [`snapshot`] reports it), elsewhere the element's
+/// interpolation. The curvatures are body components, so an image of a rod turned about z
+/// has its source's, on its source's mesh.
+pub fn curvature_at(model: &DiscreteModel, shape: &RodShape, s: f64) -> [f64; 3] {
+    let mesh = &model.rods[model.source_rod(shape.rod)].mesh;
+    let v = &mesh.vertices;
+    let ne = mesh.elements();
+    // the limit at `xi` in [0, 1] of element `e`
+    let limit = |e: usize, xi: f64| {
+        let q = model.element_nodes(e, |k| shape.nodes[k].quaternion);
+        let (qv, dq) = shape::interpolate(model.order, &q, xi, v[e + 1] - v[e]);
+        element::curvature(&qv, &dq)
+    };
+    if let Some(k) = mesh.vertex_at(s) {
+        let mut sum = Vector3::zeros();
+        let mut count = 0.0;
+        if k > 0 {
+            sum += limit(k - 1, 1.0);
+            count += 1.0;
+        }
+        if k < ne {
+            sum += limit(k, 0.0);
+            count += 1.0;
+        }
+        return (sum / count).into();
+    }
+    let tol = 1e-9 * v[ne];
+    let s = s.clamp(0.0, v[ne]);
+    let e = v.partition_point(|&x| x <= s + tol).clamp(1, ne) - 1;
+    let xi = ((s - v[e]) / (v[e + 1] - v[e])).clamp(0.0, 1.0);
+    limit(e, xi).into()
 }

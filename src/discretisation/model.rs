@@ -190,13 +190,43 @@ impl DiscreteModel {
         rod: &DiscreteRod,
         e: usize,
     ) -> [[f64; 4]; MAX_NODES] {
+        self.element_nodes(e, |k| std::array::from_fn(|c| x[rod.q_dof(k, c)]))
+    }
+
+    /// The nodal quaternions of element `e` of a rod whose quaternion node `k` is
+    /// `node(k)` (the first `order.nodes()` entries used): the one gather of an element's
+    /// nodes, from a state vector or from a reported shape.
+    pub fn element_nodes(
+        &self,
+        e: usize,
+        node: impl Fn(usize) -> [f64; 4],
+    ) -> [[f64; 4]; MAX_NODES] {
         let p = self.order.degree();
         let mut q = [[0.0; 4]; MAX_NODES];
         for (a, qa) in q.iter_mut().enumerate().take(p + 1) {
-            for (k, v) in qa.iter_mut().enumerate() {
-                *v = x[rod.q_dof(e * p + a, k)];
-            }
+            *qa = node(e * p + a);
         }
         q
+    }
+
+    /// Rods of the full assembly: the model's, or all the images of a symmetric pair.
+    pub fn full_rods(&self) -> usize {
+        self.assembly
+            .symmetry
+            .map_or(self.rods.len(), |s| s.full_rods())
+    }
+
+    /// The rod of this model that rod `k` of the full assembly is (or is an image of).
+    pub fn source_rod(&self, k: RodId) -> RodId {
+        self.assembly.symmetry.map_or(k, |s| s.image(k).0)
+    }
+
+    /// Elements of the most finely meshed rod (0 without rods).
+    pub fn max_elements(&self) -> usize {
+        self.rods
+            .iter()
+            .map(|r| r.mesh.elements())
+            .max()
+            .unwrap_or(0)
     }
 }

@@ -7,8 +7,8 @@ use super::worker::{Job, Request, Solved, WorkerEvent};
 use crate::case::Case;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
 use crate::output;
-use crate::precision::{MeshChoice, Study};
 use crate::results::{LoadPoint, Snapshot};
+use crate::study::{MeshChoice, Study};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::{Path, PathBuf};
 

@@ -3,8 +3,9 @@
 
 use super::app::{fmt_step, App, Message, PrecisionView};
 use super::stability;
-use crate::precision::{self, Measure, Study, ORDERS};
+use crate::output::precision::StudyReport;
 use crate::results::{LoadPoint, NodeState, RodShape, Snapshot};
+use crate::study::{self, Measure, Study, ORDERS};
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::symbols::Marker;
@@ -694,7 +695,7 @@ fn draw_precision_panel(
             .and_then(|s| s.finest_observed(m, o))
             .map_or(String::new(), |k| format!(" {k:.1}"));
         title.push(Span::styled("━", Style::new().fg(order_color(o))));
-        title.push(Span::raw(format!("{}{order} ", precision::order_name(o))));
+        title.push(Span::raw(format!("{}{order} ", o.name())));
     }
     let mut block = Block::new().borders(Borders::ALL).title(Line::from(title));
     if m == Measure::Response {
@@ -728,12 +729,12 @@ fn draw_precision_panel(
         return;
     };
     let reference = match &study.reference {
-        precision::Reference::ClosedForm(_) => " ref: closed form ".to_string(),
-        precision::Reference::Richardson {
+        study::Reference::ClosedForm(_) => " ref: closed form ".to_string(),
+        study::Reference::Richardson {
             order, elements, ..
         } => format!(
             " ref: Richardson {} {}/{} ",
-            precision::order_name(*order),
+            order.name(),
             elements[0],
             elements[1]
         ),
@@ -860,7 +861,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
         line2.push(Span::raw(format!(
             "mesh {} {}, err {:.0e}",
             m.elements,
-            precision::order_name(m.order),
+            m.order.name(),
             m.estimated_error
         )));
     }

@@ -13,12 +13,10 @@
 
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
-use crate::precision::{
-    resolve_accuracy, run_study, Ladder, MeshChoice, Problem, Study, StudyError,
-};
 use crate::results::{LoadPoint, Snapshot};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
+use crate::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem, Study, StudyError};
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};

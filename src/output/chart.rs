@@ -1,5 +1,5 @@
 //! Hand-written SVG charts on log-log axes (the work-precision chart of
-//! [`crate::precision`]): panels side by side, decade ticks labelled `10^k` with minor ticks
+//! [`crate::output::precision`]): panels side by side, decade ticks labelled `10^k` with minor ticks
 //! at 2..9, one polyline with markers per series, a legend, a title and notes.
 
 use std::fmt::Write as _;

@@ -1,0 +1,413 @@
+//! CSV tables of a run: load path, tip reactions, state, critical points and their modes.
+//!
+//! Every table starts with `#` comment lines giving the case and the units, then the header
+//! line and one row per record. The rows are [`Serialize`] structs written by the `csv`
+//! crate, so the column names are the field names; numbers are written in scientific
+//! notation with a fixed number of digits (the `e*` helpers of [`format`]) and a missing
+//! value is an empty cell.
+
+use crate::discretisation::model::DiscreteModel;
+use crate::results::{CriticalPoint, LoadPoint, Snapshot};
+use serde::Serialize;
+
+/// Number formats of the cells: `{:.Ne}` scientific notation with `N` digits after the
+/// point, and empty cells for missing values.
+pub mod format {
+    use serde::Serializer;
+
+    /// `{:.10e}`: lengths, strains, forces, energies.
+    pub fn e10<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.10e}"))
+    }
+
+    /// `{:.12e}`: a response compared at the 1e-10 level.
+    pub fn e12<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.12e}"))
+    }
+
+    /// `{:.6e}`: times, eigenvalues, relative errors and orders.
+    pub fn e6<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.6e}"))
+    }
+
+    /// `{:.3e}`: residual norms.
+    pub fn e3<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.3e}"))
+    }
+
+    /// `{:.6e}`, or an empty cell.
+    pub fn opt_e6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => e6(v, s),
+            None => s.serialize_str(""),
+        }
+    }
+
+    /// `{:.12e}`, or an empty cell.
+    pub fn opt_e12<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => e12(v, s),
+            None => s.serialize_str(""),
+        }
+    }
+}
+
+/// A table: the `#` comment lines (without `#`), then the header (the field names of `R`)
+/// and `rows`. A table without rows still has its header line.
+pub fn table<R: Serialize + Default>(
+    comments: &[String],
+    rows: impl IntoIterator<Item = R>,
+) -> String {
+    let mut text = Vec::new();
+    for c in comments {
+        text.extend_from_slice(b"# ");
+        text.extend_from_slice(c.as_bytes());
+        text.push(b'\n');
+    }
+    let start = text.len();
+    let mut writer = ::csv::Writer::from_writer(text);
+    let mut empty = true;
+    for row in rows {
+        writer.serialize(row).expect("a row of a CSV table");
+        empty = false;
+    }
+    if empty {
+        // the header comes with the first row: write one and keep the header
+        writer
+            .serialize(R::default())
+            .expect("a row of a CSV table");
+    }
+    let mut text = writer.into_inner().expect("writing into memory");
+    if empty {
+        let header = text[start..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(text.len(), |i| start + i + 1);
+        text.truncate(header);
+    }
+    String::from_utf8(text).expect("CSV of UTF-8 text")
+}
+
+/// A row of `load.csv`.
+#[derive(Serialize, Default)]
+struct LoadRow {
+    step: usize,
+    /// Compression ratio `(h0 − h)/h0`.
+    #[serde(serialize_with = "format::e10")]
+    eps: f64,
+    /// Mean tip height (m).
+    #[serde(rename = "h", serialize_with = "format::e10")]
+    height: f64,
+    /// Sum of the tip reactions over the rods / (n Pcrit).
+    #[serde(serialize_with = "format::e10")]
+    fx: f64,
+    #[serde(serialize_with = "format::e10")]
+    fy: f64,
+    #[serde(serialize_with = "format::e10")]
+    fz: f64,
+    /// Total elastic energy (J).
+    #[serde(serialize_with = "format::e10")]
+    energy: f64,
+    iterations: usize,
+    /// Newton residual, infinity norm.
+    #[serde(serialize_with = "format::e3")]
+    residual: f64,
+    /// 1 stable, 0 unstable, empty where not computed.
+    stable: Option<u8>,
+    unstable_dirs: Option<usize>,
+    /// Lowest eigenvalue of the constrained Hessian (J/m).
+    #[serde(rename = "lowest_eig", serialize_with = "format::opt_e6")]
+    lowest_eigenvalue: Option<f64>,
+    /// Load parameter (`ε`, or `P/Pcrit` under load control).
+    #[serde(serialize_with = "format::e10")]
+    parameter: f64,
+}
+
+/// `load.csv`: one row per output step.
+pub fn load_csv(case: &str, points: &[LoadPoint]) -> String {
+    let comments = [
+        format!("spira load path, case {case}"),
+        "eps: compression ratio (h0-h)/h0; h: mean tip height (m); fx,fy,fz: sum of tip reactions over rods / (n Pcrit), Pcrit = B1 (2 pi/L)^2, negative fz = compression; energy: total elastic energy (J); residual: Newton residual inf-norm; stable: 1 if the Hessian is positive definite on the constraints' tangent space; unstable_dirs: its negative eigenvalues; lowest_eig: its lowest eigenvalue in the metric of nodal rotations weighted by arc length (J/m; empty where not computed); parameter: load parameter (eps, or P/Pcrit under load control)".to_string(),
+    ];
+    let rows = points.iter().map(|p| LoadRow {
+        step: p.step,
+        eps: p.eps,
+        height: p.height,
+        fx: p.load[0],
+        fy: p.load[1],
+        fz: p.load[2],
+        energy: p.energy,
+        iterations: p.iterations,
+        residual: p.residual,
+        stable: p.stability.map(|st| u8::from(st.is_stable())),
+        unstable_dirs: p.stability.map(|st| st.unstable_directions),
+        lowest_eigenvalue: p.stability.and_then(|st| st.lowest_eigenvalue),
+        parameter: p.parameter,
+    });
+    table(&comments, rows)
+}
+
+/// A row of `critical.csv`.
+#[derive(Serialize, Default)]
+struct CriticalRow {
+    index: usize,
+    /// `limit-point` or `bifurcation`.
+    kind: &'static str,
+    /// Control of the path (`displacement` or `force`).
+    control: &'static str,
+    #[serde(serialize_with = "format::e10")]
+    parameter: f64,
+    #[serde(serialize_with = "format::e10")]
+    eps: f64,
+    /// Sum of the tip reactions / (n Pcrit).
+    #[serde(serialize_with = "format::e10")]
+    fx: f64,
+    #[serde(serialize_with = "format::e10")]
+    fy: f64,
+    #[serde(serialize_with = "format::e10")]
+    fz: f64,
+    unstable_before: usize,
+    unstable_after: usize,
+}
+
+/// `critical.csv`: the critical points of a path.
+pub fn critical_csv(case: &str, critical: &[CriticalPoint]) -> String {
+    let comments = [
+        format!("spira critical points, case {case}"),
+        "kind: limit-point or bifurcation; parameter: load parameter (eps, or P/Pcrit under load control); fx,fy,fz: sum of tip reactions / (n Pcrit); unstable_before/after: unstable directions either side; mode shapes in mode-<index>.csv".to_string(),
+    ];
+    let rows = critical.iter().enumerate().map(|(i, c)| CriticalRow {
+        index: i,
+        kind: c.kind.name(),
+        control: c.control.name(),
+        parameter: c.parameter,
+        eps: c.eps,
+        fx: c.load[0],
+        fy: c.load[1],
+        fz: c.load[2],
+        unstable_before: c.unstable_before,
+        unstable_after: c.unstable_after,
+    });
+    table(&comments, rows)
+}
+
+/// A row of `mode-<k>.csv`.
+#[derive(Serialize, Default)]
+struct ModeRow {
+    rod: usize,
+    /// Arc length of the vertex (m).
+    #[serde(serialize_with = "format::e10")]
+    s: f64,
+    #[serde(serialize_with = "format::e10")]
+    s_over_l: f64,
+    /// Mode displacement of the centreline (m per unit mode).
+    #[serde(serialize_with = "format::e10")]
+    dx: f64,
+    #[serde(serialize_with = "format::e10")]
+    dy: f64,
+    #[serde(serialize_with = "format::e10")]
+    dz: f64,
+}
+
+/// `mode-<k>.csv`: the centreline displacement of a critical mode at the element vertices
+/// (unit norm over all primal unknowns; the sign is arbitrary).
+pub fn mode_csv(
+    case: &str,
+    model: &DiscreteModel,
+    index: usize,
+    critical: &CriticalPoint,
+) -> String {
+    let comments = [
+        format!(
+            "spira critical mode {index} ({}), case {case}, parameter = {:.10e}",
+            critical.kind.name(),
+            critical.parameter
+        ),
+        "dx,dy,dz: mode displacement of the centreline at element vertices (m per unit mode)"
+            .to_string(),
+    ];
+    let length = model.length();
+    let rows = model.rods.iter().enumerate().flat_map(|(id, rod)| {
+        rod.mesh
+            .vertices
+            .iter()
+            .enumerate()
+            .map(move |(v, &s)| ModeRow {
+                rod: id,
+                s,
+                s_over_l: s / length,
+                dx: critical.mode[rod.r_dof(v, 0)],
+                dy: critical.mode[rod.r_dof(v, 1)],
+                dz: critical.mode[rod.r_dof(v, 2)],
+            })
+    });
+    table(&comments, rows)
+}
+
+/// A row of `reactions.csv`.
+#[derive(Serialize, Default)]
+struct ReactionRow {
+    step: usize,
+    #[serde(serialize_with = "format::e10")]
+    eps: f64,
+    rod: usize,
+    /// `right` or `left`.
+    chirality: &'static str,
+    /// Tip force on the rod (N), global frame.
+    #[serde(serialize_with = "format::e10")]
+    fx: f64,
+    #[serde(serialize_with = "format::e10")]
+    fy: f64,
+    #[serde(serialize_with = "format::e10")]
+    fz: f64,
+    /// Tip moment on the rod (N m), global frame.
+    #[serde(serialize_with = "format::e10")]
+    mx: f64,
+    #[serde(serialize_with = "format::e10")]
+    my: f64,
+    #[serde(serialize_with = "format::e10")]
+    mz: f64,
+}
+
+/// `reactions.csv`: one row per rod per output step, tip reaction force (N) and moment (N m).
+pub fn reactions_csv(case: &str, points: &[LoadPoint]) -> String {
+    let comments = [
+        format!("spira tip reactions, case {case}"),
+        "force (fx,fy,fz in N) and moment (mx,my,mz in N m) applied by the tip support to each rod, global frame".to_string(),
+    ];
+    let rows = points.iter().flat_map(|p| {
+        p.reactions.iter().map(move |r| {
+            let (f, m) = (r.tip.force, r.tip.moment);
+            ReactionRow {
+                step: p.step,
+                eps: p.eps,
+                rod: r.rod,
+                chirality: r.chirality.name(),
+                fx: f[0],
+                fy: f[1],
+                fz: f[2],
+                mx: m[0],
+                my: m[1],
+                mz: m[2],
+            }
+        })
+    });
+    table(&comments, rows)
+}
+
+/// A row of `state.csv`: one quaternion node.
+#[derive(Serialize, Default)]
+struct NodeRow {
+    rod: usize,
+    /// Arc length (m).
+    #[serde(serialize_with = "format::e10")]
+    s: f64,
+    #[serde(serialize_with = "format::e10")]
+    s_over_l: f64,
+    /// Centreline position (m).
+    #[serde(serialize_with = "format::e10")]
+    x: f64,
+    #[serde(serialize_with = "format::e10")]
+    y: f64,
+    #[serde(serialize_with = "format::e10")]
+    z: f64,
+    /// Unit quaternion, vector part then scalar.
+    #[serde(serialize_with = "format::e10")]
+    q1: f64,
+    #[serde(serialize_with = "format::e10")]
+    q2: f64,
+    #[serde(serialize_with = "format::e10")]
+    q3: f64,
+    #[serde(serialize_with = "format::e10")]
+    q4: f64,
+    /// Bending curvatures (1/m).
+    #[serde(serialize_with = "format::e10")]
+    k1: f64,
+    #[serde(serialize_with = "format::e10")]
+    k2: f64,
+    /// Twist (1/m).
+    #[serde(serialize_with = "format::e10")]
+    omega: f64,
+}
+
+/// `state.csv`: every quaternion node of every rod.
+pub fn state_csv(case: &str, snapshot: &Snapshot) -> String {
+    let comments = [
+        format!("spira state, case {case}, eps = {:.10e}", snapshot.eps),
+        "s: arc length (m); x,y,z: centreline (m); q1..q4: unit quaternion (vector, scalar); k1,k2,omega: curvatures (1/m)".to_string(),
+    ];
+    let rows = snapshot.rods.iter().flat_map(|rod| {
+        rod.nodes.iter().map(move |n| NodeRow {
+            rod: rod.rod,
+            s: n.s,
+            s_over_l: n.s_over_l,
+            x: n.position[0],
+            y: n.position[1],
+            z: n.position[2],
+            q1: n.quaternion[0],
+            q2: n.quaternion[1],
+            q3: n.quaternion[2],
+            q4: n.quaternion[3],
+            k1: n.curvature[0],
+            k2: n.curvature[1],
+            omega: n.curvature[2],
+        })
+    });
+    table(&comments, rows)
+}
+
+/// `csv` (a table of this module) with `note` as one more `#` line after its first line,
+/// e.g. the mesh an accuracy target chose and its estimated error.
+pub fn with_note(csv: &str, note: &str) -> String {
+    let note = note.replace(['\n', '\r'], " ");
+    match csv.split_once('\n') {
+        Some((first, rest)) => format!("{first}\n# {note}\n{rest}"),
+        None => format!("{csv}\n# {note}\n"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Serialize, Default)]
+    struct Row {
+        name: String,
+        #[serde(serialize_with = "format::e10")]
+        value: f64,
+        #[serde(serialize_with = "format::opt_e6")]
+        maybe: Option<f64>,
+        count: Option<usize>,
+    }
+
+    #[test]
+    fn a_table_has_its_comments_header_and_rows_in_the_given_formats() {
+        let rows = [
+            Row {
+                name: "a".into(),
+                value: 1.5,
+                maybe: Some(-2.0e-3),
+                count: Some(3),
+            },
+            Row {
+                name: "b, \"c\"".into(),
+                value: 0.0,
+                maybe: None,
+                count: None,
+            },
+        ];
+        let text = table(&["first".to_string(), "second".to_string()], rows);
+        assert_eq!(
+            text,
+            "# first\n# second\nname,value,maybe,count\n\
+             a,1.5000000000e0,-2.000000e-3,3\n\
+             \"b, \"\"c\"\"\",0.0000000000e0,,\n"
+        );
+    }
+
+    #[test]
+    fn a_table_without_rows_keeps_its_header() {
+        let text = table(&["only".to_string()], Vec::<Row>::new());
+        assert_eq!(text, "# only\nname,value,maybe,count\n");
+    }
+}

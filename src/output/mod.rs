@@ -1,0 +1,11 @@
+//! What a run and a study leave behind: CSV tables ([`csv`]), the work-precision report and
+//! chart ([`precision`], [`chart`]) and the files on disk, written atomically ([`files`]).
+//! Everything here reads results and studies; nothing computes them.
+
+pub mod chart;
+pub mod csv;
+pub mod files;
+pub mod precision;
+
+pub use self::csv::{critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note};
+pub use self::files::{write_atomic, write_run, write_run_noted};

@@ -1,0 +1,224 @@
+//! Meshes chosen for an accuracy target: two coarse solves per element order, the error
+//! constant estimated from their difference and the theoretical order, and the element order
+//! and number of elements that meet the target at the least predicted wall time.
+
+use super::{with_mesh, Measure, Problem, ORDERS};
+use crate::case::{Accuracy, Case};
+use crate::discretisation::shape::Order;
+use std::time::{Duration, Instant};
+
+/// The mesh is chosen for this fraction of the target: the error estimate holds only
+/// asymptotically, so a margin of 2 keeps a slightly pre-asymptotic estimate on the safe
+/// side.
+pub const SAFETY: f64 = 0.5;
+/// Largest mesh considered (elements per rod).
+pub const MAX_ELEMENTS: usize = 8192;
+/// Smallest relative accuracy that can be asked for: Newton stops at a residual of 1e-9
+/// (N, N m), and on Love's helix the reactions stop converging at about 5e-10 relative, so
+/// a smaller target could be neither met nor checked.
+pub const ACCURACY_FLOOR: f64 = 1e-9;
+
+/// What two coarse solves of one element order say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pilot {
+    pub order: Order,
+    /// Elements per rod of the two solves (the second twice the first).
+    pub elements: [usize; 2],
+    pub response: [f64; 2],
+    pub time: [Duration; 2],
+    /// Estimated relative error of the finer solve: `|Q2 − Q1| / (2^k − 1) / |Q2|`.
+    pub error: f64,
+    /// Exponent `k` of the response error, [`Measure::theoretical_order`].
+    pub exponent: f64,
+    /// Elements per rod predicted to meet `SAFETY · target`, if within [`MAX_ELEMENTS`].
+    pub needed: Option<usize>,
+    /// Predicted wall time at `needed`.
+    pub predicted_time: Option<Duration>,
+}
+
+impl Pilot {
+    /// Estimated relative error at `elements` per rod: `e2 (N2/N)^k`.
+    pub fn error_at(&self, elements: usize) -> f64 {
+        self.error * (self.elements[1] as f64 / elements as f64).powf(self.exponent)
+    }
+}
+
+/// The mesh chosen for an accuracy target.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshChoice {
+    /// Relative accuracy asked for on the response.
+    pub target: f64,
+    /// What the response is ([`Problem::response_label`]).
+    pub response: String,
+    pub order: Order,
+    /// Elements per rod of the chosen mesh.
+    pub elements: usize,
+    /// Estimated relative error of the response at the chosen mesh.
+    pub estimated_error: f64,
+    pub pilots: Vec<Pilot>,
+    /// Wall time of the pilot solves.
+    pub cost: Duration,
+}
+
+impl MeshChoice {
+    fn pilot(&self) -> Option<&Pilot> {
+        self.pilots.iter().find(|p| p.order == self.order)
+    }
+
+    /// The a-posteriori estimate once the chosen mesh is solved with `response`: the
+    /// two-mesh estimate from the pilot's finer solve and this one,
+    /// `|Q − Q2| / ((N/N2)^k − 1) / |Q|`; the prediction when the meshes coincide.
+    pub fn estimate_with(&self, response: f64) -> f64 {
+        let Some(p) = self.pilot() else {
+            return self.estimated_error;
+        };
+        let ratio = self.elements as f64 / p.elements[1] as f64;
+        if ratio <= 1.0 + 1e-12 || response == 0.0 {
+            return self.estimated_error;
+        }
+        let e = (response - p.response[1]).abs() / (ratio.powf(p.exponent) - 1.0) / response.abs();
+        if e.is_finite() {
+            e
+        } else {
+            self.estimated_error
+        }
+    }
+}
+
+/// Why no mesh was chosen.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AccuracyError {
+    #[error("accuracy {target:e}: the pilot solves failed ({reasons})")]
+    PilotFailed { target: f64, reasons: String },
+    #[error("accuracy {target:e} is out of reach: {reasons}")]
+    Unreachable { target: f64, reasons: String },
+}
+
+/// Chooses the element order (among `orders`) and elements per rod that meet the relative
+/// accuracy `target` on the response at the least predicted time.
+///
+/// Per order: solves the meshes `N1` ([`Problem::coarsest`]) and `N2 = 2 N1`; estimates the
+/// error of the finer as `e2 = |Q2 − Q1| / (2^k − 1) / |Q2|` with the theoretical exponent `k`
+/// of the response; predicts `e(N) = e2 (N2/N)^k`, so the mesh for `SAFETY · target` is
+/// `N = N2 (e2 / (SAFETY · target))^{1/k}` (not below `N1`, rounded up to whole elements
+/// between joints), and its time `t2 (N/N2)^α`, `α` the observed growth of the time from
+/// `N1` to `N2`, kept in [1, 2] (work per Newton step grows linearly in a banded system).
+pub fn choose_mesh(
+    problem: &Problem,
+    target: f64,
+    orders: &[Order],
+) -> Result<MeshChoice, AccuracyError> {
+    if target.is_nan() || target < ACCURACY_FLOOR {
+        return Err(AccuracyError::Unreachable {
+            target,
+            reasons: format!(
+                "below {ACCURACY_FLOOR:e}, where the Newton tolerance, not the mesh, sets the error"
+            ),
+        });
+    }
+    let t0 = Instant::now();
+    let m = problem.joint_intervals().max(1);
+    let mut pilots = Vec::new();
+    let mut failures = Vec::new();
+    for &order in orders {
+        let n1 = problem.coarsest(order);
+        let probes = problem.vertices(n1);
+        let solve = |n: usize| {
+            let t = Instant::now();
+            problem.solve(order, n, &probes).map(|v| (v, t.elapsed()))
+        };
+        let (first, second) = match (solve(n1), solve(2 * n1)) {
+            (Ok(a), Ok(b)) => (a, b),
+            (Err(e), _) | (_, Err(e)) => {
+                failures.push(format!("{}: {e}", order.name()));
+                continue;
+            }
+        };
+        let exponent = problem.theoretical_order(Measure::Response, order);
+        let (q1, q2) = (first.0.response, second.0.response);
+        let scale = if q2 != 0.0 { q2.abs() } else { 1.0 };
+        // below roundoff the difference says nothing; count it as the Newton floor
+        let error = ((q2 - q1).abs() / (2f64.powf(exponent) - 1.0) / scale).max(1e-14);
+        let elements = [first.0.elements, second.0.elements];
+        let time = [first.1, second.1];
+        let goal = SAFETY * target;
+        let mut pilot = Pilot {
+            order,
+            elements,
+            response: [q1, q2],
+            time,
+            error,
+            exponent,
+            needed: None,
+            predicted_time: None,
+        };
+        let needed = if pilot.error_at(elements[0]) <= goal {
+            elements[0]
+        } else {
+            let n = elements[1] as f64 * (error / goal).powf(1.0 / exponent);
+            (((n / m as f64).ceil() as usize) * m).max(elements[0])
+        };
+        if needed <= MAX_ELEMENTS {
+            let growth = (time[1].as_secs_f64() / time[0].as_secs_f64().max(1e-9))
+                .log2()
+                .clamp(1.0, 2.0);
+            let t = time[1].as_secs_f64() * (needed as f64 / elements[1] as f64).powf(growth);
+            pilot.needed = Some(needed);
+            pilot.predicted_time = Some(Duration::from_secs_f64(t));
+        }
+        pilots.push(pilot);
+    }
+    if pilots.is_empty() {
+        return Err(AccuracyError::PilotFailed {
+            target,
+            reasons: failures.join("; "),
+        });
+    }
+    let best = pilots
+        .iter()
+        .filter(|p| p.needed.is_some())
+        .min_by_key(|p| p.predicted_time);
+    let Some(best) = best else {
+        let reasons = pilots
+            .iter()
+            .map(|p| {
+                format!(
+                    "{} elements would need more than {MAX_ELEMENTS} per rod (estimated error {:.1e} at {})",
+                    p.order.name(),
+                    p.error,
+                    p.elements[1]
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; ");
+        return Err(AccuracyError::Unreachable { target, reasons });
+    };
+    let elements = best.needed.expect("filtered");
+    Ok(MeshChoice {
+        target,
+        response: problem.response_label(),
+        order: best.order,
+        elements,
+        estimated_error: best.error_at(elements),
+        cost: t0.elapsed(),
+        pilots: pilots.clone(),
+    })
+}
+
+/// The case to solve: `case` itself when it gives a mesh; when it gives an accuracy
+/// (`[discretisation] accuracy`), the case with the mesh [`choose_mesh`] picks (among both
+/// element orders, or the one the case names) and the choice. This is where an accuracy
+/// target becomes a mesh: the faces (`spira run`, `spira bench`, the explorer) call it
+/// before solving.
+pub fn resolve_accuracy(case: &Case) -> Result<(Case, Option<MeshChoice>), AccuracyError> {
+    let Some(Accuracy { target, order }) = case.discretisation.accuracy else {
+        return Ok((case.clone(), None));
+    };
+    let orders: Vec<Order> = match order {
+        Some(o) => vec![o],
+        None => ORDERS.to_vec(),
+    };
+    let problem = Problem::Path(Box::new(case.clone()));
+    let choice = choose_mesh(&problem, target, &orders)?;
+    Ok((with_mesh(case, choice.order, choice.elements), Some(choice)))
+}
