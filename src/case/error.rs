@@ -113,22 +113,18 @@ impl CaseError {
         let file = file.to_string();
         let message = plain_types(e.inner().message().trim());
         let keys = keys(e.path());
-        let Some(name) = keys.last() else {
+        if keys.is_empty() {
+            // about the document as a whole: no key to name
             return CaseError::Syntax {
                 file,
                 line,
                 message,
             };
-        };
+        }
         let key = keys.join(".");
         if message.starts_with("unknown field") {
-            // on a header line (`[material]`) the unknown key is a table
             let message = if line_at(text, &span).starts_with('[') {
-                message.replacen(
-                    &format!("unknown field `{name}`"),
-                    &format!("unknown table `[{key}]`"),
-                    1,
-                )
+                unknown_table(&message, &key)
             } else {
                 message
             };
@@ -140,15 +136,10 @@ impl CaseError {
             };
         }
         if let Some(table) = table_read_as_array(e.path()) {
-            let array = if has_array_of_tables_header(text, &table) {
-                format!("an array of tables `[[{table}]]`")
-            } else {
-                "an array".to_string()
-            };
             return CaseError::WrongType {
                 file,
                 line,
-                message: format!("expected a table `[{table}]`, found {array}"),
+                message: array_for_table(text, &table),
                 key: table,
             };
         }
@@ -159,6 +150,28 @@ impl CaseError {
             message,
         }
     }
+}
+
+/// serde's "unknown field `material`" said of a key on a header line (`[material]`): the
+/// key is a table.
+fn unknown_table(message: &str, key: &str) -> String {
+    let name = key.rsplit('.').next().unwrap_or(key);
+    message.replacen(
+        &format!("unknown field `{name}`"),
+        &format!("unknown table `[{key}]`"),
+        1,
+    )
+}
+
+/// The message for an array given where `table` is expected.
+fn array_for_table(text: &str, table: &str) -> String {
+    let header = format!("[[{table}]]");
+    let found = if text.lines().any(|l| l.trim_start().starts_with(&header)) {
+        format!("an array of tables `{header}`")
+    } else {
+        "an array".to_string()
+    };
+    format!("expected a table `[{table}]`, found {found}")
 }
 
 /// The keys of a path, down to the value at fault (array indices left out).
@@ -177,19 +190,19 @@ fn file_key(segment: &Segment) -> Option<&str> {
 }
 
 /// The table that was given as an array (usually of tables, `[[geometry]]` for
-/// `[geometry]`), if the path goes through an array: a case file has none. serde reads the array's elements
-/// as the fields of the table in order and complains about the first field, so the error is
-/// said again about the table.
+/// `[geometry]`), if the path goes through an array: a case file has none. serde reads the
+/// array's elements as the fields of the table in order and complains about the first
+/// field, so the error is said again about the table.
 fn table_read_as_array(path: &Path) -> Option<String> {
-    let segments: Vec<&Segment> = path.iter().collect();
-    let array = segments
-        .iter()
-        .position(|segment| matches!(segment, Segment::Seq { .. }))?;
-    let table: Vec<&str> = segments[..array]
-        .iter()
-        .filter_map(|s| file_key(s))
-        .collect();
-    Some(table.join("."))
+    let is_array = |segment: &&Segment| matches!(segment, Segment::Seq { .. });
+    path.iter().any(|s| is_array(&s)).then(|| {
+        let table: Vec<&str> = path
+            .iter()
+            .take_while(|s| !is_array(s))
+            .filter_map(file_key)
+            .collect();
+        table.join(".")
+    })
 }
 
 /// The whole line of the text the span starts on, without its indentation.
@@ -198,13 +211,6 @@ fn line_at<'t>(text: &'t str, span: &Range<usize>) -> &'t str {
     let begin = text[..start].rfind('\n').map_or(0, |at| at + 1);
     let end = text[start..].find('\n').map_or(text.len(), |at| start + at);
     text[begin..end].trim_start()
-}
-
-/// Whether the text has a header `[[table]]`.
-fn has_array_of_tables_header(text: &str, table: &str) -> bool {
-    let header = format!("[[{table}]]");
-    text.lines()
-        .any(|line| line.trim_start().starts_with(&header))
 }
 
 /// 1-based line of a byte offset.
