@@ -4,8 +4,8 @@
 //! minimal case is a few lines. Unknown keys and bad values are rejected with the file,
 //! line, key and what was expected.
 //!
-//! Reading goes in two passes: [`raw`] is the layout of the file (which keys exist and
-//! their types, read by serde), [`tables`] checks the values table by table against their
+//! Reading goes in two passes: `raw` is the layout of the file (which keys exist and
+//! their types, read by serde), `tables` checks the values table by table against their
 //! physical and numerical ranges and fills in the defaults.
 
 mod error;

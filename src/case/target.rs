@@ -31,7 +31,7 @@ pub enum TargetError {
 }
 
 impl TargetError {
-    /// Whether the message says `words`.
+    /// Whether the message says `words` (`str::contains` on the displayed text).
     pub fn contains(&self, words: &str) -> bool {
         self.to_string().contains(words)
     }
@@ -103,10 +103,11 @@ pub(super) fn check_target(
     target: f64,
 ) -> Result<(), TargetError> {
     if control == Control::Force {
-        if !target.is_finite() {
-            return Err(TargetError::LoadNotFinite { load: target });
-        }
-        return Ok(());
+        return if target.is_finite() {
+            Ok(())
+        } else {
+            Err(TargetError::LoadNotFinite { load: target })
+        };
     }
     let eps = target;
     let height0 = geometry.height0();
