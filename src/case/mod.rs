@@ -1,0 +1,217 @@
+//! Case files (TOML): geometry, stiffness, boundary conditions, loading, discretisation.
+//!
+//! Every key is optional; a missing key takes the value of the thesis case (§4.1), so a
+//! minimal case is a few lines. Unknown keys and bad values are rejected with the file,
+//! line, key and what was expected.
+//!
+//! Reading goes in two passes: `raw` is the layout of the file (which keys exist and
+//! their types, read by serde), `tables` checks the values table by table against their
+//! physical and numerical ranges and fills in the defaults.
+
+mod error;
+mod raw;
+mod tables;
+mod target;
+
+pub use error::CaseError;
+pub use target::TargetError;
+
+use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::shape::Order;
+use crate::model::assembly::Assembly;
+use crate::model::boundary::BoundaryConditions;
+use crate::model::loading::{Branch, Control};
+use crate::model::stiffness::Stiffness;
+use crate::solver::continuation::ContinuationSettings;
+use raw::RawCase;
+use std::f64::consts::PI;
+use std::path::Path;
+use tables::Checker;
+
+/// The case run by `spira` with no arguments: the thesis assembly of 8 helices.
+pub const DEFAULT_CASE: &str = include_str!("../../cases/thesis-n8.toml");
+/// Name of the default case in messages.
+pub const DEFAULT_CASE_NAME: &str = "thesis-n8 (built in)";
+
+/// A validated case.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Case {
+    /// Name shown in outputs (the file stem unless given).
+    pub name: String,
+    pub geometry: Geometry,
+    /// Bending stiffnesses `B1`, `B2` about the directors `d1`, `d2` and torsional stiffness
+    /// `B3` (N m²).
+    pub stiffness: Stiffness,
+    pub boundary: BoundaryConditions,
+    pub loading: Loading,
+    pub discretisation: Discretisation,
+    pub solver: ContinuationSettings,
+}
+
+/// Assembly geometry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Geometry {
+    /// Number of helices `n`: 1, or even (half right-, half left-handed).
+    pub helices: usize,
+    /// Helix radius `a` (m).
+    pub radius: f64,
+    /// Pitch parameter `b` (m): the helix rises `2π b` per turn.
+    pub pitch: f64,
+    /// Rod length `L` (m).
+    pub length: f64,
+}
+
+impl Geometry {
+    /// `c = √(a² + b²)` (m).
+    pub fn c(&self) -> f64 {
+        self.radius.hypot(self.pitch)
+    }
+    /// Initial tip height `h0 = b L / c` (m).
+    pub fn height0(&self) -> f64 {
+        self.pitch * self.length / self.c()
+    }
+    /// Number of turns `L / (2π c)`.
+    pub fn turns(&self) -> f64 {
+        self.length / (2.0 * PI * self.c())
+    }
+}
+
+/// The loading: what is controlled, up to where, and which branch is followed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Loading {
+    /// Displacement control (tip height) or load control (dead load on the tips).
+    pub control: Control,
+    /// Target load parameter: the compression ratio `ε = (h0 − h)/h0` (negative:
+    /// extension) under displacement control, `P / Pcrit` (compressive tip force per rod
+    /// over `B1 (2π/L)²`; negative: tension) under load control.
+    pub target: f64,
+    /// Number of equally spaced output steps in `(0, target]`.
+    pub steps: usize,
+    /// At the first bifurcation: stay on the fundamental branch or switch.
+    pub branch: Branch,
+}
+
+/// Mesh of every rod.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Discretisation {
+    /// Elements per rod (at least; vertices are added at joints).
+    pub elements: usize,
+    pub order: Order,
+    /// A target accuracy given instead of a mesh (`accuracy` key). While it is set,
+    /// `elements` and `order` are placeholders: `precision::resolve_accuracy` replaces them
+    /// by the mesh it chooses (and clears this) before anything is solved.
+    pub accuracy: Option<Accuracy>,
+    /// Solve one right/left pair and take the other rods as its images (the assembly's
+    /// `m`-fold rotational symmetry, `n = 2m`, `m ≥ 2`); stability is still judged on the
+    /// full model. Key `symmetric`, default false.
+    pub symmetric: bool,
+}
+
+/// A relative accuracy asked of the response (the axial reaction `Fz` at the target under
+/// displacement control, `ε` under load control): issue 5, part 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Accuracy {
+    /// Relative error allowed, in (0, 1).
+    pub target: f64,
+    /// The element order when the case names one; otherwise both are tried.
+    pub order: Option<Order>,
+}
+
+impl Case {
+    /// Reads and validates a case file.
+    pub fn from_file(path: &Path) -> Result<Case, CaseError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|reason| CaseError::Io {
+            file: file.clone(),
+            reason,
+        })?;
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "case".into());
+        Case::parse(&text, &file, &stem)
+    }
+
+    /// The built-in default case (thesis, n = 8).
+    pub fn default_case() -> Case {
+        Case::parse(DEFAULT_CASE, DEFAULT_CASE_NAME, "thesis-n8")
+            .expect("the built-in case is valid")
+    }
+
+    /// Parses and validates case text; `file` names it in errors, `stem` is the name used
+    /// when the case gives none. The tables are checked in the order of the file format, and
+    /// the first error found is returned.
+    pub fn parse(text: &str, file: &str, stem: &str) -> Result<Case, CaseError> {
+        let raw = RawCase::from_text(text, file)?;
+        let ck = Checker { file, text };
+        let geometry = tables::geometry(&raw.geometry, &ck)?;
+        let stiffness = tables::stiffness(&raw.stiffness, &ck)?;
+        let boundary = tables::boundary(&raw.boundary);
+        let loading = tables::loading(&raw.loading, &geometry, &ck)?;
+        let discretisation = tables::discretisation(&raw.discretisation, geometry.helices, &ck)?;
+        let solver = tables::solver(&raw.solver, &ck)?;
+        Ok(Case {
+            name: raw.name.unwrap_or_else(|| stem.to_string()),
+            geometry,
+            stiffness,
+            boundary,
+            loading,
+            discretisation,
+            solver,
+        })
+    }
+
+    /// The same case with `n` helices (what the explorer does when n changes).
+    pub fn with_helices(&self, n: usize) -> Case {
+        let mut c = self.clone();
+        c.geometry.helices = n;
+        // the symmetric reduction needs n = 2m, m ≥ 2
+        c.discretisation.symmetric &= n >= 4 && n % 2 == 0;
+        c
+    }
+
+    /// The case as the explorer solves it interactively (issue 5, "a model no bigger than
+    /// the scene"): one symmetric pair standing for the assembly when it has the symmetry,
+    /// and stability as the count of unstable directions only (on the full model), without
+    /// the lowest eigenvalue. Everything shown is still of the whole assembly.
+    pub fn for_explorer(&self) -> Case {
+        let mut c = self.clone();
+        let n = c.geometry.helices;
+        c.discretisation.symmetric |= n >= 4 && n % 2 == 0;
+        c.solver.lowest_eigenvalue = false;
+        c
+    }
+
+    /// The discrete model of the case.
+    pub fn model(&self) -> DiscreteModel {
+        let g = &self.geometry;
+        let full = Assembly::new(g.helices, g.radius, g.pitch, g.length);
+        let assembly = if self.discretisation.symmetric {
+            full.symmetric_pair()
+                .expect("validated: the case has the symmetry")
+        } else {
+            full
+        };
+        DiscreteModel::new(
+            assembly,
+            self.stiffness,
+            self.discretisation.elements,
+            self.discretisation.order,
+        )
+    }
+
+    /// The output compression ratios: `steps` equal increments from 0 (exclusive) to `target`.
+    /// The fraction is formed first so that the last value is `target` exactly.
+    pub fn output_eps(&self, target: f64, steps: usize) -> Vec<f64> {
+        (1..=steps)
+            .map(|k| target * (k as f64 / steps as f64))
+            .collect()
+    }
+
+    /// Validates a target load parameter against the case: under displacement control a
+    /// compression ratio `ε` the geometry admits (tip height `0 < h < L`), under load
+    /// control a finite `P / Pcrit`. The error says which limit is crossed.
+    pub fn check_target(&self, target: f64) -> Result<(), TargetError> {
+        target::check_target(&self.geometry, self.loading.control, target)
+    }
+}

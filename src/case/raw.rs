@@ -1,0 +1,124 @@
+//! The layout of a case file as serde reads it: every key optional, unknown keys refused.
+//! Values that are checked against a range keep their place in the text (`Spanned`) so
+//! that a value out of range can be pointed at.
+
+use super::error::CaseError;
+use crate::discretisation::shape::Order;
+use crate::model::boundary::{Rotation, Translation};
+use crate::model::loading::{Branch, Control};
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A whole case file.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCase {
+    pub name: Option<String>,
+    #[serde(default)]
+    pub geometry: RawGeometry,
+    #[serde(default)]
+    pub stiffness: RawStiffness,
+    #[serde(default)]
+    pub boundary: RawBoundary,
+    #[serde(default)]
+    pub loading: RawLoading,
+    #[serde(default)]
+    pub discretisation: RawDiscretisation,
+    #[serde(default)]
+    pub solver: RawSolver,
+}
+
+impl RawCase {
+    /// Reads the layout of case text: the TOML grammar first, then the keys and the types
+    /// of their values. `file` names the text in errors.
+    pub fn from_text(text: &str, file: &str) -> Result<RawCase, CaseError> {
+        let document =
+            toml::Deserializer::parse(text).map_err(|e| CaseError::syntax(&e, text, file))?;
+        serde_path_to_error::deserialize(document).map_err(|e| CaseError::layout(&e, text, file))
+    }
+}
+
+/// `[geometry]`.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawGeometry {
+    /// Number of helices `n`.
+    pub helices: Option<Spanned<i64>>,
+    /// Helix radius `a` (m).
+    pub radius: Option<Spanned<f64>>,
+    /// Pitch parameter `b` (m).
+    pub pitch: Option<Spanned<f64>>,
+    /// Number of turns (the length is `2π c` per turn); not with `length`.
+    pub turns: Option<Spanned<f64>>,
+    /// Rod length `L` (m); not with `turns`.
+    pub length: Option<Spanned<f64>>,
+}
+
+/// `[stiffness]` (N m²).
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawStiffness {
+    /// Bending about `d1`.
+    pub b1: Option<Spanned<f64>>,
+    /// Bending about `d2`.
+    pub b2: Option<Spanned<f64>>,
+    /// Torsion.
+    pub b3: Option<Spanned<f64>>,
+}
+
+/// `[boundary]`.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawBoundary {
+    pub base: Option<RawEnd>,
+    pub tip: Option<RawEnd>,
+    /// Pin joints at the crossings.
+    pub joints: Option<bool>,
+}
+
+/// One end, `{ translation = …, rotation = … }`; a missing half keeps the thesis's value
+/// (`fixed`, `clamped`).
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawEnd {
+    pub translation: Option<Translation>,
+    pub rotation: Option<Rotation>,
+}
+
+/// `[loading]`.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawLoading {
+    pub control: Option<Control>,
+    /// `ε` under displacement control, `P / Pcrit` under load control.
+    pub target: Option<Spanned<f64>>,
+    /// Number of output steps.
+    pub steps: Option<Spanned<i64>>,
+    pub branch: Option<Branch>,
+}
+
+/// `[discretisation]`.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawDiscretisation {
+    /// Elements per rod; not with `accuracy`.
+    pub elements: Option<Spanned<i64>>,
+    pub order: Option<Order>,
+    /// Target relative accuracy; not with `elements`.
+    pub accuracy: Option<Spanned<f64>>,
+    pub symmetric: Option<Spanned<bool>>,
+}
+
+/// `[solver]`.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSolver {
+    /// Newton tolerance on the residual `‖R‖∞`.
+    pub tolerance: Option<Spanned<f64>>,
+    /// Step lengths of the continuation, in the load parameter.
+    pub initial_step: Option<Spanned<f64>>,
+    pub max_step: Option<Spanned<f64>>,
+    pub min_step: Option<Spanned<f64>>,
+    /// Newton iterations per step.
+    pub max_iterations: Option<Spanned<i64>>,
+}

@@ -1,0 +1,347 @@
+//! The values of each table of a case file checked against their ranges, with the thesis
+//! case (§4.1) filling in what is not given. One function per table.
+
+use super::error::{line_of, CaseError};
+use super::raw::{
+    RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawSolver, RawStiffness,
+};
+use super::target::check_target;
+use super::{Accuracy, Discretisation, Geometry, Loading};
+use crate::discretisation::shape::Order;
+use crate::model::boundary::{BoundaryConditions, EndCondition};
+use crate::model::loading::{Branch, Control};
+use crate::model::stiffness::Stiffness;
+use crate::solver::continuation::ContinuationSettings;
+use std::f64::consts::PI;
+use std::fmt;
+use std::ops::Range;
+use toml::Spanned;
+
+/// `[geometry]`: the number of helices, the helix radius `a` and pitch parameter `b` (m),
+/// and the rod length `L` (m), given as such or as a number of turns `L / (2π c)`.
+pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseError> {
+    let helices = helices(g, ck)?;
+    let radius = ck.number(
+        "geometry.radius",
+        &g.radius,
+        0.06,
+        |a| a >= 0.0,
+        "a positive radius in m (0 for a straight rod)",
+    )?;
+    if radius == 0.0 && helices > 1 {
+        return Err(ck.invalid(
+            "geometry.radius",
+            span(&g.radius),
+            format!("a straight rod (radius 0) needs helices = 1, found {helices}"),
+        ));
+    }
+    let pitch = ck.number(
+        "geometry.pitch",
+        &g.pitch,
+        0.025,
+        positive,
+        "a positive pitch parameter b in m",
+    )?;
+    let length = rod_length(g, radius.hypot(pitch), ck)?;
+    Ok(Geometry {
+        helices,
+        radius,
+        pitch,
+        length,
+    })
+}
+
+/// `geometry.helices`: 1, or an even number (as many right- as left-handed helices).
+fn helices(g: &RawGeometry, ck: &Checker) -> Result<usize, CaseError> {
+    let helices = ck.integer(
+        "geometry.helices",
+        &g.helices,
+        1,
+        (1, 1024),
+        "a number of helices",
+    )?;
+    if helices > 1 && helices % 2 == 1 {
+        return Err(ck.invalid(
+            "geometry.helices",
+            span(&g.helices),
+            format!("expected 1 or an even number (pairs of right- and left-handed helices), found {helices}"),
+        ));
+    }
+    Ok(helices)
+}
+
+/// The rod length `L` (m) from `geometry.length`, or from `geometry.turns` (3.5 by default)
+/// as `2π c` per turn, `c = √(a² + b²)` (m); not both.
+fn rod_length(g: &RawGeometry, c: f64, ck: &Checker) -> Result<f64, CaseError> {
+    match (&g.turns, &g.length) {
+        (Some(_), Some(length)) => Err(ck.invalid(
+            "geometry.length",
+            length.span(),
+            "give either `turns` or `length`, not both",
+        )),
+        (None, Some(_)) => ck.number(
+            "geometry.length",
+            &g.length,
+            0.0,
+            positive,
+            "a positive rod length in m",
+        ),
+        (turns, None) => {
+            let turns = ck.number(
+                "geometry.turns",
+                turns,
+                3.5,
+                positive,
+                "a positive number of turns",
+            )?;
+            Ok(2.0 * PI * c * turns)
+        }
+    }
+}
+
+/// `[stiffness]`: bending stiffnesses `B1`, `B2` about `d1`, `d2` and torsional stiffness
+/// `B3` (N m²); the thesis's 1, 1, 2.
+pub(super) fn stiffness(s: &RawStiffness, ck: &Checker) -> Result<Stiffness, CaseError> {
+    let bending = "a positive bending stiffness in N m²";
+    Ok(Stiffness {
+        b1: ck.number("stiffness.b1", &s.b1, 1.0, positive, bending)?,
+        b2: ck.number("stiffness.b2", &s.b2, 1.0, positive, bending)?,
+        b3: ck.number(
+            "stiffness.b3",
+            &s.b3,
+            2.0,
+            positive,
+            "a positive torsional stiffness in N m²",
+        )?,
+    })
+}
+
+/// `[boundary]`: the supports of the base and the tip, and the joints at the crossings.
+/// Every value the file can hold is admissible (serde has refused the others).
+pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
+    let thesis = BoundaryConditions::default();
+    BoundaryConditions {
+        base: end_condition(&b.base, thesis.base),
+        tip: end_condition(&b.tip, thesis.tip),
+        joints: b.joints.unwrap_or(thesis.joints),
+    }
+}
+
+/// One end: a half not given keeps the default's.
+fn end_condition(end: &Option<RawEnd>, default: EndCondition) -> EndCondition {
+    match end {
+        None => default,
+        Some(e) => EndCondition {
+            translation: e.translation.unwrap_or(default.translation),
+            rotation: e.rotation.unwrap_or(default.rotation),
+        },
+    }
+}
+
+/// `[loading]`: the control, the target (checked against the geometry under displacement
+/// control), the number of output steps and the branch taken at the first bifurcation.
+pub(super) fn loading(
+    l: &RawLoading,
+    geometry: &Geometry,
+    ck: &Checker,
+) -> Result<Loading, CaseError> {
+    let control = l.control.unwrap_or(Control::Displacement);
+    let target = match &l.target {
+        None => 0.5,
+        Some(t) => {
+            let target = *t.get_ref();
+            check_target(geometry, control, target)
+                .map_err(|why| ck.invalid("loading.target", t.span(), why))?;
+            target
+        }
+    };
+    let steps = ck.integer(
+        "loading.steps",
+        &l.steps,
+        10,
+        (1, 100_000),
+        "a number of output steps",
+    )?;
+    Ok(Loading {
+        control,
+        target,
+        steps,
+        branch: l.branch.unwrap_or(Branch::Fundamental),
+    })
+}
+
+/// `[discretisation]`: the mesh of every rod (or a target accuracy it is chosen for), and
+/// whether the symmetric reduction is used; it needs the number of helices.
+pub(super) fn discretisation(
+    d: &RawDiscretisation,
+    helices: usize,
+    ck: &Checker,
+) -> Result<Discretisation, CaseError> {
+    let accuracy = accuracy(d, ck)?;
+    let elements = ck.integer(
+        "discretisation.elements",
+        &d.elements,
+        48,
+        (1, 100_000),
+        "a number of elements per rod",
+    )?;
+    Ok(Discretisation {
+        elements,
+        order: d.order.unwrap_or(Order::Quadratic),
+        accuracy,
+        symmetric: symmetric(d, helices, ck)?,
+    })
+}
+
+/// `discretisation.accuracy`: a relative accuracy in (0, 1), given instead of `elements`.
+fn accuracy(d: &RawDiscretisation, ck: &Checker) -> Result<Option<Accuracy>, CaseError> {
+    match (&d.accuracy, &d.elements) {
+        (None, _) => Ok(None),
+        (Some(a), Some(_)) => Err(ck.invalid(
+            "discretisation.accuracy",
+            a.span(),
+            "give either `elements` (a mesh) or `accuracy` (a target the mesh is chosen for), not both",
+        )),
+        (Some(_), None) => Ok(Some(Accuracy {
+            target: ck.number(
+                "discretisation.accuracy",
+                &d.accuracy,
+                0.0,
+                |v| v > 0.0 && v < 1.0,
+                "a relative accuracy between 0 and 1 (e.g. 1e-3)",
+            )?,
+            order: d.order,
+        })),
+    }
+}
+
+/// `discretisation.symmetric`: true only for `n = 2m` helices, `m ≥ 2`.
+fn symmetric(d: &RawDiscretisation, helices: usize, ck: &Checker) -> Result<bool, CaseError> {
+    match &d.symmetric {
+        None => Ok(false),
+        Some(flag) if *flag.get_ref() && (helices < 4 || helices % 2 == 1) => Err(ck.invalid(
+            "discretisation.symmetric",
+            flag.span(),
+            format!("expected false: {helices} helix(es) have no rotational symmetry to reduce (it needs n = 2m helices with m ≥ 2)"),
+        )),
+        Some(flag) => Ok(*flag.get_ref()),
+    }
+}
+
+/// `[solver]`: the step lengths of the continuation (in the load parameter, `min_step ≤
+/// max_step`), the Newton tolerance on `‖R‖∞` and the Newton iterations per step. The
+/// settings a case file cannot give keep their defaults.
+pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings, CaseError> {
+    let d = ContinuationSettings::default();
+    let step = "a positive step in ε";
+    let mut solver = ContinuationSettings {
+        initial_step: ck.number(
+            "solver.initial_step",
+            &s.initial_step,
+            d.initial_step,
+            positive,
+            step,
+        )?,
+        max_step: ck.number("solver.max_step", &s.max_step, d.max_step, positive, step)?,
+        min_step: ck.number("solver.min_step", &s.min_step, d.min_step, positive, step)?,
+        ..d
+    };
+    solver.newton.tolerance = ck.number(
+        "solver.tolerance",
+        &s.tolerance,
+        d.newton.tolerance,
+        positive,
+        "a positive residual tolerance",
+    )?;
+    solver.newton.max_iterations = ck.integer(
+        "solver.max_iterations",
+        &s.max_iterations,
+        d.newton.max_iterations,
+        (1, 1000),
+        "a number of Newton iterations",
+    )?;
+    if solver.min_step > solver.max_step {
+        // point at whichever of the two the file gives (both defaults are consistent)
+        let (key, span) = match (&s.min_step, &s.max_step) {
+            (Some(min), _) => ("solver.min_step", min.span()),
+            (None, Some(max)) => ("solver.max_step", max.span()),
+            (None, None) => ("solver.min_step", 0..0),
+        };
+        return Err(ck.invalid(
+            key,
+            span,
+            format!(
+                "expected min_step ≤ max_step, found min_step = {} and max_step = {}",
+                solver.min_step, solver.max_step
+            ),
+        ));
+    }
+    Ok(solver)
+}
+
+fn positive(v: f64) -> bool {
+    v > 0.0
+}
+
+/// Where a value given in the file is (the start of the text when it is not given).
+fn span<T>(value: &Option<Spanned<T>>) -> Range<usize> {
+    value.as_ref().map_or(0..0, Spanned::span)
+}
+
+/// Checks values of the case text named `file` and says where a bad one is.
+pub(super) struct Checker<'a> {
+    pub file: &'a str,
+    pub text: &'a str,
+}
+
+impl Checker<'_> {
+    /// A value out of range, at `span` in the text.
+    fn invalid(&self, key: &str, span: Range<usize>, message: impl fmt::Display) -> CaseError {
+        CaseError::Invalid {
+            file: self.file.to_string(),
+            line: line_of(self.text, span.start),
+            key: key.to_string(),
+            message: message.to_string(),
+        }
+    }
+
+    /// A finite number satisfying `ok`, or the default; `expected` says what `ok` asks.
+    fn number(
+        &self,
+        key: &str,
+        value: &Option<Spanned<f64>>,
+        default: f64,
+        ok: impl Fn(f64) -> bool,
+        expected: &str,
+    ) -> Result<f64, CaseError> {
+        match value {
+            None => Ok(default),
+            Some(v) if v.get_ref().is_finite() && ok(*v.get_ref()) => Ok(*v.get_ref()),
+            Some(v) => Err(self.invalid(
+                key,
+                v.span(),
+                format!("expected {expected}, found {}", v.get_ref()),
+            )),
+        }
+    }
+
+    /// A whole number in `min..=max`, or the default; `what` names it in the message.
+    fn integer(
+        &self,
+        key: &str,
+        value: &Option<Spanned<i64>>,
+        default: usize,
+        (min, max): (i64, i64),
+        what: &str,
+    ) -> Result<usize, CaseError> {
+        match value {
+            None => Ok(default),
+            Some(v) if (min..=max).contains(v.get_ref()) => Ok(*v.get_ref() as usize),
+            Some(v) => Err(self.invalid(
+                key,
+                v.span(),
+                format!("expected {what} from {min} to {max}, found {}", v.get_ref()),
+            )),
+        }
+    }
+}

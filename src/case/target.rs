@@ -1,0 +1,149 @@
+//! The target load parameter a case admits.
+//!
+//! Under displacement control the target is a compression ratio `ε = (h0 − h)/h0`: the tip
+//! height `h = h0 (1 − ε)` must stay above the base (`h > 0`, `ε < 1`) and below the length
+//! of the rod pulled straight (`h < L`, `ε > 1 − L/h0`); both limits are singular states.
+//! Under load control the target `P / Pcrit` only has to be a finite number.
+
+use super::Geometry;
+use crate::model::loading::Control;
+use std::fmt;
+
+/// A target load parameter the case cannot reach; the message says which limit is crossed.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum TargetError {
+    /// Load control: `P / Pcrit` is NaN or infinite.
+    LoadNotFinite { load: f64 },
+    /// Displacement control: `ε` is NaN or infinite. `min_eps = 1 − L/h0` is the lower
+    /// limit of the admissible `ε`.
+    RatioNotFinite { eps: f64, min_eps: f64 },
+    /// `ε ≥ 1`: the tip, at height `h = h0 (1 − ε)` (m), would be on or below the base.
+    TipOnOrBelowBase { eps: f64, min_eps: f64, height: f64 },
+    /// `ε ≤ 1 − L/h0`: the tip, at height `h` (m), would be at or beyond the rod length `L`
+    /// (m), the rod pulled straight; `height0` is `h0` (m).
+    TipAtOrBeyondRodLength {
+        eps: f64,
+        min_eps: f64,
+        height: f64,
+        length: f64,
+        height0: f64,
+    },
+}
+
+impl fmt::Display for TargetError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            TargetError::LoadNotFinite { load } => {
+                write!(f, "expected a finite load P/Pcrit, found {load}")
+            }
+            TargetError::RatioNotFinite { eps, min_eps } => {
+                write!(f, "{}, found {eps}", admissible_ratios(min_eps))
+            }
+            TargetError::TipOnOrBelowBase {
+                eps,
+                min_eps,
+                height,
+            } => {
+                let place = if eps == 1.0 { "on" } else { "below" };
+                write!(
+                    f,
+                    "{}, found {eps}: {}, {place} the base",
+                    admissible_ratios(min_eps),
+                    tip_height(height)
+                )
+            }
+            TargetError::TipAtOrBeyondRodLength {
+                eps,
+                min_eps,
+                height,
+                length,
+                height0,
+            } => {
+                let place = if eps == min_eps { "equal to" } else { "beyond" };
+                write!(
+                    f,
+                    "{}, found {eps}: {}, {place} the rod length L = {} m (the rod pulled straight; h0 = {} m)",
+                    admissible_ratios(min_eps),
+                    tip_height(height),
+                    short(length),
+                    short(height0)
+                )
+            }
+        }
+    }
+}
+
+/// "expected a compression ratio in (1 − L/h0, 1)".
+fn admissible_ratios(min_eps: f64) -> String {
+    format!(
+        "expected a compression ratio ε = (h0 − h)/h0 in ({}, 1)",
+        short(min_eps)
+    )
+}
+
+/// "the tip would be at height h".
+fn tip_height(height: f64) -> String {
+    format!(
+        "the tip would be at height h = h0 (1 − ε) = {} m",
+        short(height)
+    )
+}
+
+/// Checks `target` as the target load parameter of `geometry` under `control`.
+pub(super) fn check_target(
+    geometry: &Geometry,
+    control: Control,
+    target: f64,
+) -> Result<(), TargetError> {
+    if control == Control::Force {
+        return if target.is_finite() {
+            Ok(())
+        } else {
+            Err(TargetError::LoadNotFinite { load: target })
+        };
+    }
+    let eps = target;
+    let height0 = geometry.height0();
+    let length = geometry.length;
+    let min_eps = 1.0 - length / height0;
+    if !eps.is_finite() {
+        return Err(TargetError::RatioNotFinite { eps, min_eps });
+    }
+    let height = height0 * (1.0 - eps);
+    if eps >= 1.0 {
+        Err(TargetError::TipOnOrBelowBase {
+            eps,
+            min_eps,
+            height,
+        })
+    } else if eps <= min_eps {
+        Err(TargetError::TipAtOrBeyondRodLength {
+            eps,
+            min_eps,
+            height,
+            length,
+            height0,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// A number to 6 significant figures without trailing zeros, for messages.
+fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let decimals = (5 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}
