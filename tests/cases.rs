@@ -637,7 +637,10 @@ fn target_check_names_the_limit_crossed() {
     let base = case.check_target(1.2).unwrap_err();
     assert!(base.to_string().contains("below the base"), "{base}");
     let length = case.check_target(-2.0).unwrap_err();
-    assert!(length.to_string().contains("beyond the rod length"), "{length}");
+    assert!(
+        length.to_string().contains("beyond the rod length"),
+        "{length}"
+    );
     let nan = case.check_target(f64::NAN).unwrap_err();
     assert!(nan.to_string().contains("found NaN"), "{nan}");
 }

@@ -10,21 +10,20 @@
 
 mod error;
 mod raw;
+mod settings;
 mod tables;
 mod target;
 
 pub use error::CaseError;
+pub use settings::{Accuracy, Discretisation, Geometry, Loading};
 pub use target::TargetError;
 
 use crate::discretisation::model::DiscreteModel;
-use crate::discretisation::shape::Order;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
-use crate::model::loading::{Branch, Control};
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
 use raw::RawCase;
-use std::f64::consts::PI;
 use std::path::Path;
 use tables::Checker;
 
@@ -46,75 +45,6 @@ pub struct Case {
     pub loading: Loading,
     pub discretisation: Discretisation,
     pub solver: ContinuationSettings,
-}
-
-/// Assembly geometry.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Geometry {
-    /// Number of helices `n`: 1, or even (half right-, half left-handed).
-    pub helices: usize,
-    /// Helix radius `a` (m).
-    pub radius: f64,
-    /// Pitch parameter `b` (m): the helix rises `2π b` per turn.
-    pub pitch: f64,
-    /// Rod length `L` (m).
-    pub length: f64,
-}
-
-impl Geometry {
-    /// `c = √(a² + b²)` (m).
-    pub fn c(&self) -> f64 {
-        self.radius.hypot(self.pitch)
-    }
-    /// Initial tip height `h0 = b L / c` (m).
-    pub fn height0(&self) -> f64 {
-        self.pitch * self.length / self.c()
-    }
-    /// Number of turns `L / (2π c)`.
-    pub fn turns(&self) -> f64 {
-        self.length / (2.0 * PI * self.c())
-    }
-}
-
-/// The loading: what is controlled, up to where, and which branch is followed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Loading {
-    /// Displacement control (tip height) or load control (dead load on the tips).
-    pub control: Control,
-    /// Target load parameter: the compression ratio `ε = (h0 − h)/h0` (negative:
-    /// extension) under displacement control, `P / Pcrit` (compressive tip force per rod
-    /// over `B1 (2π/L)²`; negative: tension) under load control.
-    pub target: f64,
-    /// Number of equally spaced output steps in `(0, target]`.
-    pub steps: usize,
-    /// At the first bifurcation: stay on the fundamental branch or switch.
-    pub branch: Branch,
-}
-
-/// Mesh of every rod.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Discretisation {
-    /// Elements per rod (at least; vertices are added at joints).
-    pub elements: usize,
-    pub order: Order,
-    /// A target accuracy given instead of a mesh (`accuracy` key). While it is set,
-    /// `elements` and `order` are placeholders: `precision::resolve_accuracy` replaces them
-    /// by the mesh it chooses (and clears this) before anything is solved.
-    pub accuracy: Option<Accuracy>,
-    /// Solve one right/left pair and take the other rods as its images (the assembly's
-    /// `m`-fold rotational symmetry, `n = 2m`, `m ≥ 2`); stability is still judged on the
-    /// full model. Key `symmetric`, default false.
-    pub symmetric: bool,
-}
-
-/// A relative accuracy asked of the response (the axial reaction `Fz` at the target under
-/// displacement control, `ε` under load control): issue 5, part 2.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Accuracy {
-    /// Relative error allowed, in (0, 1).
-    pub target: f64,
-    /// The element order when the case names one; otherwise both are tried.
-    pub order: Option<Order>,
 }
 
 impl Case {

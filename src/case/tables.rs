@@ -5,8 +5,8 @@ use super::error::{line_of, CaseError};
 use super::raw::{
     RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawSolver, RawStiffness,
 };
+use super::settings::{Accuracy, Discretisation, Geometry, Loading};
 use super::target::check_target;
-use super::{Accuracy, Discretisation, Geometry, Loading};
 use crate::discretisation::shape::Order;
 use crate::model::boundary::{BoundaryConditions, EndCondition};
 use crate::model::loading::{Branch, Control};

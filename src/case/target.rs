@@ -5,7 +5,7 @@
 //! of the rod pulled straight (`h < L`, `ε > 1 − L/h0`); both limits are singular states.
 //! Under load control the target `P / Pcrit` only has to be a finite number.
 
-use super::Geometry;
+use super::settings::Geometry;
 use crate::model::loading::Control;
 use std::fmt;
 

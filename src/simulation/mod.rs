@@ -13,10 +13,10 @@ use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
 use crate::model::loading::{Control, TipLoad};
 use crate::results::{CriticalPoint, LoadPoint, Snapshot, Stability};
+use crate::solver::continuation::Critical;
 use crate::solver::continuation::{
     Continuation, ContinuationError, ContinuationSettings, StopReason,
 };
-use crate::solver::critical::Critical;
 use crate::solver::newton::NewtonReport;
 use crate::solver::problem::Problem;
 use crate::solver::stability::InertiaError;

@@ -6,13 +6,12 @@
 //!
 //! The engine knows nothing of rods: it follows any [`Problem`].
 
-use super::critical::Critical;
 use super::linear::LinearError;
 use super::newton::{Newton, NewtonError, NewtonReport, NewtonSettings, StepEquation};
 use super::path_state::PathState;
 use super::problem::Problem;
 use super::stats::Statistics;
-use crate::results::Stability;
+use crate::results::{CriticalKind, Stability};
 use std::time::Instant;
 
 /// Step-length control of the continuation.
@@ -77,6 +76,21 @@ pub struct ContinuationError {
     /// The last step tried.
     pub step: f64,
     pub reason: StopReason,
+}
+
+/// A critical point of the path as the engine finds it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Critical {
+    pub kind: CriticalKind,
+    /// Load parameter at the critical point.
+    pub parameter: f64,
+    pub unstable_before: usize,
+    pub unstable_after: usize,
+    /// State at the critical point (all unknowns).
+    pub state: Vec<f64>,
+    /// Critical mode: the near-null vector of the Jacobian there (all unknowns), scaled to
+    /// unit norm over the primal unknowns.
+    pub mode: Vec<f64>,
 }
 
 /// Arclength steps after which a path that has turned back is given up.

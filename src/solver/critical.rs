@@ -3,25 +3,10 @@
 //! eigenvalue nearest zero —, classified as folds or bifurcations, and left along their mode
 //! by branch switching.
 
-use super::continuation::{Continuation, ContinuationError, StopReason};
+use super::continuation::{Continuation, ContinuationError, Critical, StopReason};
 use super::newton::{NewtonSettings, StepEquation};
 use super::problem::Problem;
 use crate::results::{CriticalKind, Stability};
-
-/// A critical point of the path as the engine finds it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Critical {
-    pub kind: CriticalKind,
-    /// Load parameter at the critical point.
-    pub parameter: f64,
-    pub unstable_before: usize,
-    pub unstable_after: usize,
-    /// State at the critical point (all unknowns).
-    pub state: Vec<f64>,
-    /// Critical mode: the near-null vector of the Jacobian there (all unknowns), scaled to
-    /// unit norm over the primal unknowns.
-    pub mode: Vec<f64>,
-}
 
 /// The segment of an accepted step from `(x0, λ0)` to `(x1, λ1)` on which the critical point
 /// lies, and the step equation that puts a probe at a fraction `f` of it.

@@ -2,7 +2,7 @@
 //! constant estimated from their difference and the theoretical order, and the element order
 //! and number of elements that meet the target at the least predicted wall time.
 
-use super::{with_mesh, Measure, Problem, ORDERS};
+use super::problem::{with_mesh, Measure, Problem, ORDERS};
 use crate::case::{Accuracy, Case};
 use crate::discretisation::shape::Order;
 use std::time::{Duration, Instant};

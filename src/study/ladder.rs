@@ -2,7 +2,7 @@
 //! (closed form or Richardson's extrapolation), the errors of every measure against it and
 //! the orders they show.
 
-use super::{Measure, Problem, Values, ORDERS};
+use super::problem::{Measure, Problem, Values, ORDERS};
 use crate::discretisation::shape::Order;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};

@@ -1,0 +1,346 @@
+//! What a study solves: a case's load path or Love's helix, the measures taken of each
+//! solution and their theoretical orders.
+
+use crate::case::Case;
+use crate::discretisation::fields;
+use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::shape::Order;
+use crate::model::assembly::Assembly;
+use crate::model::helix::Chirality;
+use crate::model::loading::Control;
+use crate::model::love::LoveHelix;
+use crate::results::Snapshot;
+use crate::run::run_path;
+use crate::simulation::Simulation;
+use crate::solver::continuation::ContinuationSettings;
+
+/// Element orders compared, coarse to fine in accuracy per element.
+pub const ORDERS: [Order; 2] = [Order::Linear, Order::Quadratic];
+
+/// The coarsest mesh of a ladder has at least this many elements per turn of helix:
+/// a quadratic element spans at most a quarter turn, a linear one an eighth.
+fn elements_per_turn(order: Order) -> f64 {
+    match order {
+        Order::Linear => 8.0,
+        Order::Quadratic => 4.0,
+    }
+}
+
+// ---------------------------------------------------------------- what is measured
+
+/// A measured quantity of a solution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Measure {
+    /// The response at the final load (reaction `Fz`, or `ε` under load control).
+    Response,
+    /// Curvature profiles, max norm over the common vertices.
+    Curvature,
+    /// Load parameter of the first critical point.
+    Critical,
+}
+
+impl Measure {
+    pub const ALL: [Measure; 3] = [Measure::Response, Measure::Curvature, Measure::Critical];
+
+    pub(super) fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Short name in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::Response => "Fz",
+            Measure::Curvature => "curvature",
+            Measure::Critical => "critical",
+        }
+    }
+
+    /// The exponent `k` of the error `O(h^k)` of this measure for elements of degree `p`,
+    /// `h` the element length. Stated from the theory, not fitted:
+    ///
+    /// - **Response and critical load: `2p`.** The tip reaction is the multiplier of the
+    ///   prescribed tip position, i.e. the derivative of the minimum energy with respect
+    ///   to it, and the critical load an eigenvalue of the stiffness on the constraints'
+    ///   tangent space. Both converge like the energy, whose error is the square of the
+    ///   `O(h^p)` error of a degree-`p` interpolation in the energy norm: `O(h^{2p})`
+    ///   (Strang & Fix, *An analysis of the finite element method*, ch. 1 and 6). The
+    ///   Gauss rules (2 points linear, 3 quadratic) are exact enough not to spoil it.
+    ///   *Except linear elements on a uniform helix: 4.* There the quaternion field runs
+    ///   on a great circle, and the normalised linear chord across an element (angle `θ`)
+    ///   has the curvature `sin θ / (θ (1 − 2t(1 − t)(1 − cos θ)))` times the exact one,
+    ///   relative error `θ² (t(1 − t) − 1/6) + O(θ⁴)` at `t ∈ [0, 1]`. With a uniform
+    ///   stress the energy error is, to first order, the stress times the integral of
+    ///   that error, and the 2-point Gauss rule integrates `t(1 − t) − 1/6` to exactly
+    ///   zero: the `O(h²)` term cancels and the reactions converge as `O(h⁴)`.
+    /// - **Curvature at the element vertices.** In 1-D the nodal values are
+    ///   superconvergent, so the error is that of differentiating the interpolant of the
+    ///   exact rotation field at its nodes (the curvature is `2 Im(q̄ q')/|q|²`).
+    ///   *Quadratic: 2.* The slope of a quadratic interpolant at either end of its element
+    ///   is off by `h² q⁽³⁾/12` with the same sign from both sides, so the mean over the
+    ///   two elements at a vertex keeps the `O(h²)` term. *Linear: 1, or 2 when the
+    ///   curvature is uniform.* At an interior vertex the mean of the two one-sided slopes
+    ///   is a central difference, `O(h²)`; at a rod end only one element meets and the
+    ///   slope is off by `(h/2) q''`, whose part along the field is the derivative of the
+    ///   curvature there: `O(h)` wherever the curvature varies at an end (the clamped ends
+    ///   of a deformed assembly). On a uniform helix (Love's) that derivative vanishes,
+    ///   and a linear chord of the great circle the quaternion field runs on is `O(h²)`
+    ///   everywhere.
+    pub fn theoretical_order(self, order: Order, uniform_curvature: bool) -> f64 {
+        let p = order.degree() as f64;
+        match (self, order) {
+            (Measure::Response, Order::Linear) if uniform_curvature => 4.0,
+            (Measure::Response | Measure::Critical, _) => 2.0 * p,
+            (Measure::Curvature, Order::Quadratic) => 2.0,
+            (Measure::Curvature, Order::Linear) => {
+                if uniform_curvature {
+                    2.0
+                } else {
+                    1.0
+                }
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------- problems
+
+/// The discrete model of Love's problem (DESIGN.md §6): one right-handed rod, naturally the
+/// helix `(a0, b0)`. One rod has no joints, so its meshes are uniform and a doubling ladder
+/// nests.
+fn love_model(love: &LoveHelix, order: Order, elements: usize) -> DiscreteModel {
+    DiscreteModel::new(
+        Assembly::new(1, love.radius0, love.pitch0, love.length),
+        love.stiffness,
+        elements,
+        order,
+    )
+}
+
+/// What a study solves.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Problem {
+    /// A case's load path, from the natural state through its output steps to its target.
+    Path(Box<Case>),
+    /// Love's helix: one equilibrium with a closed-form solution.
+    Love(LoveHelix),
+}
+
+/// The measured values of one solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Values {
+    /// See [`Problem::response_label`].
+    pub response: f64,
+    /// `(κ1, κ2, Ω)` (1/m) at the probe points, rod by rod.
+    pub curvature: Vec<[f64; 3]>,
+    /// Load parameter of the first critical point.
+    pub critical: Option<f64>,
+    /// Unknowns of the system, multipliers included.
+    pub unknowns: usize,
+    /// Elements per rod of the mesh (the largest over the rods).
+    pub elements: usize,
+}
+
+/// Arc lengths (m) at which curvatures are compared, per rod.
+pub type Probes = Vec<Vec<f64>>;
+
+impl Problem {
+    /// Name of the problem in titles and files.
+    pub fn name(&self) -> String {
+        match self {
+            Problem::Path(case) => case.name.clone(),
+            Problem::Love(love) => format!("love-helix-b{}", love.pitch),
+        }
+    }
+
+    /// One line on what is solved.
+    pub fn describe(&self) -> String {
+        match self {
+            Problem::Path(case) => format!(
+                "n = {}, {} control 0 → {} in {} steps",
+                case.geometry.helices,
+                case.loading.control.name(),
+                case.loading.target,
+                case.loading.steps
+            ),
+            Problem::Love(love) => format!(
+                "Love's helix: a rod of a0 = {} m, b0 = {} m held on b = {} m",
+                love.radius0, love.pitch0, love.pitch
+            ),
+        }
+    }
+
+    /// What [`Values::response`] is.
+    pub fn response_label(&self) -> String {
+        match self {
+            Problem::Path(case) => match case.loading.control {
+                Control::Displacement => format!("Fz/(n Pcrit) at ε = {}", case.loading.target),
+                Control::Force => format!("ε at P/Pcrit = {}", case.loading.target),
+            },
+            Problem::Love(_) => "tip force Fz (N)".to_string(),
+        }
+    }
+
+    /// Whether the exact curvature is uniform along every rod (Love's helix), which raises
+    /// the order of linear elements' vertex curvature (see [`Measure::theoretical_order`]).
+    pub fn uniform_curvature(&self) -> bool {
+        matches!(self, Problem::Love(_))
+    }
+
+    /// The theoretical order of measure `m` for elements of `order` on this problem.
+    pub fn theoretical_order(&self, m: Measure, order: Order) -> f64 {
+        m.theoretical_order(order, self.uniform_curvature())
+    }
+
+    fn turns(&self) -> f64 {
+        match self {
+            Problem::Path(case) => case.geometry.turns(),
+            Problem::Love(love) => love.turns(),
+        }
+    }
+
+    fn model(&self, order: Order, elements: usize) -> DiscreteModel {
+        match self {
+            Problem::Path(case) => with_mesh(case, order, elements).model(),
+            Problem::Love(love) => love_model(love, order, elements),
+        }
+    }
+
+    /// Number of intervals between joints on a rod. The joints of the thesis assemblies are
+    /// equally spaced (every π c/(n/2) of arc length), so a mesh of `k` times this many
+    /// elements has equal elements, and doubling it nests the meshes.
+    pub fn joint_intervals(&self) -> usize {
+        let model = self.model(Order::Linear, 1);
+        model
+            .rods
+            .iter()
+            .map(|r| r.mesh.elements())
+            .max()
+            .unwrap_or(1)
+    }
+
+    /// Coarsest mesh of a ladder for `order`: the smallest `joint_intervals · 2^j` with at
+    /// least [`elements_per_turn`] elements per turn.
+    pub fn coarsest(&self, order: Order) -> usize {
+        let m = self.joint_intervals().max(1);
+        let min = (elements_per_turn(order) * self.turns()).ceil().max(2.0) as usize;
+        let mut n = m;
+        while n < min {
+            n *= 2;
+        }
+        n
+    }
+
+    /// The vertices of the mesh of `elements` elements per rod (of any order), rod by rod
+    /// of the full assembly (as a [`Snapshot`] lists them).
+    pub fn vertices(&self, elements: usize) -> Probes {
+        let model = self.model(Order::Linear, elements);
+        (0..model.full_rods())
+            .map(|k| model.rods[model.source_rod(k)].mesh.vertices.clone())
+            .collect()
+    }
+
+    /// What the closed form is, where the problem has one.
+    pub fn closed_form(&self) -> Option<String> {
+        let Problem::Love(love) = self else {
+            return None;
+        };
+        let k = love.curvature(Chirality::Right);
+        Some(format!(
+            "Love's helix, DESIGN.md §6: Fz = {:.6} N, (κ1, κ2, Ω) = ({:.4}, 0, {:.4}) 1/m",
+            love.force(),
+            k[0],
+            k[2]
+        ))
+    }
+
+    /// The closed-form values where the problem has them.
+    pub fn exact(&self, probes: &Probes) -> Option<Values> {
+        let Problem::Love(love) = self else {
+            return None;
+        };
+        let model = love_model(love, Order::Linear, 1);
+        let curvature = model
+            .rods
+            .iter()
+            .zip(probes)
+            .flat_map(|(rod, s)| s.iter().map(|_| love.curvature(rod.helix.chirality)))
+            .collect();
+        Some(Values {
+            response: love.force(),
+            curvature,
+            critical: None,
+            unknowns: 0,
+            elements: 0,
+        })
+    }
+
+    /// Solves the problem on a mesh and measures it; curvatures at `probes`.
+    pub fn solve(&self, order: Order, elements: usize, probes: &Probes) -> Result<Values, String> {
+        match self {
+            Problem::Path(case) => {
+                let case = with_mesh(case, order, elements);
+                let targets = case.output_eps(case.loading.target, case.loading.steps);
+                let outcome = run_path(&case, &targets, |_, _| {}).map_err(|e| e.to_string())?;
+                if let Some(e) = outcome.error {
+                    return Err(e.to_string());
+                }
+                let last = outcome.points.last().expect("step 0 is always there");
+                let response = match case.loading.control {
+                    Control::Displacement => last.load[2],
+                    Control::Force => last.eps,
+                };
+                Ok(Values {
+                    response,
+                    curvature: sample_curvature(&outcome.model, &outcome.snapshot, probes),
+                    critical: outcome.critical.first().map(|c| c.parameter),
+                    unknowns: outcome.unknowns,
+                    elements: outcome.model.max_elements(),
+                })
+            }
+            Problem::Love(love) => {
+                let model = love_model(love, order, elements);
+                let sim = Simulation::held_on_helices(
+                    model,
+                    love.radius(),
+                    love.pitch,
+                    ContinuationSettings::default(),
+                )
+                .map_err(|e| e.to_string())?;
+                let point = sim.load_point(0);
+                let response = point.reactions.iter().map(|r| r.tip.force[2]).sum::<f64>()
+                    / point.reactions.len() as f64;
+                Ok(Values {
+                    response,
+                    curvature: sample_curvature(sim.model(), &sim.snapshot(), probes),
+                    critical: None,
+                    unknowns: sim.system().n,
+                    elements: sim.model().max_elements(),
+                })
+            }
+        }
+    }
+}
+
+/// `case` with the mesh `order` x `elements` (and no accuracy target).
+pub(crate) fn with_mesh(case: &Case, order: Order, elements: usize) -> Case {
+    let mut c = case.clone();
+    c.discretisation.order = order;
+    c.discretisation.elements = elements;
+    c.discretisation.accuracy = None;
+    c
+}
+
+/// Curvatures `(κ1, κ2, Ω)` (1/m) of every rod of `snapshot` at the arc lengths `probes`
+/// (m, rod by rod), as [`fields::curvature_at`] gives them.
+pub fn sample_curvature(
+    model: &DiscreteModel,
+    snapshot: &Snapshot,
+    probes: &Probes,
+) -> Vec<[f64; 3]> {
+    snapshot
+        .rods
+        .iter()
+        .zip(probes)
+        .flat_map(|(shape, s)| s.iter().map(|&s| fields::curvature_at(model, shape, s)))
+        .collect()
+}
