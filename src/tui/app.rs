@@ -3,12 +3,12 @@
 //! be tested headless.
 
 use super::stability;
-use super::worker::{Job, Request, Solved, WorkerEvent};
 use crate::case::Case;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
 use crate::output;
 use crate::precision::{MeshChoice, Study};
 use crate::results::{LoadPoint, Snapshot};
+use crate::session::worker::{Job, Request, Solved, WorkerEvent};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::{Path, PathBuf};
 

@@ -1,15 +1,15 @@
 //! The explorer: a ratatui terminal UI around the continuation solver (issue 4).
 //!
-//! [`app`] holds the state and its transitions (no terminal), [`worker`] runs the solver on
-//! its own thread, [`ui`] draws. This module owns the terminal: raw mode and the alternate
+//! [`app`] holds the state and its transitions (no terminal), the solver runs on its own
+//! thread ([`crate::session`]), [`ui`] draws. This module owns the terminal: raw mode and the alternate
 //! screen are set up here and undone on exit, on error and on panic.
 
 pub mod app;
 pub mod stability;
 pub mod ui;
-pub mod worker;
 
 use crate::case::Case;
+use crate::session::worker::{self, Worker, WorkerEvent};
 use anyhow::Context as _;
 use app::{App, Effect};
 use crossterm::event::{self, Event, KeyCode, KeyEvent, KeyModifiers};
@@ -22,7 +22,6 @@ use std::path::PathBuf;
 use std::sync::mpsc::TryRecvError;
 use std::sync::Once;
 use std::time::{Duration, Instant};
-use worker::{Worker, WorkerEvent};
 
 /// How long the event loop waits for input before looking at the solver again.
 const POLL: Duration = Duration::from_millis(40);
