@@ -10,7 +10,6 @@ pub mod ui;
 
 use crate::case::Case;
 use crate::session::worker::{self, Worker, WorkerEvent};
-use anyhow::Context as _;
 use app::{App, Effect};
 use crossterm::event::{self, Event, KeyCode, KeyEvent, KeyModifiers};
 use crossterm::{cursor, execute, terminal};
@@ -23,25 +22,44 @@ use std::sync::mpsc::TryRecvError;
 use std::sync::Once;
 use std::time::{Duration, Instant};
 
+/// Why the explorer could not run, or stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum TuiError {
+    #[error("the explorer needs an interactive terminal; for a headless run use `spira run CASE`")]
+    NotATerminal,
+    #[error("setting up the terminal")]
+    Setup(#[source] io::Error),
+    #[error("starting the solver thread")]
+    SolverThread(#[source] io::Error),
+    /// Reading input from or drawing to the terminal failed.
+    #[error(transparent)]
+    Terminal(#[from] io::Error),
+    #[error("the solver thread stopped")]
+    SolverStopped,
+    #[error("the solver did not answer within 10 minutes")]
+    Timeout,
+    /// A step of [`measure_responsiveness`] failed, for this reason.
+    #[error("step failed: {0}")]
+    StepFailed(String),
+}
+
 /// How long the event loop waits for input before looking at the solver again.
 const POLL: Duration = Duration::from_millis(40);
 
 /// Opens the explorer on `case`, exporting into the current directory, and returns when the
 /// user quits.
-pub fn run(case: Case) -> anyhow::Result<()> {
+pub fn run(case: Case) -> Result<(), TuiError> {
     run_in(case, PathBuf::from("."))
 }
 
 /// Opens the explorer on `case`, exporting into `out_dir`.
-pub fn run_in(case: Case, out_dir: PathBuf) -> anyhow::Result<()> {
+pub fn run_in(case: Case, out_dir: PathBuf) -> Result<(), TuiError> {
     if !io::stdout().is_terminal() || !io::stdin().is_terminal() {
-        anyhow::bail!(
-            "the explorer needs an interactive terminal; for a headless run use `spira run CASE`"
-        );
+        return Err(TuiError::NotATerminal);
     }
     install_panic_hook();
-    let mut terminal = TerminalGuard::enter().context("setting up the terminal")?;
-    let worker = Worker::spawn().context("starting the solver thread")?;
+    let mut terminal = TerminalGuard::enter().map_err(TuiError::Setup)?;
+    let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
     let result = event_loop(&mut terminal.terminal, &mut app, &worker);
     drop(terminal);
@@ -146,9 +164,9 @@ fn event_loop<B: Backend>(
     terminal: &mut Terminal<B>,
     app: &mut App,
     worker: &Worker,
-) -> anyhow::Result<()>
+) -> Result<(), TuiError>
 where
-    B::Error: Send + Sync + 'static,
+    B::Error: Into<TuiError>,
 {
     let effects = app.start();
     apply(effects, app, worker);
@@ -156,7 +174,7 @@ where
     let mut lost = false;
     loop {
         if dirty {
-            terminal.draw(|f| ui::draw(f, app))?;
+            terminal.draw(|f| ui::draw(f, app)).map_err(Into::into)?;
             dirty = false;
         }
         if event::poll(POLL)? {
@@ -261,10 +279,10 @@ pub fn measure_responsiveness(
     steps: usize,
     width: u16,
     height: u16,
-) -> anyhow::Result<Responsiveness> {
+) -> Result<Responsiveness, TuiError> {
     let helices = case.geometry.helices;
     let worker = Worker::spawn()?;
-    let mut terminal = Terminal::new(TestBackend::new(width, height))?;
+    let Ok(mut terminal) = Terminal::new(TestBackend::new(width, height));
     let mut app = App::new(case, std::env::temp_dir());
     let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
     let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
@@ -277,10 +295,10 @@ pub fn measure_responsiveness(
         step: app.step,
     };
     let deadline = Instant::now() + Duration::from_secs(600);
-    let wait_idle = |app: &mut App| -> anyhow::Result<()> {
+    let wait_idle = |app: &mut App| -> Result<(), TuiError> {
         while app.busy() {
             if Instant::now() > deadline {
-                anyhow::bail!("the solver did not answer within 10 minutes");
+                return Err(TuiError::Timeout);
             }
             match worker.events.recv_timeout(Duration::from_millis(100)) {
                 Ok(e) => {
@@ -291,7 +309,7 @@ pub fn measure_responsiveness(
                     }
                 }
                 Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-                Err(_) => anyhow::bail!("the solver thread stopped"),
+                Err(_) => return Err(TuiError::SolverStopped),
             }
         }
         Ok(())
@@ -310,7 +328,7 @@ pub fn measure_responsiveness(
         }
         while app.busy() {
             if Instant::now() > deadline {
-                anyhow::bail!("the solver did not answer within 10 minutes");
+                return Err(TuiError::Timeout);
             }
             match worker.events.try_recv() {
                 Ok(e) => {
@@ -323,17 +341,17 @@ pub fn measure_responsiveness(
                     app.on_worker_event(e);
                     continue;
                 }
-                Err(TryRecvError::Disconnected) => anyhow::bail!("the solver thread stopped"),
+                Err(TryRecvError::Disconnected) => return Err(TuiError::SolverStopped),
                 Err(TryRecvError::Empty) => {}
             }
             let t = Instant::now();
             app.handle_key(down);
-            terminal.draw(|f| ui::draw(f, &app))?;
+            let Ok(_) = terminal.draw(|f| ui::draw(f, &app));
             result.key_to_frame.push(t.elapsed());
             std::thread::sleep(Duration::from_millis(5));
         }
         if let Some(crate::tui::app::Message::Error(e)) = &app.message {
-            anyhow::bail!("step failed: {e}");
+            return Err(TuiError::StepFailed(e.clone()));
         }
     }
     worker.join();
