@@ -564,6 +564,22 @@ impl Reference {
             ),
         }
     }
+
+    /// A few words for a chart's corner: `closed form`, or `Richardson quadratic 16/32`
+    /// (the order and the elements per rod of the two solutions).
+    pub fn short_label(&self) -> String {
+        match self {
+            Reference::ClosedForm(_) => "closed form".to_string(),
+            Reference::Richardson {
+                order, elements, ..
+            } => format!(
+                "Richardson {} {}/{}",
+                order_name(*order),
+                elements[0],
+                elements[1]
+            ),
+        }
+    }
 }
 
 /// A work-precision study.

@@ -628,13 +628,9 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
-/// Colour of an element order in the work-precision chart.
-fn order_color(order: crate::discretisation::shape::Order) -> Color {
-    match order {
-        crate::discretisation::shape::Order::Linear => Color::LightBlue,
-        crate::discretisation::shape::Order::Quadratic => Color::LightRed,
-    }
-}
+/// Colours of the element orders in the work-precision chart, by their place in
+/// [`ORDERS`].
+const ORDER_PALETTE: [Color; ORDERS.len()] = [Color::LightBlue, Color::LightRed];
 
 /// `10^k` decade labels for an axis of log10 values from `lo` to `hi` (whole numbers): at
 /// most 5, evenly spaced (a chart spaces its labels evenly).
@@ -662,96 +658,124 @@ fn decade_bounds(v: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
     Some((a, b.max(a + 1)))
 }
 
+/// One panel of the work-precision chart: the measure it plots and its title.
+struct PrecisionPanel {
+    measure: Measure,
+    title: &'static str,
+    /// The panel carries the chart's caption (else the reference, once there is a study).
+    caption: bool,
+}
+
+/// The work-precision chart's panels, left to right.
+const PRECISION_PANELS: [PrecisionPanel; 2] = [
+    PrecisionPanel {
+        measure: Measure::Response,
+        title: " Fz error ",
+        caption: true,
+    },
+    PrecisionPanel {
+        measure: Measure::Curvature,
+        title: " κ error ",
+        caption: false,
+    },
+];
+
 /// The work-precision chart of the case in place of the curvature and load plots: the
 /// error of Fz and of the curvature profiles against the wall time, log-log, one line per
 /// element order (the chart `spira precision` writes).
 fn draw_precision(frame: &mut Frame, area: Rect, app: &App) {
-    let [left, right] =
+    let areas: [Rect; PRECISION_PANELS.len()] =
         Layout::horizontal([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(area);
     let study = match &app.precision {
         PrecisionView::Ready(s) => Some(s.as_ref()),
         _ => None,
     };
-    for (area, m) in [(left, Measure::Response), (right, Measure::Curvature)] {
-        draw_precision_panel(frame, area, app, study, m);
+    for (area, panel) in areas.into_iter().zip(&PRECISION_PANELS) {
+        let block = precision_block(panel, study);
+        match study {
+            Some(study) => draw_precision_chart(frame, area, block, panel, study),
+            None => draw_precision_pending(frame, area, block, &app.precision),
+        }
     }
 }
 
-fn draw_precision_panel(
-    frame: &mut Frame,
-    area: Rect,
-    app: &App,
-    study: Option<&Study>,
-    m: Measure,
-) {
-    let what = match m {
-        Measure::Response => " Fz error ",
-        _ => " κ error ",
-    };
-    let mut title = vec![bold(what.to_string())];
-    for o in ORDERS {
+/// A panel's frame: its title with the legend of the orders (and the finest observed
+/// order of each, once known), the caption on the left panel.
+fn precision_block(panel: &PrecisionPanel, study: Option<&Study>) -> Block<'static> {
+    let mut title = vec![bold(panel.title.to_string())];
+    for (o, color) in ORDERS.into_iter().zip(ORDER_PALETTE) {
         let order = study
-            .and_then(|s| s.finest_observed(m, o))
+            .and_then(|s| s.finest_observed(panel.measure, o))
             .map_or(String::new(), |k| format!(" {k:.1}"));
-        title.push(Span::styled("━", Style::new().fg(order_color(o))));
+        title.push(Span::styled("━", Style::new().fg(color)));
         title.push(Span::raw(format!("{}{order} ", precision::order_name(o))));
     }
-    let mut block = Block::new().borders(Borders::ALL).title(Line::from(title));
-    if m == Measure::Response {
-        block =
-            block.title_bottom(Line::from(" work-precision, log-log ").alignment(Alignment::Left));
+    let block = Block::new().borders(Borders::ALL).title(Line::from(title));
+    if panel.caption {
+        block.title_bottom(Line::from(" work-precision, log-log ").alignment(Alignment::Left))
+    } else {
+        block
     }
-    let Some(study) = study else {
-        let text = match &app.precision {
-            PrecisionView::Running { done, total } if *total > 0 => {
-                format!("work-precision study: {done} of {total} meshes solved…")
-            }
-            PrecisionView::Running { .. } => "work-precision study: starting…".to_string(),
-            PrecisionView::Failed(e) => format!("work-precision study failed: {e}"),
-            _ => "no study (w asks for one)".to_string(),
-        };
-        let inner = block.inner(area);
-        frame.render_widget(block, area);
-        if inner.height > 0 {
-            frame.render_widget(
-                Paragraph::new(text)
-                    .style(Style::new().fg(DIM))
-                    .alignment(Alignment::Center)
-                    .wrap(Wrap { trim: true }),
-                Rect {
-                    y: inner.y + inner.height / 2,
-                    height: inner.height - inner.height / 2,
-                    ..inner
-                },
-            );
+}
+
+/// A panel before its study is ready: how far the study is, or why it failed.
+fn draw_precision_pending(frame: &mut Frame, area: Rect, block: Block, view: &PrecisionView) {
+    let text = match view {
+        PrecisionView::Running { done, total } if *total > 0 => {
+            format!("work-precision study: {done} of {total} meshes solved…")
         }
-        return;
+        PrecisionView::Running { .. } => "work-precision study: starting…".to_string(),
+        PrecisionView::Failed(e) => format!("work-precision study failed: {e}"),
+        _ => "no study (w asks for one)".to_string(),
     };
-    let reference = match &study.reference {
-        precision::Reference::ClosedForm(_) => " ref: closed form ".to_string(),
-        precision::Reference::Richardson {
-            order, elements, ..
-        } => format!(
-            " ref: Richardson {} {}/{} ",
-            precision::order_name(*order),
-            elements[0],
-            elements[1]
-        ),
-    };
-    if m != Measure::Response {
-        block = block.title_bottom(Line::from(reference).alignment(Alignment::Right));
+    let inner = block.inner(area);
+    frame.render_widget(block, area);
+    if inner.height > 0 {
+        frame.render_widget(
+            Paragraph::new(text)
+                .style(Style::new().fg(DIM))
+                .alignment(Alignment::Center)
+                .wrap(Wrap { trim: true }),
+            Rect {
+                y: inner.y + inner.height / 2,
+                height: inner.height - inner.height / 2,
+                ..inner
+            },
+        );
     }
-    let series: Vec<(crate::discretisation::shape::Order, Vec<(f64, f64)>)> = ORDERS
-        .iter()
-        .map(|&o| {
+}
+
+/// A panel's log-log lines, one per order (log10 of time, log10 of error), with their
+/// colours.
+fn precision_series(study: &Study, m: Measure) -> Vec<(Color, Vec<(f64, f64)>)> {
+    ORDERS
+        .into_iter()
+        .zip(ORDER_PALETTE)
+        .map(|(o, color)| {
             let pts = study
                 .points(o, m)
                 .iter()
                 .map(|p| (p.x.log10(), p.y.log10()))
                 .collect();
-            (o, pts)
+            (color, pts)
         })
-        .collect();
+        .collect()
+}
+
+/// A panel of a finished study: error against time per order, the reference named on the
+/// right panel.
+fn draw_precision_chart(
+    frame: &mut Frame,
+    area: Rect,
+    mut block: Block,
+    panel: &PrecisionPanel,
+    study: &Study,
+) {
+    if !panel.caption {
+        let reference = format!(" ref: {} ", study.reference.short_label());
+        block = block.title_bottom(Line::from(reference).alignment(Alignment::Right));
+    }
+    let series = precision_series(study, panel.measure);
     let all = || series.iter().flat_map(|(_, p)| p.iter());
     let (Some(xb), Some(yb)) = (
         decade_bounds(all().map(|p| p.0)),
@@ -761,8 +785,8 @@ fn draw_precision_panel(
         return;
     };
     let mut datasets = Vec::new();
-    for (o, pts) in &series {
-        let style = Style::new().fg(order_color(*o));
+    for (color, pts) in &series {
+        let style = Style::new().fg(*color);
         datasets.push(
             Dataset::default()
                 .data(pts)
