@@ -5,6 +5,7 @@
 //! screen are set up here and undone on exit, on error and on panic.
 
 pub mod app;
+pub mod keys;
 pub mod stability;
 pub mod ui;
 

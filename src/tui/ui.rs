@@ -2,6 +2,7 @@
 //! 16 ANSI colours are used, so the screen reads the same on any terminal and over SSH.
 
 use super::app::{fmt_step, App, Message, PrecisionView};
+use super::keys::BINDINGS;
 use super::stability;
 use crate::precision::{self, Measure, Study, ORDERS};
 use crate::results::{LoadPoint, NodeState, RodShape, Snapshot};
@@ -840,9 +841,25 @@ fn message_lines(app: &App, width: u16) -> u16 {
 
 /// Case and loading; boundary conditions; the last solve; messages (wrapped).
 fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
-    let state = app.state.as_ref();
-    let eps = state.map_or("–".to_string(), |s| format!("{:.5}", s.point.eps));
-    let activity = match (&app.solving, app.running) {
+    let [a, b, c, d] = Layout::vertical([
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Min(0),
+    ])
+    .areas(area);
+    frame.render_widget(Paragraph::new(case_line(app)), a);
+    frame.render_widget(Paragraph::new(boundary_line(app)), b);
+    frame.render_widget(Paragraph::new(solve_line(app)), c);
+    frame.render_widget(
+        Paragraph::new(message_line(app)).wrap(Wrap { trim: false }),
+        d,
+    );
+}
+
+/// What the explorer is doing: solving (what), running, or idle.
+fn activity(app: &App) -> Span<'static> {
+    match (&app.solving, app.running) {
         (Some(job), true) => Span::styled(
             format!("▶ running · solving {job}…"),
             Style::new().fg(Color::Yellow),
@@ -852,8 +869,16 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
         }
         (None, true) => Span::styled("▶ running", Style::new().fg(Color::Yellow)),
         (None, false) => Span::styled("idle", Style::new().fg(Color::Green)),
-    };
-    let line1 = Line::from(vec![
+    }
+}
+
+/// Status line 1: case, `n`, `ε` and its target, the step, the activity.
+fn case_line(app: &App) -> Line<'static> {
+    let eps = app
+        .state
+        .as_ref()
+        .map_or("–".to_string(), |s| format!("{:.5}", s.point.eps));
+    Line::from(vec![
         bold(app.case_label()),
         sep(),
         Span::raw(format!("n {}", app.helices)),
@@ -864,11 +889,15 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
         sep(),
         Span::raw(format!("Δε {}", fmt_step(app.step))),
         sep(),
-        activity,
-    ]);
-    let in_force = state.map_or(app.boundary, |s| s.boundary);
-    let pending = in_force != app.boundary;
-    let mut line2 = vec![
+        activity(app),
+    ])
+}
+
+/// Status line 2: the conditions in force, the mesh an accuracy target chose, and the
+/// conditions asked for when they are not in force yet.
+fn boundary_line(app: &App) -> Line<'static> {
+    let in_force = app.state.as_ref().map_or(app.boundary, |s| s.boundary);
+    let mut line = vec![
         Span::raw(format!("base {}", in_force.base.label())),
         sep(),
         Span::raw(format!("tip {}", in_force.tip.label())),
@@ -880,21 +909,26 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
     ];
     if let Some(m) = &app.mesh {
         // the mesh an accuracy target chose, with the error estimated for it
-        line2.push(sep());
-        line2.push(Span::raw(format!(
+        line.push(sep());
+        line.push(Span::raw(format!(
             "mesh {} {}, err {:.0e}",
             m.elements,
             precision::order_name(m.order),
             m.estimated_error
         )));
     }
-    if pending {
-        line2.push(sep());
-        line2.push(Span::styled(
+    if in_force != app.boundary {
+        line.push(sep());
+        line.push(Span::styled(
             format!("asked: {}", app.boundary.label()),
             Style::new().fg(Color::Yellow),
         ));
     }
+    Line::from(line)
+}
+
+/// Status line 3: stability of the state on screen and how its solve went.
+fn solve_line(app: &App) -> Line<'static> {
     let unstable = app.stability();
     let stability_style = match unstable {
         Some(true) => Style::new()
@@ -902,7 +936,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
             .add_modifier(Modifier::BOLD),
         _ => Style::new(),
     };
-    let line3 = match state {
+    match app.state.as_ref() {
         // stability first: on a narrow screen the line is cut from the right
         Some(s) => Line::from(vec![
             Span::raw("stability "),
@@ -918,8 +952,12 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
             Span::raw(format!("inner step {}", fmt_num(s.step_length))),
         ]),
         None => Line::from(vec![Span::raw("stability "), Span::raw("n/a")]),
-    };
-    let line4 = match &app.message {
+    }
+}
+
+/// The message for the user, or the key hint.
+fn message_line(app: &App) -> Line<'static> {
+    match &app.message {
         Some(Message::Error(m)) => {
             Line::from(Span::styled(m.clone(), Style::new().fg(Color::LightRed)))
         }
@@ -930,18 +968,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
             "←→ step  ↑↓ rod  space run  +- Δε  e export  ? help (all keys)  q quit",
             Style::new().fg(DIM),
         )),
-    };
-    let [a, b, c, d] = Layout::vertical([
-        Constraint::Length(1),
-        Constraint::Length(1),
-        Constraint::Length(1),
-        Constraint::Min(0),
-    ])
-    .areas(area);
-    frame.render_widget(Paragraph::new(line1), a);
-    frame.render_widget(Paragraph::new(Line::from(line2)), b);
-    frame.render_widget(Paragraph::new(line3), c);
-    frame.render_widget(Paragraph::new(line4).wrap(Wrap { trim: false }), d);
+    }
 }
 
 fn fmt_duration(d: std::time::Duration) -> String {
@@ -955,27 +982,17 @@ fn fmt_duration(d: std::time::Duration) -> String {
     }
 }
 
-/// The keys, in the help overlay.
-pub const KEYS: [(&str, &str); 18] = [
-    ("→ l", "step compression forward by Δε"),
-    ("← h", "step compression back by Δε"),
-    ("+ =", "double the step Δε"),
-    ("- _", "halve the step Δε"),
-    ("space", "run / pause continuous loading to the target"),
-    ("↑ k", "select the previous rod"),
-    ("↓ j", "select the next rod"),
-    ("b", "base translation: fixed → slide → radial"),
-    ("B", "base rotation: clamped ↔ free"),
-    ("t", "tip translation: fixed → slide → radial"),
-    ("T", "tip rotation: clamped ↔ free"),
-    ("p", "pin joints on ↔ off"),
-    ("n N", "more / fewer helices (1 2 4 8 16), start over"),
-    ("r", "reset: ε = 0, the case's conditions"),
-    ("e", "export state and load path to CSV"),
-    ("w", "work-precision chart of the case (on/off)"),
-    ("?", "this help (any key closes it)"),
-    ("q Esc", "quit (also Ctrl-C)"),
-];
+/// The keys, in the help overlay: (keys, what they do), made from the key table
+/// [`BINDINGS`] that the key handling reads.
+pub const KEYS: [(&str, &str); BINDINGS.len()] = {
+    let mut keys = [("", ""); BINDINGS.len()];
+    let mut i = 0;
+    while i < keys.len() {
+        keys[i] = (BINDINGS[i].label, BINDINGS[i].help);
+        i += 1;
+    }
+    keys
+};
 
 fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
     let mut lines: Vec<Line> = KEYS
