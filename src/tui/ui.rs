@@ -438,23 +438,7 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
         .state
         .as_ref()
         .and_then(|s| s.snapshot.rods.get(app.selected_rod));
-    let mut title = vec![Span::styled(
-        match rod {
-            Some(r) => format!(" rod {} ({}) ", r.rod + 1, r.chirality.name()),
-            None => " curvature ".to_string(),
-        },
-        Style::new().add_modifier(Modifier::BOLD),
-    )];
-    title.extend(key_span("━", "κ1", K1_LINE));
-    title.extend(key_span("━", "κ2", K2_LINE));
-    title.extend(key_span("━", "Ω", OMEGA_LINE));
-    if rod.is_some_and(|r| !r.joints.is_empty()) {
-        title.extend(key_span("╷", "joints", JOINT));
-    }
-    let block = Block::new()
-        .borders(Borders::ALL)
-        .title(Line::from(title))
-        .title_bottom(Line::from(" (1/m) ").alignment(Alignment::Left));
+    let block = curvature_block(rod);
     let Some(rod) = rod else {
         return placeholder(frame, area, block, app);
     };
@@ -474,18 +458,7 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     } else {
         [y[0] - tick, y[1]]
     });
-    let length = rod.nodes.last().map_or(1.0, |n| {
-        if n.s_over_l > 0.0 {
-            n.s / n.s_over_l
-        } else {
-            1.0
-        }
-    });
-    let ticks: Vec<[(f64, f64); 2]> = rod
-        .joints
-        .iter()
-        .map(|&s| [(s / length, y[0]), (s / length, y[0] + tick)])
-        .collect();
+    let ticks = joint_ticks(rod, y[0], tick);
     let mut datasets: Vec<Dataset> = ticks
         .iter()
         .map(|t| {
@@ -524,6 +497,42 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
+/// The curvature panel's frame: the rod and the legend of its lines.
+fn curvature_block(rod: Option<&RodShape>) -> Block<'static> {
+    let mut title = vec![Span::styled(
+        match rod {
+            Some(r) => format!(" rod {} ({}) ", r.rod + 1, r.chirality.name()),
+            None => " curvature ".to_string(),
+        },
+        Style::new().add_modifier(Modifier::BOLD),
+    )];
+    title.extend(key_span("━", "κ1", K1_LINE));
+    title.extend(key_span("━", "κ2", K2_LINE));
+    title.extend(key_span("━", "Ω", OMEGA_LINE));
+    if rod.is_some_and(|r| !r.joints.is_empty()) {
+        title.extend(key_span("╷", "joints", JOINT));
+    }
+    Block::new()
+        .borders(Borders::ALL)
+        .title(Line::from(title))
+        .title_bottom(Line::from(" (1/m) ").alignment(Alignment::Left))
+}
+
+/// A tick of height `tick` up from `bottom` at each joint of `rod`, at its s/L.
+fn joint_ticks(rod: &RodShape, bottom: f64, tick: f64) -> Vec<[(f64, f64); 2]> {
+    let length = rod.nodes.last().map_or(1.0, |n| {
+        if n.s_over_l > 0.0 {
+            n.s / n.s_over_l
+        } else {
+            1.0
+        }
+    });
+    rod.joints
+        .iter()
+        .map(|&s| [(s / length, bottom), (s / length, bottom + tick)])
+        .collect()
+}
+
 /// One load component along one stretch of the path.
 struct Series {
     points: Vec<(f64, f64)>,
@@ -536,53 +545,16 @@ struct Series {
 fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let path = &app.path;
     let stretches = stability::stretches(path.len(), |k| stability::is_unstable(&path[k]));
-    let any_unstable = stretches.iter().any(|s| s.unstable);
-    let mut title = vec![Span::styled(
-        " load Σf/(n Pcrit) ",
-        Style::new().add_modifier(Modifier::BOLD),
-    )];
-    title.extend(key_span("━", "fx", FX_LINE));
-    title.extend(key_span("━", "fy", FY_LINE));
-    title.extend(key_span("━", "fz", FZ_LINE));
-    if any_unstable {
-        title.extend(key_span("•", "unstable", DIM));
-    }
-    title.extend(key_span("█", "now", SELECTED));
-    let block = Block::new().borders(Borders::ALL).title(Line::from(title));
+    let block = load_block(stretches.iter().any(|s| s.unstable));
     if path.is_empty() {
         return placeholder(frame, area, block, app);
     }
-    let target = app.target();
-    // from 0 to the target, or as far as the path went
-    let (lo, hi) = path
-        .iter()
-        .map(|p| p.eps)
-        .chain([0.0, target, app.requested_eps])
-        .filter(|e| e.is_finite())
-        .fold((0.0f64, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
-    let x = if hi > lo {
-        [lo, hi]
-    } else {
-        [lo - 0.5, hi + 0.5]
-    };
+    let x = eps_bounds(app);
     let y = nice_bounds(padded_range(
         path.iter().flat_map(|p| p.load).chain([0.0]),
         0.2,
     ));
-    let colors = [FX_LINE, FY_LINE, FZ_LINE];
-    let series: Vec<Series> = stretches
-        .iter()
-        .flat_map(|s| {
-            (0..3).map(move |c| Series {
-                points: path[s.points.clone()]
-                    .iter()
-                    .map(|p: &LoadPoint| (p.eps, p.load[c]))
-                    .collect(),
-                color: colors[c],
-                unstable: s.unstable,
-            })
-        })
-        .collect();
+    let series = load_series(path, &stretches);
     let now: Vec<(f64, f64)> = app
         .state
         .as_ref()
@@ -627,6 +599,56 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
                 .style(Style::new().fg(DIM)),
         );
     frame.render_widget(chart, area);
+}
+
+/// The load panel's frame: the legend of its lines (unstable stretches once there are).
+fn load_block(any_unstable: bool) -> Block<'static> {
+    let mut title = vec![Span::styled(
+        " load Σf/(n Pcrit) ",
+        Style::new().add_modifier(Modifier::BOLD),
+    )];
+    title.extend(key_span("━", "fx", FX_LINE));
+    title.extend(key_span("━", "fy", FY_LINE));
+    title.extend(key_span("━", "fz", FZ_LINE));
+    if any_unstable {
+        title.extend(key_span("•", "unstable", DIM));
+    }
+    title.extend(key_span("█", "now", SELECTED));
+    Block::new().borders(Borders::ALL).title(Line::from(title))
+}
+
+/// The ε axis: from 0 to the target, or as far as the path (or the request) went.
+fn eps_bounds(app: &App) -> [f64; 2] {
+    let (lo, hi) = app
+        .path
+        .iter()
+        .map(|p| p.eps)
+        .chain([0.0, app.target(), app.requested_eps])
+        .filter(|e| e.is_finite())
+        .fold((0.0f64, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
+    if hi > lo {
+        [lo, hi]
+    } else {
+        [lo - 0.5, hi + 0.5]
+    }
+}
+
+/// fx, fy, fz along each stretch of stable or unstable states.
+fn load_series(path: &[LoadPoint], stretches: &[stability::Stretch]) -> Vec<Series> {
+    let colors = [FX_LINE, FY_LINE, FZ_LINE];
+    stretches
+        .iter()
+        .flat_map(|s| {
+            (0..3).map(move |c| Series {
+                points: path[s.points.clone()]
+                    .iter()
+                    .map(|p: &LoadPoint| (p.eps, p.load[c]))
+                    .collect(),
+                color: colors[c],
+                unstable: s.unstable,
+            })
+        })
+        .collect()
 }
 
 /// Colours of the element orders in the work-precision chart, by their place in
