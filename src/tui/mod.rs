@@ -19,7 +19,7 @@ use ratatui::Terminal;
 use std::fmt;
 use std::io::{self, IsTerminal};
 use std::path::PathBuf;
-use std::sync::mpsc::TryRecvError;
+use std::sync::mpsc::{RecvTimeoutError, TryRecvError};
 use std::sync::Once;
 use std::time::{Duration, Instant};
 
@@ -32,7 +32,8 @@ pub enum TuiError {
     Setup(#[source] io::Error),
     #[error("starting the solver thread")]
     SolverThread(#[source] io::Error),
-    /// Reading input from or drawing to the terminal failed.
+    /// Reading input from or drawing to the terminal failed (or another I/O error, such as
+    /// starting the threads of [`measure_responsiveness`]).
     #[error(transparent)]
     Terminal(#[from] io::Error),
     #[error("the solver thread stopped")]
@@ -285,8 +286,6 @@ pub fn measure_responsiveness(
     let worker = Worker::spawn()?;
     let Ok(mut terminal) = Terminal::new(TestBackend::new(width, height));
     let mut app = App::new(case, std::env::temp_dir());
-    let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
-    let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
     let mut result = Responsiveness {
         helices,
         width,
@@ -296,65 +295,78 @@ pub fn measure_responsiveness(
         step: app.step,
     };
     let deadline = Instant::now() + Duration::from_secs(600);
-    let wait_idle = |app: &mut App| -> Result<(), TuiError> {
-        while app.busy() {
-            if Instant::now() > deadline {
-                return Err(TuiError::Timeout);
-            }
-            match worker.events.recv_timeout(Duration::from_millis(100)) {
-                Ok(e) => {
-                    for effect in app.on_worker_event(e) {
-                        if let Effect::Solve(r) = effect {
-                            worker.send(r);
-                        }
-                    }
-                }
-                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-                Err(_) => return Err(TuiError::SolverStopped),
-            }
-        }
-        Ok(())
-    };
-    for effect in app.start() {
+    let effects = app.start();
+    send_requests(effects, &worker);
+    wait_idle(&mut app, &worker, deadline)?;
+    for _ in 0..steps {
+        measure_step(&mut app, &worker, &mut terminal, &mut result, deadline)?;
+    }
+    worker.join();
+    Ok(result)
+}
+
+/// Sends the solver requests among `effects` (the headless driver does nothing else).
+fn send_requests(effects: Vec<Effect>, worker: &Worker) {
+    for effect in effects {
         if let Effect::Solve(r) = effect {
             worker.send(r);
         }
     }
-    wait_idle(&mut app)?;
-    for _ in 0..steps {
-        for effect in app.handle_key(right) {
-            if let Effect::Solve(r) = effect {
-                worker.send(r);
-            }
+}
+
+/// Feeds the solver's answers to `app` until it is idle.
+fn wait_idle(app: &mut App, worker: &Worker, deadline: Instant) -> Result<(), TuiError> {
+    while app.busy() {
+        if Instant::now() > deadline {
+            return Err(TuiError::Timeout);
         }
-        while app.busy() {
-            if Instant::now() > deadline {
-                return Err(TuiError::Timeout);
-            }
-            match worker.events.try_recv() {
-                Ok(e) => {
-                    if let WorkerEvent::Solved {
-                        done: true, state, ..
-                    } = &e
-                    {
-                        result.step_times.push(state.time);
-                    }
-                    app.on_worker_event(e);
-                    continue;
-                }
-                Err(TryRecvError::Disconnected) => return Err(TuiError::SolverStopped),
-                Err(TryRecvError::Empty) => {}
-            }
-            let t = Instant::now();
-            app.handle_key(down);
-            let Ok(_) = terminal.draw(|f| ui::draw(f, &app));
-            result.key_to_frame.push(t.elapsed());
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        if let Some(crate::tui::app::Message::Error(e)) = &app.message {
-            return Err(TuiError::StepFailed(e.clone()));
+        match worker.events.recv_timeout(Duration::from_millis(100)) {
+            Ok(e) => send_requests(app.on_worker_event(e), worker),
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => return Err(TuiError::SolverStopped),
         }
     }
-    worker.join();
-    Ok(result)
+    Ok(())
+}
+
+/// One step of `Δε`: while it is being solved, presses "next rod" every few milliseconds
+/// and times key handling plus drawing.
+fn measure_step(
+    app: &mut App,
+    worker: &Worker,
+    terminal: &mut Terminal<TestBackend>,
+    result: &mut Responsiveness,
+    deadline: Instant,
+) -> Result<(), TuiError> {
+    let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
+    let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
+    send_requests(app.handle_key(right), worker);
+    while app.busy() {
+        if Instant::now() > deadline {
+            return Err(TuiError::Timeout);
+        }
+        match worker.events.try_recv() {
+            Ok(e) => {
+                if let WorkerEvent::Solved {
+                    done: true, state, ..
+                } = &e
+                {
+                    result.step_times.push(state.time);
+                }
+                app.on_worker_event(e);
+                continue;
+            }
+            Err(TryRecvError::Disconnected) => return Err(TuiError::SolverStopped),
+            Err(TryRecvError::Empty) => {}
+        }
+        let t = Instant::now();
+        app.handle_key(down);
+        let Ok(_) = terminal.draw(|f| ui::draw(f, app));
+        result.key_to_frame.push(t.elapsed());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    match &app.message {
+        Some(app::Message::Error(e)) => Err(TuiError::StepFailed(e.clone())),
+        _ => Ok(()),
+    }
 }
