@@ -2,7 +2,8 @@
 //!
 //! Data flows one way, and a module imports only from the layers before it: [`model`] →
 //! [`results`] (plain data) → [`discretisation`] → [`solver`] → [`case`] → [`simulation`] →
-//! [`run`] → [`study`] → [`output`] → the explorer ([`tui`]) and the command line.
+//! [`run`] → [`study`] → [`output`] → the explorer's jobs ([`session`], no terminal) → its
+//! screen ([`tui`]) and the command line.
 
 // Element and assembly loops index several arrays by the same node and component
 // numbers, as the equations do; iterator chains would hide that.
@@ -14,6 +15,7 @@ pub mod model;
 pub mod output;
 pub mod results;
 pub mod run;
+pub mod session;
 pub mod simulation;
 pub mod solver;
 pub mod study;

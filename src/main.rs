@@ -82,9 +82,9 @@ fn load_case(path: Option<&Path>) -> Result<Case> {
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
-        None => spira::tui::run(Case::default_case()),
+        None => spira::tui::run(Case::default_case()).map_err(Into::into),
         Some(Command::Tui { case, out }) => {
-            load_case(case.as_deref()).and_then(|c| spira::tui::run_in(c, out))
+            load_case(case.as_deref()).and_then(|c| spira::tui::run_in(c, out).map_err(Into::into))
         }
         Some(Command::Run {
             case,

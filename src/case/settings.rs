@@ -55,7 +55,7 @@ pub struct Discretisation {
     pub elements: usize,
     pub order: Order,
     /// A target accuracy given instead of a mesh (`accuracy` key). While it is set,
-    /// `elements` and `order` are placeholders: `precision::resolve_accuracy` replaces them
+    /// `elements` and `order` are placeholders: `study::resolve_accuracy` replaces them
     /// by the mesh it chooses (and clears this) before anything is solved.
     pub accuracy: Option<Accuracy>,
     /// Solve one right/left pair and take the other rods as its images (the assembly's

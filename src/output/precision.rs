@@ -261,6 +261,22 @@ impl StudyReport for Study {
 }
 
 /// What the errors of a study are measured against, one line for titles and headers.
+/// A few words for a chart's corner: `closed form`, or `Richardson quadratic 16/32` (the
+/// order and the elements per rod of the two solutions).
+pub fn reference_label(reference: &Reference) -> String {
+    match reference {
+        Reference::ClosedForm(_) => "closed form".to_string(),
+        Reference::Richardson {
+            order, elements, ..
+        } => format!(
+            "Richardson {} {}/{}",
+            order.name(),
+            elements[0],
+            elements[1]
+        ),
+    }
+}
+
 fn describe_reference(reference: &Reference) -> String {
     match reference {
         Reference::ClosedForm(what) => format!("closed form: {what}"),

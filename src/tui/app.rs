@@ -2,12 +2,13 @@
 //! requests and other effects out. No terminal and no solver here, so every transition can
 //! be tested headless.
 
+use super::keys::{self, Action};
 use super::stability;
-use super::worker::{Job, Request, Solved, WorkerEvent};
 use crate::case::Case;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
 use crate::output;
 use crate::results::{LoadPoint, Snapshot};
+use crate::session::worker::{Job, Request, Solved, WorkerEvent};
 use crate::study::{MeshChoice, Study};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::{Path, PathBuf};
@@ -272,7 +273,8 @@ impl App {
         effects
     }
 
-    /// Transition on a key press.
+    /// Transition on a key press: Ctrl-C quits, a key closes the help (q still quits),
+    /// else the key's [`Action`] from the key table ([`keys::BINDINGS`]).
     pub fn handle_key(&mut self, key: KeyEvent) -> Vec<Effect> {
         if key.kind == KeyEventKind::Release {
             return vec![];
@@ -282,137 +284,157 @@ impl App {
             return vec![Effect::Quit];
         }
         if self.show_help {
-            // any key closes the help, q still quits
             self.show_help = false;
             return match key.code {
                 KeyCode::Char('q') => vec![Effect::Quit],
                 _ => vec![],
             };
         }
-        if self.solver_lost
-            && !matches!(
-                key.code,
-                KeyCode::Char('q') | KeyCode::Esc | KeyCode::Char('?') | KeyCode::Char('e')
-            )
-        {
+        let action = keys::action_for(key.code);
+        if self.solver_lost && !action.is_some_and(Action::works_without_solver) {
             self.message = Some(Message::Error(
                 "the solver thread has stopped; export with e or quit with q".into(),
             ));
             return vec![];
         }
-        match key.code {
-            KeyCode::Char('q') | KeyCode::Esc => vec![Effect::Quit],
-            KeyCode::Char('?') => {
+        action.map_or_else(Vec::new, |a| self.perform(a))
+    }
+
+    /// Transition on a user action.
+    pub fn perform(&mut self, action: Action) -> Vec<Effect> {
+        match action {
+            Action::Quit => vec![Effect::Quit],
+            Action::Help => {
                 self.show_help = true;
                 vec![]
             }
-            KeyCode::Right | KeyCode::Char('l') => {
-                self.running = false;
-                self.advance(self.requested_eps + self.step)
-            }
-            KeyCode::Left | KeyCode::Char('h') => {
-                self.running = false;
-                self.advance(self.requested_eps - self.step)
-            }
-            KeyCode::Char('+') | KeyCode::Char('=') => {
-                self.step = (self.step * 2.0).min(MAX_STEP);
-                self.message = Some(Message::Info(format!("step Δε = {}", fmt_step(self.step))));
-                vec![]
-            }
-            KeyCode::Char('-') | KeyCode::Char('_') => {
-                self.step = (self.step / 2.0).max(MIN_STEP);
-                self.message = Some(Message::Info(format!("step Δε = {}", fmt_step(self.step))));
-                vec![]
-            }
-            KeyCode::Up | KeyCode::Char('k') => {
-                let n = self.rods().max(1);
-                self.selected_rod = (self.selected_rod + n - 1) % n;
-                vec![]
-            }
-            KeyCode::Down | KeyCode::Char('j') => {
-                let n = self.rods().max(1);
-                self.selected_rod = (self.selected_rod + 1) % n;
-                vec![]
-            }
-            KeyCode::Char(' ') => {
-                if self.running {
-                    self.running = false;
-                    self.message = Some(Message::Info("paused".into()));
-                    return vec![];
-                }
-                self.running = true;
-                self.message = Some(Message::Info(format!(
-                    "loading to ε = {} in steps of {}",
-                    self.target(),
-                    fmt_step(self.step)
-                )));
-                if self.busy() {
-                    // the answer to the request in flight sends the next one
-                    vec![]
-                } else {
-                    self.run_on()
-                }
-            }
-            KeyCode::Char('b') => {
-                let mut bc = self.boundary;
-                bc.base.translation = next_translation(bc.base.translation);
-                let what = format!("base translation {}", translation_name(bc.base.translation));
-                self.set_boundary(bc, what)
-            }
-            KeyCode::Char('B') => {
-                let mut bc = self.boundary;
-                bc.base.rotation = other_rotation(bc.base.rotation);
-                let what = format!("base rotation {}", rotation_name(bc.base.rotation));
-                self.set_boundary(bc, what)
-            }
-            KeyCode::Char('t') => {
-                let mut bc = self.boundary;
-                bc.tip.translation = next_translation(bc.tip.translation);
-                let what = format!("tip translation {}", translation_name(bc.tip.translation));
-                self.set_boundary(bc, what)
-            }
-            KeyCode::Char('T') => {
-                let mut bc = self.boundary;
-                bc.tip.rotation = other_rotation(bc.tip.rotation);
-                let what = format!("tip rotation {}", rotation_name(bc.tip.rotation));
-                self.set_boundary(bc, what)
-            }
-            KeyCode::Char('p') => {
-                let mut bc = self.boundary;
-                bc.joints = !bc.joints;
-                let what = format!("pin joints {}", if bc.joints { "on" } else { "off" });
-                self.set_boundary(bc, what)
-            }
-            KeyCode::Char('n') | KeyCode::Char('N') => {
-                let up = key.code == KeyCode::Char('n');
-                self.helices = cycle_helices(self.helices, up);
-                self.message = Some(Message::Info(format!(
-                    "n = {}: starting over from ε = 0",
-                    self.helices
-                )));
-                self.restart()
-            }
-            KeyCode::Char('r') => {
-                self.boundary = self.case.boundary;
-                self.step = default_step(&self.case);
-                self.message = Some(Message::Info(
-                    "reset: ε = 0 under the case's boundary conditions".into(),
-                ));
-                self.restart()
-            }
-            KeyCode::Char('e') => vec![Effect::Export],
-            KeyCode::Char('w') => {
-                self.show_precision = !self.show_precision;
-                if self.show_precision && self.precision == PrecisionView::None {
-                    self.message = Some(Message::Info(
-                        "work-precision study of the path to the target started on its own thread; the explorer stays live".into(),
-                    ));
-                    vec![self.request_precision()]
-                } else {
-                    vec![]
-                }
-            }
-            _ => vec![],
+            Action::StepForward => self.step_by(1.0),
+            Action::StepBack => self.step_by(-1.0),
+            Action::DoubleStep => self.scale_step(2.0),
+            Action::HalveStep => self.scale_step(0.5),
+            Action::PreviousRod => self.select_rod_by(-1),
+            Action::NextRod => self.select_rod_by(1),
+            Action::RunPause => self.run_or_pause(),
+            Action::BaseTranslation => self.cycle_base_translation(),
+            Action::BaseRotation => self.cycle_base_rotation(),
+            Action::TipTranslation => self.cycle_tip_translation(),
+            Action::TipRotation => self.cycle_tip_rotation(),
+            Action::PinJoints => self.toggle_joints(),
+            Action::MoreHelices => self.change_helices(true),
+            Action::FewerHelices => self.change_helices(false),
+            Action::Reset => self.reset(),
+            Action::Export => vec![Effect::Export],
+            Action::Precision => self.toggle_precision(),
+        }
+    }
+
+    /// One user step forward (`sign` 1) or back (−1); stops continuous loading.
+    fn step_by(&mut self, sign: f64) -> Vec<Effect> {
+        self.running = false;
+        self.advance(self.requested_eps + sign * self.step)
+    }
+
+    /// The user step times `factor`, within [`MIN_STEP`] and [`MAX_STEP`].
+    fn scale_step(&mut self, factor: f64) -> Vec<Effect> {
+        self.step = (self.step * factor).clamp(MIN_STEP, MAX_STEP);
+        self.message = Some(Message::Info(format!("step Δε = {}", fmt_step(self.step))));
+        vec![]
+    }
+
+    /// Selects the rod `offset` places on, round the assembly.
+    fn select_rod_by(&mut self, offset: isize) -> Vec<Effect> {
+        let n = self.rods().max(1);
+        let offset = offset.rem_euclid(n as isize) as usize;
+        self.selected_rod = (self.selected_rod + offset) % n;
+        vec![]
+    }
+
+    /// Starts continuous loading towards the target, or pauses it.
+    fn run_or_pause(&mut self) -> Vec<Effect> {
+        if self.running {
+            self.running = false;
+            self.message = Some(Message::Info("paused".into()));
+            return vec![];
+        }
+        self.running = true;
+        self.message = Some(Message::Info(format!(
+            "loading to ε = {} in steps of {}",
+            self.target(),
+            fmt_step(self.step)
+        )));
+        if self.busy() {
+            // the answer to the request in flight sends the next one
+            vec![]
+        } else {
+            self.run_on()
+        }
+    }
+
+    fn cycle_base_translation(&mut self) -> Vec<Effect> {
+        let mut bc = self.boundary;
+        bc.base.translation = next_translation(bc.base.translation);
+        let what = format!("base translation {}", translation_name(bc.base.translation));
+        self.set_boundary(bc, what)
+    }
+
+    fn cycle_base_rotation(&mut self) -> Vec<Effect> {
+        let mut bc = self.boundary;
+        bc.base.rotation = other_rotation(bc.base.rotation);
+        let what = format!("base rotation {}", rotation_name(bc.base.rotation));
+        self.set_boundary(bc, what)
+    }
+
+    fn cycle_tip_translation(&mut self) -> Vec<Effect> {
+        let mut bc = self.boundary;
+        bc.tip.translation = next_translation(bc.tip.translation);
+        let what = format!("tip translation {}", translation_name(bc.tip.translation));
+        self.set_boundary(bc, what)
+    }
+
+    fn cycle_tip_rotation(&mut self) -> Vec<Effect> {
+        let mut bc = self.boundary;
+        bc.tip.rotation = other_rotation(bc.tip.rotation);
+        let what = format!("tip rotation {}", rotation_name(bc.tip.rotation));
+        self.set_boundary(bc, what)
+    }
+
+    fn toggle_joints(&mut self) -> Vec<Effect> {
+        let mut bc = self.boundary;
+        bc.joints = !bc.joints;
+        let what = format!("pin joints {}", if bc.joints { "on" } else { "off" });
+        self.set_boundary(bc, what)
+    }
+
+    /// The next larger (`up`) or smaller number of helices of [`HELICES`], from `ε = 0`.
+    fn change_helices(&mut self, up: bool) -> Vec<Effect> {
+        self.helices = cycle_helices(self.helices, up);
+        self.message = Some(Message::Info(format!(
+            "n = {}: starting over from ε = 0",
+            self.helices
+        )));
+        self.restart()
+    }
+
+    /// Back to `ε = 0` under the case's conditions and step.
+    fn reset(&mut self) -> Vec<Effect> {
+        self.boundary = self.case.boundary;
+        self.step = default_step(&self.case);
+        self.message = Some(Message::Info(
+            "reset: ε = 0 under the case's boundary conditions".into(),
+        ));
+        self.restart()
+    }
+
+    /// Shows or hides the work-precision chart; the first time, asks for the study.
+    fn toggle_precision(&mut self) -> Vec<Effect> {
+        self.show_precision = !self.show_precision;
+        if self.show_precision && self.precision == PrecisionView::None {
+            self.message = Some(Message::Info(
+                "work-precision study of the path to the target started on its own thread; the explorer stays live".into(),
+            ));
+            vec![self.request_precision()]
+        } else {
+            vec![]
         }
     }
 

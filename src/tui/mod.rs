@@ -1,16 +1,16 @@
 //! The explorer: a ratatui terminal UI around the continuation solver (issue 4).
 //!
-//! [`app`] holds the state and its transitions (no terminal), [`worker`] runs the solver on
-//! its own thread, [`ui`] draws. This module owns the terminal: raw mode and the alternate
+//! [`app`] holds the state and its transitions (no terminal), the solver runs on its own
+//! thread ([`crate::session`]), [`ui`] draws. This module owns the terminal: raw mode and the alternate
 //! screen are set up here and undone on exit, on error and on panic.
 
 pub mod app;
+pub mod keys;
 pub mod stability;
 pub mod ui;
-pub mod worker;
 
 use crate::case::Case;
-use anyhow::Context as _;
+use crate::session::worker::{self, Worker, WorkerEvent};
 use app::{App, Effect};
 use crossterm::event::{self, Event, KeyCode, KeyEvent, KeyModifiers};
 use crossterm::{cursor, execute, terminal};
@@ -19,30 +19,49 @@ use ratatui::Terminal;
 use std::fmt;
 use std::io::{self, IsTerminal};
 use std::path::PathBuf;
-use std::sync::mpsc::TryRecvError;
+use std::sync::mpsc::{RecvTimeoutError, TryRecvError};
 use std::sync::Once;
 use std::time::{Duration, Instant};
-use worker::{Worker, WorkerEvent};
+
+/// Why the explorer could not run, or stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum TuiError {
+    #[error("the explorer needs an interactive terminal; for a headless run use `spira run CASE`")]
+    NotATerminal,
+    #[error("setting up the terminal")]
+    Setup(#[source] io::Error),
+    #[error("starting the solver thread")]
+    SolverThread(#[source] io::Error),
+    /// Reading input from or drawing to the terminal failed (or another I/O error, such as
+    /// starting the threads of [`measure_responsiveness`]).
+    #[error(transparent)]
+    Terminal(#[from] io::Error),
+    #[error("the solver thread stopped")]
+    SolverStopped,
+    #[error("the solver did not answer within 10 minutes")]
+    Timeout,
+    /// A step of [`measure_responsiveness`] failed, for this reason.
+    #[error("step failed: {0}")]
+    StepFailed(String),
+}
 
 /// How long the event loop waits for input before looking at the solver again.
 const POLL: Duration = Duration::from_millis(40);
 
 /// Opens the explorer on `case`, exporting into the current directory, and returns when the
 /// user quits.
-pub fn run(case: Case) -> anyhow::Result<()> {
+pub fn run(case: Case) -> Result<(), TuiError> {
     run_in(case, PathBuf::from("."))
 }
 
 /// Opens the explorer on `case`, exporting into `out_dir`.
-pub fn run_in(case: Case, out_dir: PathBuf) -> anyhow::Result<()> {
+pub fn run_in(case: Case, out_dir: PathBuf) -> Result<(), TuiError> {
     if !io::stdout().is_terminal() || !io::stdin().is_terminal() {
-        anyhow::bail!(
-            "the explorer needs an interactive terminal; for a headless run use `spira run CASE`"
-        );
+        return Err(TuiError::NotATerminal);
     }
     install_panic_hook();
-    let mut terminal = TerminalGuard::enter().context("setting up the terminal")?;
-    let worker = Worker::spawn().context("starting the solver thread")?;
+    let mut terminal = TerminalGuard::enter().map_err(TuiError::Setup)?;
+    let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
     let result = event_loop(&mut terminal.terminal, &mut app, &worker);
     drop(terminal);
@@ -147,9 +166,9 @@ fn event_loop<B: Backend>(
     terminal: &mut Terminal<B>,
     app: &mut App,
     worker: &Worker,
-) -> anyhow::Result<()>
+) -> Result<(), TuiError>
 where
-    B::Error: Send + Sync + 'static,
+    B::Error: Into<TuiError>,
 {
     let effects = app.start();
     apply(effects, app, worker);
@@ -157,7 +176,7 @@ where
     let mut lost = false;
     loop {
         if dirty {
-            terminal.draw(|f| ui::draw(f, app))?;
+            terminal.draw(|f| ui::draw(f, app)).map_err(Into::into)?;
             dirty = false;
         }
         if event::poll(POLL)? {
@@ -262,13 +281,11 @@ pub fn measure_responsiveness(
     steps: usize,
     width: u16,
     height: u16,
-) -> anyhow::Result<Responsiveness> {
+) -> Result<Responsiveness, TuiError> {
     let helices = case.geometry.helices;
     let worker = Worker::spawn()?;
-    let mut terminal = Terminal::new(TestBackend::new(width, height))?;
+    let Ok(mut terminal) = Terminal::new(TestBackend::new(width, height));
     let mut app = App::new(case, std::env::temp_dir());
-    let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
-    let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
     let mut result = Responsiveness {
         helices,
         width,
@@ -278,65 +295,78 @@ pub fn measure_responsiveness(
         step: app.step,
     };
     let deadline = Instant::now() + Duration::from_secs(600);
-    let wait_idle = |app: &mut App| -> anyhow::Result<()> {
-        while app.busy() {
-            if Instant::now() > deadline {
-                anyhow::bail!("the solver did not answer within 10 minutes");
-            }
-            match worker.events.recv_timeout(Duration::from_millis(100)) {
-                Ok(e) => {
-                    for effect in app.on_worker_event(e) {
-                        if let Effect::Solve(r) = effect {
-                            worker.send(r);
-                        }
-                    }
-                }
-                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-                Err(_) => anyhow::bail!("the solver thread stopped"),
-            }
-        }
-        Ok(())
-    };
-    for effect in app.start() {
+    let effects = app.start();
+    send_requests(effects, &worker);
+    wait_idle(&mut app, &worker, deadline)?;
+    for _ in 0..steps {
+        measure_step(&mut app, &worker, &mut terminal, &mut result, deadline)?;
+    }
+    worker.join();
+    Ok(result)
+}
+
+/// Sends the solver requests among `effects` (the headless driver does nothing else).
+fn send_requests(effects: Vec<Effect>, worker: &Worker) {
+    for effect in effects {
         if let Effect::Solve(r) = effect {
             worker.send(r);
         }
     }
-    wait_idle(&mut app)?;
-    for _ in 0..steps {
-        for effect in app.handle_key(right) {
-            if let Effect::Solve(r) = effect {
-                worker.send(r);
-            }
+}
+
+/// Feeds the solver's answers to `app` until it is idle.
+fn wait_idle(app: &mut App, worker: &Worker, deadline: Instant) -> Result<(), TuiError> {
+    while app.busy() {
+        if Instant::now() > deadline {
+            return Err(TuiError::Timeout);
         }
-        while app.busy() {
-            if Instant::now() > deadline {
-                anyhow::bail!("the solver did not answer within 10 minutes");
-            }
-            match worker.events.try_recv() {
-                Ok(e) => {
-                    if let WorkerEvent::Solved {
-                        done: true, state, ..
-                    } = &e
-                    {
-                        result.step_times.push(state.time);
-                    }
-                    app.on_worker_event(e);
-                    continue;
-                }
-                Err(TryRecvError::Disconnected) => anyhow::bail!("the solver thread stopped"),
-                Err(TryRecvError::Empty) => {}
-            }
-            let t = Instant::now();
-            app.handle_key(down);
-            terminal.draw(|f| ui::draw(f, &app))?;
-            result.key_to_frame.push(t.elapsed());
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        if let Some(crate::tui::app::Message::Error(e)) = &app.message {
-            anyhow::bail!("step failed: {e}");
+        match worker.events.recv_timeout(Duration::from_millis(100)) {
+            Ok(e) => send_requests(app.on_worker_event(e), worker),
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => return Err(TuiError::SolverStopped),
         }
     }
-    worker.join();
-    Ok(result)
+    Ok(())
+}
+
+/// One step of `Δε`: while it is being solved, presses "next rod" every few milliseconds
+/// and times key handling plus drawing.
+fn measure_step(
+    app: &mut App,
+    worker: &Worker,
+    terminal: &mut Terminal<TestBackend>,
+    result: &mut Responsiveness,
+    deadline: Instant,
+) -> Result<(), TuiError> {
+    let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
+    let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
+    send_requests(app.handle_key(right), worker);
+    while app.busy() {
+        if Instant::now() > deadline {
+            return Err(TuiError::Timeout);
+        }
+        match worker.events.try_recv() {
+            Ok(e) => {
+                if let WorkerEvent::Solved {
+                    done: true, state, ..
+                } = &e
+                {
+                    result.step_times.push(state.time);
+                }
+                app.on_worker_event(e);
+                continue;
+            }
+            Err(TryRecvError::Disconnected) => return Err(TuiError::SolverStopped),
+            Err(TryRecvError::Empty) => {}
+        }
+        let t = Instant::now();
+        app.handle_key(down);
+        let Ok(_) = terminal.draw(|f| ui::draw(f, app));
+        result.key_to_frame.push(t.elapsed());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    match &app.message {
+        Some(app::Message::Error(e)) => Err(TuiError::StepFailed(e.clone())),
+        _ => Ok(()),
+    }
 }

@@ -2,10 +2,11 @@
 //! 16 ANSI colours are used, so the screen reads the same on any terminal and over SSH.
 
 use super::app::{fmt_step, App, Message, PrecisionView};
+use super::keys::BINDINGS;
 use super::stability;
-use crate::output::precision::StudyReport;
+use crate::output::precision::{self, StudyReport};
 use crate::results::{LoadPoint, NodeState, RodShape, Snapshot};
-use crate::study::{self, Measure, Study, ORDERS};
+use crate::study::{Measure, Study, ORDERS};
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::symbols::Marker;
@@ -438,23 +439,7 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
         .state
         .as_ref()
         .and_then(|s| s.snapshot.rods.get(app.selected_rod));
-    let mut title = vec![Span::styled(
-        match rod {
-            Some(r) => format!(" rod {} ({}) ", r.rod + 1, r.chirality.name()),
-            None => " curvature ".to_string(),
-        },
-        Style::new().add_modifier(Modifier::BOLD),
-    )];
-    title.extend(key_span("━", "κ1", K1_LINE));
-    title.extend(key_span("━", "κ2", K2_LINE));
-    title.extend(key_span("━", "Ω", OMEGA_LINE));
-    if rod.is_some_and(|r| !r.joints.is_empty()) {
-        title.extend(key_span("╷", "joints", JOINT));
-    }
-    let block = Block::new()
-        .borders(Borders::ALL)
-        .title(Line::from(title))
-        .title_bottom(Line::from(" (1/m) ").alignment(Alignment::Left));
+    let block = curvature_block(rod);
     let Some(rod) = rod else {
         return placeholder(frame, area, block, app);
     };
@@ -474,18 +459,7 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     } else {
         [y[0] - tick, y[1]]
     });
-    let length = rod.nodes.last().map_or(1.0, |n| {
-        if n.s_over_l > 0.0 {
-            n.s / n.s_over_l
-        } else {
-            1.0
-        }
-    });
-    let ticks: Vec<[(f64, f64); 2]> = rod
-        .joints
-        .iter()
-        .map(|&s| [(s / length, y[0]), (s / length, y[0] + tick)])
-        .collect();
+    let ticks = joint_ticks(rod, y[0], tick);
     let mut datasets: Vec<Dataset> = ticks
         .iter()
         .map(|t| {
@@ -524,6 +498,42 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
+/// The curvature panel's frame: the rod and the legend of its lines.
+fn curvature_block(rod: Option<&RodShape>) -> Block<'static> {
+    let mut title = vec![Span::styled(
+        match rod {
+            Some(r) => format!(" rod {} ({}) ", r.rod + 1, r.chirality.name()),
+            None => " curvature ".to_string(),
+        },
+        Style::new().add_modifier(Modifier::BOLD),
+    )];
+    title.extend(key_span("━", "κ1", K1_LINE));
+    title.extend(key_span("━", "κ2", K2_LINE));
+    title.extend(key_span("━", "Ω", OMEGA_LINE));
+    if rod.is_some_and(|r| !r.joints.is_empty()) {
+        title.extend(key_span("╷", "joints", JOINT));
+    }
+    Block::new()
+        .borders(Borders::ALL)
+        .title(Line::from(title))
+        .title_bottom(Line::from(" (1/m) ").alignment(Alignment::Left))
+}
+
+/// A tick of height `tick` up from `bottom` at each joint of `rod`, at its s/L.
+fn joint_ticks(rod: &RodShape, bottom: f64, tick: f64) -> Vec<[(f64, f64); 2]> {
+    let length = rod.nodes.last().map_or(1.0, |n| {
+        if n.s_over_l > 0.0 {
+            n.s / n.s_over_l
+        } else {
+            1.0
+        }
+    });
+    rod.joints
+        .iter()
+        .map(|&s| [(s / length, bottom), (s / length, bottom + tick)])
+        .collect()
+}
+
 /// One load component along one stretch of the path.
 struct Series {
     points: Vec<(f64, f64)>,
@@ -536,53 +546,16 @@ struct Series {
 fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let path = &app.path;
     let stretches = stability::stretches(path.len(), |k| stability::is_unstable(&path[k]));
-    let any_unstable = stretches.iter().any(|s| s.unstable);
-    let mut title = vec![Span::styled(
-        " load Σf/(n Pcrit) ",
-        Style::new().add_modifier(Modifier::BOLD),
-    )];
-    title.extend(key_span("━", "fx", FX_LINE));
-    title.extend(key_span("━", "fy", FY_LINE));
-    title.extend(key_span("━", "fz", FZ_LINE));
-    if any_unstable {
-        title.extend(key_span("•", "unstable", DIM));
-    }
-    title.extend(key_span("█", "now", SELECTED));
-    let block = Block::new().borders(Borders::ALL).title(Line::from(title));
+    let block = load_block(stretches.iter().any(|s| s.unstable));
     if path.is_empty() {
         return placeholder(frame, area, block, app);
     }
-    let target = app.target();
-    // from 0 to the target, or as far as the path went
-    let (lo, hi) = path
-        .iter()
-        .map(|p| p.eps)
-        .chain([0.0, target, app.requested_eps])
-        .filter(|e| e.is_finite())
-        .fold((0.0f64, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
-    let x = if hi > lo {
-        [lo, hi]
-    } else {
-        [lo - 0.5, hi + 0.5]
-    };
+    let x = eps_bounds(app);
     let y = nice_bounds(padded_range(
         path.iter().flat_map(|p| p.load).chain([0.0]),
         0.2,
     ));
-    let colors = [FX_LINE, FY_LINE, FZ_LINE];
-    let series: Vec<Series> = stretches
-        .iter()
-        .flat_map(|s| {
-            (0..3).map(move |c| Series {
-                points: path[s.points.clone()]
-                    .iter()
-                    .map(|p: &LoadPoint| (p.eps, p.load[c]))
-                    .collect(),
-                color: colors[c],
-                unstable: s.unstable,
-            })
-        })
-        .collect();
+    let series = load_series(path, &stretches);
     let now: Vec<(f64, f64)> = app
         .state
         .as_ref()
@@ -629,13 +602,59 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
-/// Colour of an element order in the work-precision chart.
-fn order_color(order: crate::discretisation::shape::Order) -> Color {
-    match order {
-        crate::discretisation::shape::Order::Linear => Color::LightBlue,
-        crate::discretisation::shape::Order::Quadratic => Color::LightRed,
+/// The load panel's frame: the legend of its lines (unstable stretches once there are).
+fn load_block(any_unstable: bool) -> Block<'static> {
+    let mut title = vec![Span::styled(
+        " load Σf/(n Pcrit) ",
+        Style::new().add_modifier(Modifier::BOLD),
+    )];
+    title.extend(key_span("━", "fx", FX_LINE));
+    title.extend(key_span("━", "fy", FY_LINE));
+    title.extend(key_span("━", "fz", FZ_LINE));
+    if any_unstable {
+        title.extend(key_span("•", "unstable", DIM));
+    }
+    title.extend(key_span("█", "now", SELECTED));
+    Block::new().borders(Borders::ALL).title(Line::from(title))
+}
+
+/// The ε axis: from 0 to the target, or as far as the path (or the request) went.
+fn eps_bounds(app: &App) -> [f64; 2] {
+    let (lo, hi) = app
+        .path
+        .iter()
+        .map(|p| p.eps)
+        .chain([0.0, app.target(), app.requested_eps])
+        .filter(|e| e.is_finite())
+        .fold((0.0f64, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
+    if hi > lo {
+        [lo, hi]
+    } else {
+        [lo - 0.5, hi + 0.5]
     }
 }
+
+/// fx, fy, fz along each stretch of stable or unstable states.
+fn load_series(path: &[LoadPoint], stretches: &[stability::Stretch]) -> Vec<Series> {
+    let colors = [FX_LINE, FY_LINE, FZ_LINE];
+    stretches
+        .iter()
+        .flat_map(|s| {
+            (0..3).map(move |c| Series {
+                points: path[s.points.clone()]
+                    .iter()
+                    .map(|p: &LoadPoint| (p.eps, p.load[c]))
+                    .collect(),
+                color: colors[c],
+                unstable: s.unstable,
+            })
+        })
+        .collect()
+}
+
+/// Colours of the element orders in the work-precision chart, by their place in
+/// [`ORDERS`].
+const ORDER_PALETTE: [Color; ORDERS.len()] = [Color::LightBlue, Color::LightRed];
 
 /// `10^k` decade labels for an axis of log10 values from `lo` to `hi` (whole numbers): at
 /// most 5, evenly spaced (a chart spaces its labels evenly).
@@ -663,96 +682,124 @@ fn decade_bounds(v: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
     Some((a, b.max(a + 1)))
 }
 
+/// One panel of the work-precision chart: the measure it plots and its title.
+struct PrecisionPanel {
+    measure: Measure,
+    title: &'static str,
+    /// The panel carries the chart's caption (else the reference, once there is a study).
+    caption: bool,
+}
+
+/// The work-precision chart's panels, left to right.
+const PRECISION_PANELS: [PrecisionPanel; 2] = [
+    PrecisionPanel {
+        measure: Measure::Response,
+        title: " Fz error ",
+        caption: true,
+    },
+    PrecisionPanel {
+        measure: Measure::Curvature,
+        title: " κ error ",
+        caption: false,
+    },
+];
+
 /// The work-precision chart of the case in place of the curvature and load plots: the
 /// error of Fz and of the curvature profiles against the wall time, log-log, one line per
 /// element order (the chart `spira precision` writes).
 fn draw_precision(frame: &mut Frame, area: Rect, app: &App) {
-    let [left, right] =
+    let areas: [Rect; PRECISION_PANELS.len()] =
         Layout::horizontal([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(area);
     let study = match &app.precision {
         PrecisionView::Ready(s) => Some(s.as_ref()),
         _ => None,
     };
-    for (area, m) in [(left, Measure::Response), (right, Measure::Curvature)] {
-        draw_precision_panel(frame, area, app, study, m);
+    for (area, panel) in areas.into_iter().zip(&PRECISION_PANELS) {
+        let block = precision_block(panel, study);
+        match study {
+            Some(study) => draw_precision_chart(frame, area, block, panel, study),
+            None => draw_precision_pending(frame, area, block, &app.precision),
+        }
     }
 }
 
-fn draw_precision_panel(
-    frame: &mut Frame,
-    area: Rect,
-    app: &App,
-    study: Option<&Study>,
-    m: Measure,
-) {
-    let what = match m {
-        Measure::Response => " Fz error ",
-        _ => " κ error ",
-    };
-    let mut title = vec![bold(what.to_string())];
-    for o in ORDERS {
+/// A panel's frame: its title with the legend of the orders (and the finest observed
+/// order of each, once known), the caption on the left panel.
+fn precision_block(panel: &PrecisionPanel, study: Option<&Study>) -> Block<'static> {
+    let mut title = vec![bold(panel.title.to_string())];
+    for (o, color) in ORDERS.into_iter().zip(ORDER_PALETTE) {
         let order = study
-            .and_then(|s| s.finest_observed(m, o))
+            .and_then(|s| s.finest_observed(panel.measure, o))
             .map_or(String::new(), |k| format!(" {k:.1}"));
-        title.push(Span::styled("━", Style::new().fg(order_color(o))));
+        title.push(Span::styled("━", Style::new().fg(color)));
         title.push(Span::raw(format!("{}{order} ", o.name())));
     }
-    let mut block = Block::new().borders(Borders::ALL).title(Line::from(title));
-    if m == Measure::Response {
-        block =
-            block.title_bottom(Line::from(" work-precision, log-log ").alignment(Alignment::Left));
+    let block = Block::new().borders(Borders::ALL).title(Line::from(title));
+    if panel.caption {
+        block.title_bottom(Line::from(" work-precision, log-log ").alignment(Alignment::Left))
+    } else {
+        block
     }
-    let Some(study) = study else {
-        let text = match &app.precision {
-            PrecisionView::Running { done, total } if *total > 0 => {
-                format!("work-precision study: {done} of {total} meshes solved…")
-            }
-            PrecisionView::Running { .. } => "work-precision study: starting…".to_string(),
-            PrecisionView::Failed(e) => format!("work-precision study failed: {e}"),
-            _ => "no study (w asks for one)".to_string(),
-        };
-        let inner = block.inner(area);
-        frame.render_widget(block, area);
-        if inner.height > 0 {
-            frame.render_widget(
-                Paragraph::new(text)
-                    .style(Style::new().fg(DIM))
-                    .alignment(Alignment::Center)
-                    .wrap(Wrap { trim: true }),
-                Rect {
-                    y: inner.y + inner.height / 2,
-                    height: inner.height - inner.height / 2,
-                    ..inner
-                },
-            );
+}
+
+/// A panel before its study is ready: how far the study is, or why it failed.
+fn draw_precision_pending(frame: &mut Frame, area: Rect, block: Block, view: &PrecisionView) {
+    let text = match view {
+        PrecisionView::Running { done, total } if *total > 0 => {
+            format!("work-precision study: {done} of {total} meshes solved…")
         }
-        return;
+        PrecisionView::Running { .. } => "work-precision study: starting…".to_string(),
+        PrecisionView::Failed(e) => format!("work-precision study failed: {e}"),
+        _ => "no study (w asks for one)".to_string(),
     };
-    let reference = match &study.reference {
-        study::Reference::ClosedForm(_) => " ref: closed form ".to_string(),
-        study::Reference::Richardson {
-            order, elements, ..
-        } => format!(
-            " ref: Richardson {} {}/{} ",
-            order.name(),
-            elements[0],
-            elements[1]
-        ),
-    };
-    if m != Measure::Response {
-        block = block.title_bottom(Line::from(reference).alignment(Alignment::Right));
+    let inner = block.inner(area);
+    frame.render_widget(block, area);
+    if inner.height > 0 {
+        frame.render_widget(
+            Paragraph::new(text)
+                .style(Style::new().fg(DIM))
+                .alignment(Alignment::Center)
+                .wrap(Wrap { trim: true }),
+            Rect {
+                y: inner.y + inner.height / 2,
+                height: inner.height - inner.height / 2,
+                ..inner
+            },
+        );
     }
-    let series: Vec<(crate::discretisation::shape::Order, Vec<(f64, f64)>)> = ORDERS
-        .iter()
-        .map(|&o| {
+}
+
+/// A panel's log-log lines, one per order (log10 of time, log10 of error), with their
+/// colours.
+fn precision_series(study: &Study, m: Measure) -> Vec<(Color, Vec<(f64, f64)>)> {
+    ORDERS
+        .into_iter()
+        .zip(ORDER_PALETTE)
+        .map(|(o, color)| {
             let pts = study
                 .points(o, m)
                 .iter()
                 .map(|p| (p.x.log10(), p.y.log10()))
                 .collect();
-            (o, pts)
+            (color, pts)
         })
-        .collect();
+        .collect()
+}
+
+/// A panel of a finished study: error against time per order, the reference named on the
+/// right panel.
+fn draw_precision_chart(
+    frame: &mut Frame,
+    area: Rect,
+    mut block: Block,
+    panel: &PrecisionPanel,
+    study: &Study,
+) {
+    if !panel.caption {
+        let reference = format!(" ref: {} ", precision::reference_label(&study.reference));
+        block = block.title_bottom(Line::from(reference).alignment(Alignment::Right));
+    }
+    let series = precision_series(study, panel.measure);
     let all = || series.iter().flat_map(|(_, p)| p.iter());
     let (Some(xb), Some(yb)) = (
         decade_bounds(all().map(|p| p.0)),
@@ -762,8 +809,8 @@ fn draw_precision_panel(
         return;
     };
     let mut datasets = Vec::new();
-    for (o, pts) in &series {
-        let style = Style::new().fg(order_color(*o));
+    for (color, pts) in &series {
+        let style = Style::new().fg(*color);
         datasets.push(
             Dataset::default()
                 .data(pts)
@@ -817,9 +864,25 @@ fn message_lines(app: &App, width: u16) -> u16 {
 
 /// Case and loading; boundary conditions; the last solve; messages (wrapped).
 fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
-    let state = app.state.as_ref();
-    let eps = state.map_or("–".to_string(), |s| format!("{:.5}", s.point.eps));
-    let activity = match (&app.solving, app.running) {
+    let [a, b, c, d] = Layout::vertical([
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Min(0),
+    ])
+    .areas(area);
+    frame.render_widget(Paragraph::new(case_line(app)), a);
+    frame.render_widget(Paragraph::new(boundary_line(app)), b);
+    frame.render_widget(Paragraph::new(solve_line(app)), c);
+    frame.render_widget(
+        Paragraph::new(message_line(app)).wrap(Wrap { trim: false }),
+        d,
+    );
+}
+
+/// What the explorer is doing: solving (what), running, or idle.
+fn activity(app: &App) -> Span<'static> {
+    match (&app.solving, app.running) {
         (Some(job), true) => Span::styled(
             format!("▶ running · solving {job}…"),
             Style::new().fg(Color::Yellow),
@@ -829,8 +892,16 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
         }
         (None, true) => Span::styled("▶ running", Style::new().fg(Color::Yellow)),
         (None, false) => Span::styled("idle", Style::new().fg(Color::Green)),
-    };
-    let line1 = Line::from(vec![
+    }
+}
+
+/// Status line 1: case, `n`, `ε` and its target, the step, the activity.
+fn case_line(app: &App) -> Line<'static> {
+    let eps = app
+        .state
+        .as_ref()
+        .map_or("–".to_string(), |s| format!("{:.5}", s.point.eps));
+    Line::from(vec![
         bold(app.case_label()),
         sep(),
         Span::raw(format!("n {}", app.helices)),
@@ -841,11 +912,15 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
         sep(),
         Span::raw(format!("Δε {}", fmt_step(app.step))),
         sep(),
-        activity,
-    ]);
-    let in_force = state.map_or(app.boundary, |s| s.boundary);
-    let pending = in_force != app.boundary;
-    let mut line2 = vec![
+        activity(app),
+    ])
+}
+
+/// Status line 2: the conditions in force, the mesh an accuracy target chose, and the
+/// conditions asked for when they are not in force yet.
+fn boundary_line(app: &App) -> Line<'static> {
+    let in_force = app.state.as_ref().map_or(app.boundary, |s| s.boundary);
+    let mut line = vec![
         Span::raw(format!("base {}", in_force.base.label())),
         sep(),
         Span::raw(format!("tip {}", in_force.tip.label())),
@@ -857,21 +932,26 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
     ];
     if let Some(m) = &app.mesh {
         // the mesh an accuracy target chose, with the error estimated for it
-        line2.push(sep());
-        line2.push(Span::raw(format!(
+        line.push(sep());
+        line.push(Span::raw(format!(
             "mesh {} {}, err {:.0e}",
             m.elements,
             m.order.name(),
             m.estimated_error
         )));
     }
-    if pending {
-        line2.push(sep());
-        line2.push(Span::styled(
+    if in_force != app.boundary {
+        line.push(sep());
+        line.push(Span::styled(
             format!("asked: {}", app.boundary.label()),
             Style::new().fg(Color::Yellow),
         ));
     }
+    Line::from(line)
+}
+
+/// Status line 3: stability of the state on screen and how its solve went.
+fn solve_line(app: &App) -> Line<'static> {
     let unstable = app.stability();
     let stability_style = match unstable {
         Some(true) => Style::new()
@@ -879,7 +959,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
             .add_modifier(Modifier::BOLD),
         _ => Style::new(),
     };
-    let line3 = match state {
+    match app.state.as_ref() {
         // stability first: on a narrow screen the line is cut from the right
         Some(s) => Line::from(vec![
             Span::raw("stability "),
@@ -895,8 +975,12 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
             Span::raw(format!("inner step {}", fmt_num(s.step_length))),
         ]),
         None => Line::from(vec![Span::raw("stability "), Span::raw("n/a")]),
-    };
-    let line4 = match &app.message {
+    }
+}
+
+/// The message for the user, or the key hint.
+fn message_line(app: &App) -> Line<'static> {
+    match &app.message {
         Some(Message::Error(m)) => {
             Line::from(Span::styled(m.clone(), Style::new().fg(Color::LightRed)))
         }
@@ -907,18 +991,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
             "←→ step  ↑↓ rod  space run  +- Δε  e export  ? help (all keys)  q quit",
             Style::new().fg(DIM),
         )),
-    };
-    let [a, b, c, d] = Layout::vertical([
-        Constraint::Length(1),
-        Constraint::Length(1),
-        Constraint::Length(1),
-        Constraint::Min(0),
-    ])
-    .areas(area);
-    frame.render_widget(Paragraph::new(line1), a);
-    frame.render_widget(Paragraph::new(Line::from(line2)), b);
-    frame.render_widget(Paragraph::new(line3), c);
-    frame.render_widget(Paragraph::new(line4).wrap(Wrap { trim: false }), d);
+    }
 }
 
 fn fmt_duration(d: std::time::Duration) -> String {
@@ -932,27 +1005,17 @@ fn fmt_duration(d: std::time::Duration) -> String {
     }
 }
 
-/// The keys, in the help overlay.
-pub const KEYS: [(&str, &str); 18] = [
-    ("→ l", "step compression forward by Δε"),
-    ("← h", "step compression back by Δε"),
-    ("+ =", "double the step Δε"),
-    ("- _", "halve the step Δε"),
-    ("space", "run / pause continuous loading to the target"),
-    ("↑ k", "select the previous rod"),
-    ("↓ j", "select the next rod"),
-    ("b", "base translation: fixed → slide → radial"),
-    ("B", "base rotation: clamped ↔ free"),
-    ("t", "tip translation: fixed → slide → radial"),
-    ("T", "tip rotation: clamped ↔ free"),
-    ("p", "pin joints on ↔ off"),
-    ("n N", "more / fewer helices (1 2 4 8 16), start over"),
-    ("r", "reset: ε = 0, the case's conditions"),
-    ("e", "export state and load path to CSV"),
-    ("w", "work-precision chart of the case (on/off)"),
-    ("?", "this help (any key closes it)"),
-    ("q Esc", "quit (also Ctrl-C)"),
-];
+/// The keys, in the help overlay: (keys, what they do), made from the key table
+/// [`BINDINGS`] that the key handling reads.
+pub const KEYS: [(&str, &str); BINDINGS.len()] = {
+    let mut keys = [("", ""); BINDINGS.len()];
+    let mut i = 0;
+    while i < keys.len() {
+        keys[i] = (BINDINGS[i].label, BINDINGS[i].help);
+        i += 1;
+    }
+    keys
+};
 
 fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
     let mut lines: Vec<Line> = KEYS

@@ -7,10 +7,12 @@
 //! the later one, and a pending [`Job::Start`] drops everything queued before it. The thread
 //! stops when the request channel closes.
 //!
-//! Work-precision studies ([`Job::Precision`]) run on a second thread of their own, so that
-//! a study of many meshes never holds up the user's steps; there the last request wins too,
-//! and a newer request stops the study in progress after its current mesh.
+//! Work-precision studies ([`Job::Precision`]) run on a second thread of their own, a
+//! [`Latest`] job, so that a study of many meshes never holds up the user's steps; there the
+//! last request wins too, and a newer request stops the study in progress after its current
+//! mesh.
 
+use super::latest::{Context, Latest};
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{LoadPoint, Snapshot};
@@ -167,7 +169,7 @@ pub fn coalesce(queue: &mut VecDeque<Request>) {
 /// after their current solve (a study: after its current mesh).
 pub struct Worker {
     requests: Sender<Request>,
-    precision: Sender<Request>,
+    precision: Latest<Request>,
     pub events: Receiver<WorkerEvent>,
     thread: Option<JoinHandle<()>>,
 }
@@ -175,15 +177,11 @@ pub struct Worker {
 impl Worker {
     pub fn spawn() -> std::io::Result<Worker> {
         let (requests, rx) = mpsc::channel();
-        let (precision, precision_rx) = mpsc::channel();
         let (tx, events) = mpsc::channel();
-        let precision_tx = tx.clone();
+        let precision = Latest::spawn(PRECISION_THREAD_NAME, tx.clone(), run_precision)?;
         let thread = thread::Builder::new()
             .name(THREAD_NAME.to_string())
             .spawn(move || serve(rx, tx))?;
-        thread::Builder::new()
-            .name(PRECISION_THREAD_NAME.to_string())
-            .spawn(move || serve_precision(precision_rx, precision_tx))?;
         Ok(Worker {
             requests,
             precision,
@@ -196,7 +194,7 @@ impl Worker {
     /// that takes it has stopped.
     pub fn send(&self, request: Request) -> bool {
         match request.job {
-            Job::Precision(_) => self.precision.send(request).is_ok(),
+            Job::Precision(_) => self.precision.submit(request),
             _ => self.requests.send(request).is_ok(),
         }
     }
@@ -212,96 +210,55 @@ impl Worker {
     pub fn join(mut self) {
         let (closed, _) = mpsc::channel();
         drop(std::mem::replace(&mut self.requests, closed));
-        let (closed, _) = mpsc::channel();
-        drop(std::mem::replace(&mut self.precision, closed));
+        self.precision.close();
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
     }
 }
 
-/// The precision thread: one study at a time, the latest request first; a newer request
-/// stops the study in progress after its current mesh.
-fn serve_precision(rx: Receiver<Request>, tx: Sender<WorkerEvent>) {
-    let mut next: Option<Request> = None;
-    loop {
-        let mut request = match next.take() {
-            Some(r) => r,
-            None => match rx.recv() {
-                Ok(r) => r,
-                Err(_) => return,
-            },
-        };
-        let mut closed = false;
-        loop {
-            match rx.try_recv() {
-                Ok(r) => request = r,
-                Err(TryRecvError::Empty) => break,
-                Err(TryRecvError::Disconnected) => {
-                    closed = true;
-                    break;
-                }
+/// A work-precision study on the precision thread: progress after each mesh, then the
+/// study; it stops after the current mesh when a newer request arrives (and then reports
+/// nothing).
+fn run_precision(request: Request, ctx: &Context<Request, WorkerEvent>) {
+    let Request {
+        generation,
+        seq,
+        job: Job::Precision(case),
+    } = request
+    else {
+        return;
+    };
+    let problem = Problem::Path(case);
+    let ladder = Ladder::standard(&problem);
+    let study = panic::catch_unwind(AssertUnwindSafe(|| {
+        run_study(&problem, &ladder, PRECISION_REPEATS, |p| {
+            if ctx.is_cancelled() {
+                return ControlFlow::Break(());
             }
-        }
-        if closed {
-            return;
-        }
-        let Request {
-            generation,
-            seq,
-            job: Job::Precision(case),
-        } = request
-        else {
-            continue;
-        };
-        let problem = Problem::Path(case);
-        let ladder = Ladder::standard(&problem);
-        let study = panic::catch_unwind(AssertUnwindSafe(|| {
-            run_study(&problem, &ladder, PRECISION_REPEATS, |p| {
-                match rx.try_recv() {
-                    Ok(r) => {
-                        next = Some(r);
-                        return ControlFlow::Break(());
-                    }
-                    Err(TryRecvError::Disconnected) => {
-                        closed = true;
-                        return ControlFlow::Break(());
-                    }
-                    Err(TryRecvError::Empty) => {}
-                }
-                let progress = WorkerEvent::PrecisionProgress {
-                    generation,
-                    seq,
-                    done: p.done,
-                    total: p.total,
-                };
-                if tx.send(progress).is_err() {
-                    closed = true;
-                    return ControlFlow::Break(());
-                }
-                ControlFlow::Continue(())
-            })
-        }));
-        let study = match study {
-            Ok(Err(StudyError::Cancelled)) => {
-                if closed {
-                    return;
-                }
-                continue;
+            let progress = WorkerEvent::PrecisionProgress {
+                generation,
+                seq,
+                done: p.done,
+                total: p.total,
+            };
+            if !ctx.send(progress) {
+                return ControlFlow::Break(());
             }
-            Ok(Ok(s)) => Ok(Box::new(s)),
-            Ok(Err(e)) => Err(e.to_string()),
-            Err(_) => Err("the work-precision study panicked".to_string()),
-        };
-        let event = WorkerEvent::Precision {
-            generation,
-            seq,
-            study,
-        };
-        if tx.send(event).is_err() {
-            return;
-        }
-    }
+            ControlFlow::Continue(())
+        })
+    }));
+    let study = match study {
+        Ok(Err(StudyError::Cancelled)) => return,
+        Ok(Ok(s)) => Ok(Box::new(s)),
+        Ok(Err(e)) => Err(e.to_string()),
+        Err(_) => Err("the work-precision study panicked".to_string()),
+    };
+    ctx.send(WorkerEvent::Precision {
+        generation,
+        seq,
+        study,
+    });
 }
 
 /// The solver thread's state: the simulation of the current generation and the number of

@@ -1,0 +1,151 @@
+//! The explorer's keys: one table of which keys do what, read both by the key handling
+//! ([`App::handle_key`](super::app::App::handle_key)) and by the help overlay
+//! ([`ui::KEYS`](super::ui::KEYS)), so the two cannot drift apart.
+
+use crossterm::event::KeyCode::{self, Char, Down, Esc, Left, Right, Up};
+
+/// What a key asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    StepForward,
+    StepBack,
+    DoubleStep,
+    HalveStep,
+    RunPause,
+    PreviousRod,
+    NextRod,
+    BaseTranslation,
+    BaseRotation,
+    TipTranslation,
+    TipRotation,
+    PinJoints,
+    MoreHelices,
+    FewerHelices,
+    Reset,
+    Export,
+    Precision,
+    Help,
+    Quit,
+}
+
+impl Action {
+    /// The actions left once the solver thread has stopped.
+    pub fn works_without_solver(self) -> bool {
+        matches!(self, Action::Quit | Action::Help | Action::Export)
+    }
+}
+
+/// One line of the help: the keys as it shows them, what each key does, and the text.
+#[derive(Clone, Copy, Debug)]
+pub struct Binding {
+    pub label: &'static str,
+    pub keys: &'static [(KeyCode, Action)],
+    pub help: &'static str,
+}
+
+/// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
+/// help is shown any key closes it).
+pub const BINDINGS: [Binding; 18] = {
+    use Action::*;
+    [
+        Binding {
+            label: "→ l",
+            keys: &[(Right, StepForward), (Char('l'), StepForward)],
+            help: "step compression forward by Δε",
+        },
+        Binding {
+            label: "← h",
+            keys: &[(Left, StepBack), (Char('h'), StepBack)],
+            help: "step compression back by Δε",
+        },
+        Binding {
+            label: "+ =",
+            keys: &[(Char('+'), DoubleStep), (Char('='), DoubleStep)],
+            help: "double the step Δε",
+        },
+        Binding {
+            label: "- _",
+            keys: &[(Char('-'), HalveStep), (Char('_'), HalveStep)],
+            help: "halve the step Δε",
+        },
+        Binding {
+            label: "space",
+            keys: &[(Char(' '), RunPause)],
+            help: "run / pause continuous loading to the target",
+        },
+        Binding {
+            label: "↑ k",
+            keys: &[(Up, PreviousRod), (Char('k'), PreviousRod)],
+            help: "select the previous rod",
+        },
+        Binding {
+            label: "↓ j",
+            keys: &[(Down, NextRod), (Char('j'), NextRod)],
+            help: "select the next rod",
+        },
+        Binding {
+            label: "b",
+            keys: &[(Char('b'), BaseTranslation)],
+            help: "base translation: fixed → slide → radial",
+        },
+        Binding {
+            label: "B",
+            keys: &[(Char('B'), BaseRotation)],
+            help: "base rotation: clamped ↔ free",
+        },
+        Binding {
+            label: "t",
+            keys: &[(Char('t'), TipTranslation)],
+            help: "tip translation: fixed → slide → radial",
+        },
+        Binding {
+            label: "T",
+            keys: &[(Char('T'), TipRotation)],
+            help: "tip rotation: clamped ↔ free",
+        },
+        Binding {
+            label: "p",
+            keys: &[(Char('p'), PinJoints)],
+            help: "pin joints on ↔ off",
+        },
+        Binding {
+            label: "n N",
+            keys: &[(Char('n'), MoreHelices), (Char('N'), FewerHelices)],
+            help: "more / fewer helices (1 2 4 8 16), start over",
+        },
+        Binding {
+            label: "r",
+            keys: &[(Char('r'), Reset)],
+            help: "reset: ε = 0, the case's conditions",
+        },
+        Binding {
+            label: "e",
+            keys: &[(Char('e'), Export)],
+            help: "export state and load path to CSV",
+        },
+        Binding {
+            label: "w",
+            keys: &[(Char('w'), Precision)],
+            help: "work-precision chart of the case (on/off)",
+        },
+        Binding {
+            label: "?",
+            keys: &[(Char('?'), Help)],
+            help: "this help (any key closes it)",
+        },
+        Binding {
+            label: "q Esc",
+            keys: &[(Char('q'), Quit), (Esc, Quit)],
+            help: "quit (also Ctrl-C)",
+        },
+    ]
+};
+
+/// The action of key `code`, if it has one.
+pub fn action_for(code: KeyCode) -> Option<Action> {
+    BINDINGS
+        .iter()
+        .flat_map(|b| b.keys)
+        .find(|(k, _)| *k == code)
+        .map(|&(_, action)| action)
+}
