@@ -346,3 +346,29 @@ fn the_first_fold_of_bratu_converges_to_3_513830719() {
         "extrapolated {extrapolated} vs {exact}"
     );
 }
+
+#[test]
+fn an_interrupted_solve_stops_at_its_last_converged_state() {
+    use spira::solver::interrupt::{Interrupt, Interruption};
+    let mut path = Continuation::new(Fold::new(), vec![0.0], 0.0, settings()).unwrap();
+    path.advance_to(0.1).unwrap();
+    let before = path.state().clone();
+    let interrupt = Interrupt::new();
+    path.set_interrupt(Some(interrupt.clone()));
+    interrupt.raise();
+    let err = path.advance_to(0.3).unwrap_err();
+    assert_eq!(err.reason, StopReason::Interrupted(Interruption::Cancelled));
+    assert_eq!(path.state(), &before);
+    // a budget already spent stops the next solve with that reason
+    interrupt.clear();
+    path.set_interrupt(Some(
+        interrupt.with_deadline(Some(std::time::Instant::now())),
+    ));
+    let err = path.advance_to(0.3).unwrap_err();
+    assert_eq!(err.reason, StopReason::Interrupted(Interruption::Deadline));
+    // lowered, the path goes on to the same solution as without interruption
+    path.set_interrupt(None);
+    path.advance_to(0.3).unwrap();
+    let u = path.state().x[0];
+    assert!((u - 0.3 * u.exp()).abs() < 1e-9 && u < 1.0);
+}

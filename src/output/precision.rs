@@ -194,7 +194,7 @@ impl StudyReport for Study {
                 order_curvature: r.observed[1],
                 order_critical: r.observed[2],
                 by_construction: u8::from(r.by_construction),
-                failure: values.err().map(|e| e.replace('"', "'")),
+                failure: values.err().map(|e| e.to_string().replace('"', "'")),
             }
         });
         table(&self.header(), rows)

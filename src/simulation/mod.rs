@@ -15,8 +15,9 @@ use crate::model::loading::{Control, TipLoad};
 use crate::results::{CriticalPoint, LoadPoint, Snapshot, Stability};
 use crate::solver::continuation::Critical;
 use crate::solver::continuation::{
-    Continuation, ContinuationError, ContinuationSettings, StopReason,
+    Continuation, ContinuationError, ContinuationSettings, Observer, StopReason,
 };
+use crate::solver::interrupt::Interrupt;
 use crate::solver::newton::NewtonReport;
 use crate::solver::problem::Problem;
 use crate::solver::stability::InertiaError;
@@ -120,6 +121,18 @@ impl Simulation {
             ..Default::default()
         };
         Simulation::from_state(model, bc, Control::Displacement, x, settings)
+    }
+
+    /// Solves from now on stop (keeping the last converged state) when `interrupt` is
+    /// raised or its deadline passes.
+    pub fn set_interrupt(&mut self, interrupt: Option<Interrupt>) {
+        self.path.set_interrupt(interrupt);
+    }
+
+    /// `observer` is told of every accepted internal step from now on (its load parameter
+    /// is `ε` under displacement control).
+    pub fn set_observer(&mut self, observer: Option<Observer>) {
+        self.path.set_observer(observer);
     }
 
     fn rods(&self) -> &RodProblem {

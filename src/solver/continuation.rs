@@ -6,6 +6,7 @@
 //!
 //! The engine knows nothing of rods: it follows any [`Problem`].
 
+use super::interrupt::{Interrupt, Interruption};
 use super::linear::LinearError;
 use super::newton::{Newton, NewtonError, NewtonReport, NewtonSettings, StepEquation};
 use super::path_state::PathState;
@@ -64,6 +65,8 @@ pub enum StopReason {
     SymmetricPair,
     #[error("there is no critical point {index} to switch branch at")]
     NoCriticalPoint { index: usize },
+    #[error("the solve was interrupted: {0}")]
+    Interrupted(Interruption),
 }
 
 /// The continuation could not go on; the last converged state is kept.
@@ -111,7 +114,14 @@ pub struct Continuation<P: Problem> {
     pub(super) settings: ContinuationSettings,
     pub(super) stats: Statistics,
     pub(super) critical: Vec<Critical>,
+    /// Checked between Newton iterations and between steps.
+    interrupt: Option<Interrupt>,
+    /// Told of every accepted step.
+    observer: Option<Observer>,
 }
+
+/// Called with every accepted state of a path (e.g. to show progress).
+pub type Observer = Box<dyn FnMut(&PathState) + Send>;
 
 impl<P: Problem> Continuation<P> {
     /// Starts at `(x, λ)` (`x` padded with zero multipliers to the problem's size) and
@@ -131,10 +141,22 @@ impl<P: Problem> Continuation<P> {
             settings,
             stats: Statistics::default(),
             critical: Vec::new(),
+            interrupt: None,
+            observer: None,
         };
         path.correct_in_place()?;
         path.update_stability(true);
         Ok(path)
+    }
+
+    /// Solves from now on stop when `interrupt` says so.
+    pub fn set_interrupt(&mut self, interrupt: Option<Interrupt>) {
+        self.interrupt = interrupt;
+    }
+
+    /// `observer` is told of every accepted step from now on.
+    pub fn set_observer(&mut self, observer: Option<Observer>) {
+        self.observer = observer;
     }
 
     pub fn problem(&self) -> &P {
@@ -188,9 +210,14 @@ impl<P: Problem> Continuation<P> {
         settings: &NewtonSettings,
     ) -> Result<Trial, NewtonError> {
         let t0 = Instant::now();
-        let out = self
-            .newton
-            .solve(&mut self.problem, &mut x, &mut lambda, step, settings);
+        let out = self.newton.solve(
+            &mut self.problem,
+            &mut x,
+            &mut lambda,
+            step,
+            settings,
+            self.interrupt.as_ref(),
+        );
         self.stats.time += t0.elapsed();
         self.problem.restore(&self.state.x, self.state.lambda);
         out.map(|report| {
@@ -333,6 +360,9 @@ impl<P: Problem> Continuation<P> {
         let s = self.settings;
         let mut arclength_steps = 0;
         while (target - self.state.lambda).abs() > 1e-14 * (1.0 + target.abs()) {
+            if let Some(why) = self.interrupt.as_ref().and_then(Interrupt::check) {
+                return Err(self.error(target, 0.0, StopReason::Interrupted(why)));
+            }
             let dir = (target - self.state.lambda).signum();
             let remaining = (target - self.state.lambda).abs();
             // `nominal` is the adaptive step; the last natural step is shortened to land
@@ -371,6 +401,9 @@ impl<P: Problem> Continuation<P> {
                         }
                     }
                     self.update_stability(false);
+                    if let Some(observe) = self.observer.as_mut() {
+                        observe(&self.state);
+                    }
                     if let (Some(b), Some(a)) = (stability_before, self.state.stability) {
                         if a.unstable_directions != b.unstable_directions {
                             self.locate_critical(&x_before, l_before, was_arclength, b, a);
@@ -383,6 +416,10 @@ impl<P: Problem> Continuation<P> {
                         nominal = h * 0.6;
                     }
                     self.state.step = nominal.max(s.min_step);
+                }
+                Err(NewtonError::Interrupted { why, .. }) => {
+                    self.newton.discard_factorisation();
+                    return Err(self.error(target, h, StopReason::Interrupted(why)));
                 }
                 Err(cause) => {
                     self.stats.rejected += 1;

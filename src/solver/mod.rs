@@ -5,6 +5,7 @@
 
 pub mod continuation;
 pub mod critical;
+pub mod interrupt;
 pub mod linear;
 pub mod newton;
 pub mod path_state;

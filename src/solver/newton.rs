@@ -1,6 +1,7 @@
 //! Newton's method on `R(x, λ) = 0` bordered by the step equation of a continuation step,
 //! with the sparse factorisation reused while it contracts the residual (modified Newton).
 
+use super::interrupt::{Interrupt, Interruption};
 use super::linear::{relative_residual, LinearError, SparseLu};
 use super::problem::Problem;
 use faer::sparse::SparseColMatRef;
@@ -34,6 +35,8 @@ pub enum NewtonError {
     NotConverged { iterations: usize, residual: f64 },
     #[error("Newton diverged at iteration {iteration} (residual {residual:.2e})")]
     Diverged { iteration: usize, residual: f64 },
+    #[error("interrupted at Newton iteration {iteration}: {why}")]
+    Interrupted { iteration: usize, why: Interruption },
     #[error("at Newton iteration {iteration}: {source}")]
     Linear {
         iteration: usize,
@@ -296,6 +299,7 @@ impl Newton {
         lambda: &mut f64,
         step: &StepEquation,
         settings: &NewtonSettings,
+        interrupt: Option<&Interrupt>,
     ) -> Result<NewtonReport, NewtonError> {
         const REFACTOR_RATIO: f64 = 0.25;
         let threshold = settings.singular_threshold;
@@ -305,6 +309,9 @@ impl Newton {
         let mut stale = false; // the factorisation is not of the current iterate
         let mut last = f64::NAN;
         for it in 0..=settings.max_iterations {
+            if let Some(why) = interrupt.and_then(Interrupt::check) {
+                return Err(NewtonError::Interrupted { iteration: it, why });
+            }
             let energy = problem.residual(x, *lambda, &mut self.residual);
             let r = norm_inf(&self.residual);
             if it == 0 {

@@ -4,6 +4,7 @@
 
 use super::problem::{Measure, Problem, Values, ORDERS};
 use crate::discretisation::shape::Order;
+use crate::simulation::SolveError;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
@@ -55,7 +56,7 @@ pub struct RungResult {
     /// Best wall time of the whole solve over the timed runs.
     pub time: Duration,
     /// The measured values, or why the solve failed.
-    pub values: Result<Values, String>,
+    pub values: Result<Values, SolveError>,
     /// Relative error of each [`Measure`] (indexed as [`Measure::ALL`]) against the
     /// reference, where both have the value.
     pub errors: [Option<f64>; 3],

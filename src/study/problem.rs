@@ -11,7 +11,7 @@ use crate::model::loading::Control;
 use crate::model::love::LoveHelix;
 use crate::results::Snapshot;
 use crate::run::run_path;
-use crate::simulation::Simulation;
+use crate::simulation::{Simulation, SolveError};
 use crate::solver::continuation::ContinuationSettings;
 
 /// Element orders compared, coarse to fine in accuracy per element.
@@ -275,14 +275,19 @@ impl Problem {
     }
 
     /// Solves the problem on a mesh and measures it; curvatures at `probes`.
-    pub fn solve(&self, order: Order, elements: usize, probes: &Probes) -> Result<Values, String> {
+    pub fn solve(
+        &self,
+        order: Order,
+        elements: usize,
+        probes: &Probes,
+    ) -> Result<Values, SolveError> {
         match self {
             Problem::Path(case) => {
                 let case = with_mesh(case, order, elements);
                 let targets = case.output_eps(case.loading.target, case.loading.steps);
-                let outcome = run_path(&case, &targets, |_, _| {}).map_err(|e| e.to_string())?;
+                let outcome = run_path(&case, &targets, |_, _| {})?;
                 if let Some(e) = outcome.error {
-                    return Err(e.to_string());
+                    return Err(e);
                 }
                 let last = outcome.points.last().expect("step 0 is always there");
                 let response = match case.loading.control {
@@ -304,8 +309,7 @@ impl Problem {
                     love.radius(),
                     love.pitch,
                     ContinuationSettings::default(),
-                )
-                .map_err(|e| e.to_string())?;
+                )?;
                 let point = sim.load_point(0);
                 let response = point.reactions.iter().map(|r| r.tip.force[2]).sum::<f64>()
                     / point.reactions.len() as f64;
