@@ -95,3 +95,72 @@ fn assemblies_without_the_symmetry_are_refused_the_reduction() {
     let mut sim = Simulation::from_case(&c).unwrap();
     assert!(sim.switch_branch(0, 1.0, 0.05).is_err());
 }
+
+/// At a state of the pair (not an equilibrium: perturbed), the unstable directions of the
+/// Bloch blocks — each block `0 < p < m/2` counted twice, for `p` and `m − p` — and their
+/// lowest eigenvalue, against those of the full model at the expanded state.
+fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
+    use spira::discretisation::symmetry::expand_state;
+    use spira::discretisation::system::System;
+    use spira::model::loading::TipLoad;
+    use spira::simulation::problem::RodProblem;
+    use spira::solver::problem::Problem;
+    let pair = case.model();
+    let np = pair.n_primal;
+    let tip = TipLoad::Height(pair.height0());
+    let pair_system = System::new(&pair, case.boundary, &x[..np], tip);
+    let full = pair.full_model().expect("a symmetric pair");
+    let full_system0 = System::new(&full, case.boundary, &full.natural_state(), tip);
+    let mut xf = vec![0.0; full_system0.n];
+    expand_state(&pair, &pair_system, x, &full, &full_system0, &mut xf);
+    // the supports hold what they hold at the expanded state, as the pair's at its own
+    let full_system = System::new(&full, case.boundary, &xf[..full.n_primal], tip);
+    let mut blocks = RodProblem::new(pair.clone(), pair_system, case.loading.control);
+    let mut whole = RodProblem::new(full, full_system, case.loading.control);
+    let per_block = blocks.unstable_directions_per_block(x).unwrap();
+    let counted: usize = per_block.iter().map(|(_, k, c)| k * c).sum();
+    let (lowest, _) = blocks.lowest_eigenvalue_with_wavenumber(x).unwrap();
+    let full_count = whole.unstable_directions(&xf, 0.0).unwrap();
+    let full_lowest = whole.lowest_eigenvalue(&xf, 0.0).unwrap();
+    (counted, full_count, lowest, full_lowest)
+}
+
+#[test]
+fn bloch_blocks_count_the_full_models_unstable_directions_at_perturbed_states() {
+    for n in [4, 8, 16] {
+        let mut case = thesis(8);
+        case.geometry.helices = n;
+        case.discretisation.symmetric = true;
+        // the sliding tip (Haringx) loses stability to sideways sway, a wavenumber-1 mode:
+        // solve to ε = 0.25, beyond the bifurcation, then perturb the state
+        case.boundary.tip.translation = spira::model::boundary::Translation::Slide;
+        let sim = solve(&case, 0.25);
+        let x0 = sim.state().to_vec();
+        for (k, amplitude) in [0.0, 1e-3, 3e-3].into_iter().enumerate() {
+            let np = sim.model().n_primal;
+            let x: Vec<f64> = x0
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    let wiggle = ((i * 7919 + k * 104_729) % 1000) as f64 / 1000.0 - 0.5;
+                    if i < np {
+                        v + amplitude * wiggle
+                    } else {
+                        v * (1.0 + 10.0 * amplitude * wiggle)
+                    }
+                })
+                .collect();
+            let (counted, full_count, lowest, full_lowest) = blocks_against_full(&case, &x);
+            assert_eq!(counted, full_count, "n = {n}, amplitude {amplitude}");
+            assert!(
+                (lowest - full_lowest).abs() < 1e-8 * full_lowest.abs(),
+                "n = {n}, amplitude {amplitude}: {lowest} vs {full_lowest}"
+            );
+            if amplitude == 0.0 {
+                // past the sway bifurcation: a double (p, m − p) wavenumber-1 mode, or the
+                // real p = 1 block of n = 4 (m = 2) counted once
+                assert!(full_count >= 1, "n = {n}: {full_count}");
+            }
+        }
+    }
+}

@@ -1,9 +1,12 @@
 //! The symmetric pair and the full assembly it stands for (DESIGN.md §7): a state of the
-//! pair expanded to the state of every rod.
+//! pair expanded to the state of every rod, and the Bloch blocks of its KKT matrix.
 
+use super::constraints::Role;
 use super::model::DiscreteModel;
 use super::system::System;
 use crate::model::symmetry::TurnZ;
+use faer::sparse::{Pair, SymbolicSparseColMat};
+use std::f64::consts::PI;
 
 /// Expands the state `x` of a symmetric pair (in `pair_system`'s layout) to the state of
 /// the full model in `full_system`'s layout: every rod is the image of one rod of the pair
@@ -50,5 +53,190 @@ pub fn expand_state(
             let full_row = full_system.compat_row(k, e);
             out[full_row..full_row + 3].copy_from_slice(&l);
         }
+    }
+}
+
+/// The Bloch (Fourier) blocks of the KKT matrix of a symmetric assembly (DESIGN.md §7).
+///
+/// With every sector's unknowns in its own rotated frame, the full KKT matrix at a
+/// symmetric state is block-circulant, and the discrete Fourier transform over the `m`
+/// sectors splits it into one Hermitian block per wavenumber `p = 0 … m − 1`, each of the
+/// size of the pair: the pair's own KKT matrix, except that a joint tying the pair to the
+/// image of its left rod in sector `r` carries the phase `e^{2πipr/m}` on its coupling
+/// entries (row of the joint's multiplier × the left rod's positions) and the conjugate
+/// phase on their transposes. Blocks `p` and `m − p` are conjugate (same spectrum); `p = 0`
+/// (the pair itself) and `p = m/2` are real. A complex block `K = A + iB` is written as the
+/// real symmetric `[[A, −B], [B, A]]` of twice its size, whose eigenvalues are those of `K`,
+/// each twice; its unknowns are ordered primal (real, imaginary) then multipliers (real,
+/// imaginary), so that the primal unknowns come first as the inertia count expects.
+#[derive(Clone, Debug)]
+pub struct BlochBlocks {
+    /// Sectors `m`.
+    pub m: usize,
+    /// Primal unknowns of the pair.
+    n_primal: usize,
+    /// For each stored entry of the pair's KKT pattern: the sector its coupling reaches and
+    /// the sign of its phase, for the joints that tie the pair to another sector.
+    phase: Vec<Option<(f64, usize)>>,
+    /// Pattern of a complex block written as a real one.
+    realified: SymbolicSparseColMat<usize>,
+    /// For each stored pair entry, its slots in the realified pattern: (re, re), (im, im),
+    /// and for phased entries (im, re) and (re, im).
+    slots: Vec<[usize; 4]>,
+}
+
+/// Slot of an entry absent from a realified block.
+const NO_SLOT: usize = usize::MAX;
+
+impl BlochBlocks {
+    /// The blocks of a symmetric pair's system (`None` for a model without the symmetry).
+    pub fn new(pair: &DiscreteModel, system: &System) -> Option<BlochBlocks> {
+        let sym = pair.assembly.symmetry?;
+        let m = sym.m;
+        let pattern = system.pattern();
+        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+        let entry = |row: usize, col: usize| {
+            let rows = &ri[cp[col]..cp[col + 1]];
+            cp[col]
+                + rows
+                    .binary_search(&row)
+                    .expect("joint entry in the KKT pattern")
+        };
+        let left = &pair.rods[1];
+        let left_dofs = left.q_offset..left.r_offset + 3 * (left.mesh.elements() + 1);
+        let mut phase = vec![None; ri.len()];
+        for (i, c) in system.linear.iter().enumerate() {
+            let Role::Joint(j) = c.role else { continue };
+            let turn = pair.assembly.joints[j].left_turn;
+            let r = (turn * m as f64 / (2.0 * PI)).round().rem_euclid(m as f64) as usize;
+            if r == 0 {
+                continue;
+            }
+            let row = system.linear_row(i);
+            for &(d, _) in c.terms.iter().filter(|(d, _)| left_dofs.contains(d)) {
+                phase[entry(row, d)] = Some((1.0, r));
+                phase[entry(d, row)] = Some((-1.0, r));
+            }
+        }
+        let (n, n_primal) = (system.n, pair.n_primal);
+        let re = |i: usize| if i < n_primal { i } else { n_primal + i };
+        let im = |i: usize| if i < n_primal { n_primal + i } else { n + i };
+        let mut pairs = Vec::new();
+        for col in 0..n {
+            for p in cp[col]..cp[col + 1] {
+                let row = ri[p];
+                pairs.push(Pair::new(re(row), re(col)));
+                pairs.push(Pair::new(im(row), im(col)));
+                if phase[p].is_some() {
+                    pairs.push(Pair::new(im(row), re(col)));
+                    pairs.push(Pair::new(re(row), im(col)));
+                }
+            }
+        }
+        let (realified, _) = SymbolicSparseColMat::try_new_from_indices(2 * n, 2 * n, &pairs)
+            .expect("realified pattern indices are in range");
+        let (rcp, rri) = (realified.col_ptr(), realified.row_idx());
+        let slot = |row: usize, col: usize| {
+            let rows = &rri[rcp[col]..rcp[col + 1]];
+            rcp[col]
+                + rows
+                    .binary_search(&row)
+                    .expect("entry in the realified pattern")
+        };
+        let mut slots = Vec::with_capacity(ri.len());
+        for col in 0..n {
+            for p in cp[col]..cp[col + 1] {
+                let row = ri[p];
+                let mut s = [
+                    slot(re(row), re(col)),
+                    slot(im(row), im(col)),
+                    NO_SLOT,
+                    NO_SLOT,
+                ];
+                if phase[p].is_some() {
+                    s[2] = slot(im(row), re(col));
+                    s[3] = slot(re(row), im(col));
+                }
+                slots.push(s);
+            }
+        }
+        Some(BlochBlocks {
+            m,
+            n_primal,
+            phase,
+            realified,
+            slots,
+        })
+    }
+
+    /// The wavenumbers whose blocks are distinct: `0 ..= m/2` (`p` and `m − p` conjugate).
+    pub fn wavenumbers(&self) -> std::ops::RangeInclusive<usize> {
+        0..=self.m / 2
+    }
+
+    /// Whether block `p` is real (`p = 0`, or `p = m/2`).
+    pub fn is_real(&self, p: usize) -> bool {
+        p == 0 || 2 * p == self.m
+    }
+
+    /// How many wavenumbers block `p` stands for: 1 if real, 2 (`p` and `m − p`) if not.
+    pub fn multiplicity(&self, p: usize) -> usize {
+        if self.is_real(p) {
+            1
+        } else {
+            2
+        }
+    }
+
+    /// The phase angle `2π p r / m` (rad) of a coupling to sector `r`.
+    fn angle(&self, p: usize, r: usize) -> f64 {
+        2.0 * PI * (p * r % self.m) as f64 / self.m as f64
+    }
+
+    /// The real block `p` (`p = 0` or `m/2`) in the pair's pattern, from the pair's KKT
+    /// values `pair` (`e^{iπr} = ±1`).
+    pub fn real_block(&self, p: usize, pair: &[f64], out: &mut [f64]) {
+        debug_assert!(self.is_real(p));
+        for (k, (v, phase)) in pair.iter().zip(&self.phase).enumerate() {
+            out[k] = match phase {
+                Some((_, r)) if (p * r) % self.m != 0 => -v,
+                _ => *v,
+            };
+        }
+    }
+
+    /// The complex block `p` (`0 < p < m/2`) written as a real matrix in
+    /// [`BlochBlocks::realified_pattern`], from the pair's KKT values `pair`.
+    pub fn complex_block(&self, p: usize, pair: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|v| *v = 0.0);
+        for (k, &v) in pair.iter().enumerate() {
+            let s = self.slots[k];
+            match self.phase[k] {
+                None => {
+                    out[s[0]] += v;
+                    out[s[1]] += v;
+                }
+                Some((sign, r)) => {
+                    let (sin, cos) = (sign * self.angle(p, r)).sin_cos();
+                    let (a, b) = (v * cos, v * sin);
+                    out[s[0]] += a;
+                    out[s[1]] += a;
+                    out[s[2]] += b;
+                    out[s[3]] -= b;
+                }
+            }
+        }
+    }
+
+    /// Pattern of a complex block written as a real one.
+    pub fn realified_pattern(&self) -> &SymbolicSparseColMat<usize> {
+        &self.realified
+    }
+
+    /// The metric of a complex block written as a real one: the pair's, for the real and
+    /// the imaginary parts.
+    pub fn realified_metric(&self, metric: &[f64]) -> Vec<f64> {
+        debug_assert_eq!(metric.len(), self.n_primal);
+        metric.iter().chain(metric).copied().collect()
     }
 }

@@ -4,15 +4,15 @@
 //! Under displacement control `λ = ε`, the compression ratio, and the tips are held at
 //! `h = h0 (1 − ε)`; under load control `λ = P / Pcrit`, a dead compressive load on every
 //! tip over the Euler load. Stability is judged on the full assembly: for a symmetric pair,
-//! on the full model at the pair's state expanded (a symmetric state can lose stability to
-//! modes that break the symmetry).
+//! by the Bloch blocks of its KKT matrix, one per wavenumber (a symmetric state can lose
+//! stability to modes that break the symmetry; they live in the blocks `p ≠ 0`).
 
 use crate::discretisation::model::{DiscreteModel, End};
-use crate::discretisation::symmetry::expand_state;
+use crate::discretisation::symmetry::BlochBlocks;
 use crate::discretisation::system::System;
 use crate::model::loading::{Control, TipLoad};
 use crate::solver::problem::Problem;
-use crate::solver::stability::{InertiaError, KktStability};
+use crate::solver::stability::{InertiaError, KktStability, WarmStart};
 use faer::sparse::SymbolicSparseColMat;
 
 /// A discrete model under boundary conditions and a control of its tips.
@@ -34,18 +34,26 @@ enum Judge {
         residual: Vec<f64>,
         values: Vec<f64>,
     },
-    Full(Box<FullModel>),
+    Blocks(Box<Blocks>),
 }
 
-/// The full model behind a symmetric pair.
-struct FullModel {
-    model: DiscreteModel,
-    system: System,
-    stability: KktStability,
-    /// The pair's state expanded to the full model.
-    expanded: Vec<f64>,
+/// The Bloch blocks of a symmetric pair, one per wavenumber (DESIGN.md §7).
+struct Blocks {
+    bloch: BlochBlocks,
+    /// The real blocks `p = 0` and `p = m/2`, in the pair's pattern.
+    zero: KktStability,
+    half: KktStability,
+    /// The complex blocks, written as real ones; one factorisation pattern for all, with a
+    /// warm start of inverse iteration for each wavenumber.
+    complex: KktStability,
+    warm: Vec<WarmStart>,
     residual: Vec<f64>,
-    values: Vec<f64>,
+    /// The pair's KKT values, and a block's.
+    pair: Vec<f64>,
+    real: Vec<f64>,
+    realified: Vec<f64>,
+    /// The wavenumber of the lowest eigenvalue found last.
+    lowest_wavenumber: usize,
 }
 
 /// Tributary arc length of every primal unknown: the metric of the eigenproblem
@@ -92,18 +100,21 @@ impl RodProblem {
             .into_iter()
             .map(|v| v * rate)
             .collect();
-        let judge = match model.full_model() {
-            Some(full) => {
-                let x0 = full.natural_state();
-                let tip = tip_load(&full, control, 0.0);
-                let full_system = System::new(&full, system.bc, &x0, tip);
-                Judge::Full(Box::new(FullModel {
-                    stability: KktStability::new(metric(&full)),
-                    expanded: vec![0.0; full_system.n],
-                    residual: vec![0.0; full_system.n],
-                    values: full_system.new_values(),
-                    model: full,
-                    system: full_system,
+        let judge = match BlochBlocks::new(&model, &system) {
+            Some(bloch) => {
+                let metric = metric(&model);
+                let warm = vec![WarmStart::default(); bloch.m / 2 + 1];
+                Judge::Blocks(Box::new(Blocks {
+                    complex: KktStability::with_copies(bloch.realified_metric(&metric), 2),
+                    realified: vec![0.0; bloch.realified_pattern().row_idx().len()],
+                    zero: KktStability::new(metric.clone()),
+                    half: KktStability::new(metric),
+                    bloch,
+                    warm,
+                    residual: vec![0.0; system.n],
+                    pair: system.new_values(),
+                    real: system.new_values(),
+                    lowest_wavenumber: 0,
                 }))
             }
             None => Judge::Own {
@@ -126,15 +137,20 @@ impl RodProblem {
         tip_load(&self.model, self.control, lambda)
     }
 
-    /// Whether stability is judged on a full model standing behind a symmetric pair.
+    /// Whether this is a symmetric pair, its stability judged by Bloch blocks.
     pub fn is_symmetric_pair(&self) -> bool {
-        matches!(self.judge, Judge::Full(_))
+        matches!(self.judge, Judge::Blocks(_))
     }
 
-    /// The KKT values at state `x` of the model stability is judged on (independent of the
-    /// load parameter: it enters the residual only), with that model's pattern and
-    /// stability counter.
-    fn judged(&mut self, x: &[f64]) -> (&SymbolicSparseColMat<usize>, &[f64], &mut KktStability) {
+    /// `f` applied to the stability of every block at state `x` (the KKT values do not
+    /// depend on the load parameter: it enters the residual only): of the model itself,
+    /// or of each wavenumber `p` of a symmetric pair, with the number of wavenumbers the
+    /// block stands for.
+    fn each_block<T>(
+        &mut self,
+        x: &[f64],
+        mut f: impl FnMut(&SymbolicSparseColMat<usize>, &[f64], &mut KktStability) -> T,
+    ) -> Vec<(usize, usize, T)> {
         match &mut self.judge {
             Judge::Own {
                 stability,
@@ -142,22 +158,96 @@ impl RodProblem {
                 values,
             } => {
                 self.system.evaluate(&self.model, x, residual, values);
-                (self.system.pattern(), values, stability)
+                vec![(0, 1, f(self.system.pattern(), values, stability))]
             }
-            Judge::Full(f) => {
-                let f = f.as_mut();
-                expand_state(
-                    &self.model,
-                    &self.system,
-                    x,
-                    &f.model,
-                    &f.system,
-                    &mut f.expanded,
-                );
-                f.system
-                    .evaluate(&f.model, &f.expanded, &mut f.residual, &mut f.values);
-                (f.system.pattern(), &f.values, &mut f.stability)
+            Judge::Blocks(b) => {
+                let b = b.as_mut();
+                self.system
+                    .evaluate(&self.model, x, &mut b.residual, &mut b.pair);
+                let pattern = self.system.pattern();
+                let mut out = Vec::new();
+                for p in b.bloch.wavenumbers() {
+                    let value = b.block(pattern, p, &mut f);
+                    out.push((p, b.bloch.multiplicity(p), value));
+                }
+                out
             }
+        }
+    }
+
+    /// Unstable directions of every distinct block at `x`: `(wavenumber, multiplicity,
+    /// count)`; one block of wavenumber 0 for a model without the symmetry.
+    pub fn unstable_directions_per_block(
+        &mut self,
+        x: &[f64],
+    ) -> Result<Vec<(usize, usize, usize)>, InertiaError> {
+        self.each_block(x, |pattern, values, s| {
+            s.unstable_directions(pattern, values)
+        })
+        .into_iter()
+        .map(|(p, k, c)| c.map(|c| (p, k, c)))
+        .collect()
+    }
+
+    /// The lowest eigenvalue over the blocks at `x` and its wavenumber. Only the block that
+    /// had the lowest eigenvalue last time is iterated on for sure; every other block is
+    /// first asked, by one inertia count, whether it has an eigenvalue below that one.
+    pub fn lowest_eigenvalue_with_wavenumber(&mut self, x: &[f64]) -> Option<(f64, usize)> {
+        let b = match &mut self.judge {
+            Judge::Own { .. } => {
+                let all = self.each_block(x, |pat, v, s| s.lowest_eigenvalue(pat, v));
+                return all
+                    .into_iter()
+                    .next()
+                    .and_then(|(p, _, l)| l.map(|l| (l, p)));
+            }
+            Judge::Blocks(b) => b.as_mut(),
+        };
+        self.system
+            .evaluate(&self.model, x, &mut b.residual, &mut b.pair);
+        let pattern = self.system.pattern();
+        let first = b.lowest_wavenumber;
+        let mut best = (
+            b.block(pattern, first, |pat, v, s| s.lowest_eigenvalue(pat, v))?,
+            first,
+        );
+        for p in b.bloch.wavenumbers().filter(|&p| p != first) {
+            let below = b.block(pattern, p, |pat, v, s| s.count_below(pat, v, best.0));
+            if below.ok()? > 0 {
+                let l = b.block(pattern, p, |pat, v, s| s.lowest_eigenvalue(pat, v))?;
+                if l < best.0 {
+                    best = (l, p);
+                }
+            }
+        }
+        b.lowest_wavenumber = best.1;
+        Some(best)
+    }
+}
+
+impl Blocks {
+    /// `f` on block `p` at the pair's KKT values in `self.pair`.
+    fn block<T>(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        p: usize,
+        f: impl FnOnce(&SymbolicSparseColMat<usize>, &[f64], &mut KktStability) -> T,
+    ) -> T {
+        if p == 0 {
+            f(pattern, &self.pair, &mut self.zero)
+        } else if self.bloch.is_real(p) {
+            self.bloch.real_block(p, &self.pair, &mut self.real);
+            f(pattern, &self.real, &mut self.half)
+        } else {
+            self.bloch.complex_block(p, &self.pair, &mut self.realified);
+            self.complex.swap_warm_start(&mut self.warm[p]);
+            let v = f(
+                self.bloch.realified_pattern(),
+                &self.realified,
+                &mut self.complex,
+            );
+            self.complex.swap_warm_start(&mut self.warm[p]);
+            v
         }
     }
 }
@@ -212,18 +302,30 @@ impl Problem for RodProblem {
     }
 
     fn unstable_directions(&mut self, x: &[f64], _lambda: f64) -> Result<usize, InertiaError> {
-        let (pattern, values, stability) = self.judged(x);
-        stability.unstable_directions(pattern, values)
+        Ok(self
+            .unstable_directions_per_block(x)?
+            .iter()
+            .map(|(_, k, c)| k * c)
+            .sum())
     }
 
     fn lowest_eigenvalue(&mut self, x: &[f64], _lambda: f64) -> Option<f64> {
-        let (pattern, values, stability) = self.judged(x);
-        stability.lowest_eigenvalue(pattern, values)
+        self.lowest_eigenvalue_with_wavenumber(x).map(|(l, _)| l)
     }
 
+    /// Over the blocks, the eigenvalue nearest zero.
     fn eigenvalue_nearest_zero(&mut self, x: &[f64], _lambda: f64) -> Option<f64> {
-        let (pattern, values, stability) = self.judged(x);
-        stability.eigenvalue_nearest_zero(pattern, values)
+        let all = self.each_block(x, |pattern, values, s| {
+            s.eigenvalue_nearest_zero(pattern, values)
+        });
+        let mut nearest: Option<f64> = None;
+        for (_, _, mu) in all {
+            let mu = mu?;
+            if nearest.is_none_or(|best| mu.abs() < best.abs()) {
+                nearest = Some(mu);
+            }
+        }
+        nearest
     }
 
     /// The system keeps the tip load of the converged point (reactions are read from it).
