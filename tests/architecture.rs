@@ -26,6 +26,8 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("study", &["study", "precision"]),
     // `chart` is moving into output.
     ("output", &["output", "chart"]),
+    // runs cases (run) and writes tables (output)
+    ("sweep", &["sweep"]),
     ("session", &["session"]),
     ("tui", &["tui"]),
     // src/main.rs (and src/bin/), which may use anything through `spira::`.
