@@ -519,7 +519,7 @@ fn sweep_cmd(
     };
     let report = run_sweep(&sweep, &opts, |p| {
         let eta = p
-            .eta(jobs)
+            .eta()
             .map(|d| format!(", ETA {:.0} s", d.as_secs_f64()))
             .unwrap_or_default();
         let what = match p.status {
@@ -542,7 +542,11 @@ fn sweep_cmd(
                 p.total,
                 p.elapsed.as_secs_f64(),
                 p.case.id,
-                if p.status == CaseStatus::Failed { "failed" } else { &what }
+                if p.status == CaseStatus::Failed {
+                    "failed"
+                } else {
+                    &what
+                }
             );
             let _ = std::io::stdout().flush();
         } else {
@@ -614,7 +618,12 @@ loading.steps = 6
 
 fn bench_sweep() -> Result<()> {
     use spira::sweep::{run_sweep, workers, RunOptions, Shard, Sweep};
-    let sweep = Sweep::parse(BENCH_SWEEP, "bench sweep (built in)", "bench", Path::new("."))?;
+    let sweep = Sweep::parse(
+        BENCH_SWEEP,
+        "bench sweep (built in)",
+        "bench",
+        Path::new("."),
+    )?;
     let cores = workers(None);
     println!(
         "spira bench --sweep: {} cases (n = 2, 24 quadratic elements per rod, eps 0 -> 0.3 in 6 steps, turns 2 ... 5.5, fixed and sliding tips), {cores} core(s)",
@@ -633,10 +642,7 @@ fn bench_sweep() -> Result<()> {
             bail!("{} bench cases failed", report.failed);
         }
         let t = report.wall.as_secs_f64();
-        println!(
-            "{jobs} worker(s): {t:.2} s for {} cases",
-            report.total
-        );
+        println!("{jobs} worker(s): {t:.2} s for {} cases", report.total);
         times.push(t);
     }
     println!(

@@ -50,7 +50,12 @@ fn opts(out: &Path, jobs: usize, shard: Shard) -> RunOptions {
 }
 
 fn run_all(sweep: &Sweep, out: &Path, jobs: usize, shard: Shard) -> spira::sweep::SweepReport {
-    run_sweep(sweep, &opts(out, jobs, shard), |_| ControlFlow::Continue(())).expect("sweep")
+    run_sweep(
+        sweep,
+        &opts(out, jobs, shard),
+        |_| ControlFlow::Continue(()),
+    )
+    .expect("sweep")
 }
 
 /// The table without its wall-time column (the only one that differs between runs).
@@ -104,7 +109,10 @@ fn the_table_has_the_columns_of_the_issue_and_a_row_per_case() {
     ] {
         assert!(t.column(c).is_some(), "column {c} in {:?}", t.headers);
     }
-    assert_eq!(&t.headers[..4], ["case", "status", "geometry.helices", "loading.target"]);
+    assert_eq!(
+        &t.headers[..4],
+        ["case", "status", "geometry.helices", "loading.target"]
+    );
     assert_eq!(t.rows.len(), 6);
     for (i, c) in sweep.cases.iter().enumerate() {
         assert_eq!(t.get(i, "case"), Some(c.id.as_str()));
@@ -210,7 +218,13 @@ fn a_killed_sweep_process_resumes_where_it_stopped() {
     let out = dir.path().join("out");
     let sweep = Sweep::from_file(&file).expect("valid sweep");
     let mut child = spira()
-        .args(["sweep", file.to_str().expect("path"), "--jobs", "1", "--out"])
+        .args([
+            "sweep",
+            file.to_str().expect("path"),
+            "--jobs",
+            "1",
+            "--out",
+        ])
         .arg(&out)
         .stdout(std::process::Stdio::null())
         .spawn()
@@ -235,7 +249,13 @@ fn a_killed_sweep_process_resumes_where_it_stopped() {
     let before = complete(&out);
     assert!(before >= 1);
     let output = spira()
-        .args(["sweep", file.to_str().expect("path"), "--jobs", "2", "--out"])
+        .args([
+            "sweep",
+            file.to_str().expect("path"),
+            "--jobs",
+            "2",
+            "--out",
+        ])
         .arg(&out)
         .output()
         .expect("spira sweep");
@@ -248,7 +268,10 @@ fn a_killed_sweep_process_resumes_where_it_stopped() {
     );
     assert_eq!(stdout.matches(" done in ").count(), 6 - before, "{stdout}");
     let reference = run_all(&sweep, &dir.path().join("reference"), 2, Shard::ALL).table;
-    assert_eq!(without_wall(&read_table(&out.join("sweep.csv"))), without_wall(&reference));
+    assert_eq!(
+        without_wall(&read_table(&out.join("sweep.csv"))),
+        without_wall(&reference)
+    );
 }
 
 #[test]
@@ -300,14 +323,21 @@ fn slurm_variables_select_the_shard_of_the_task() {
     let (dir, file) = scratch(SWEEP);
     let (a, b) = (dir.path().join("slurm"), dir.path().join("flag"));
     let mut cmd = spira();
-    cmd.args(["sweep", file.to_str().expect("path"), "--out"]).arg(&a);
+    cmd.args(["sweep", file.to_str().expect("path"), "--out"])
+        .arg(&a);
     for (k, v) in one_based {
         cmd.env(k, v);
     }
     let slurm_run = cmd.output().expect("spira sweep");
     assert!(slurm_run.status.success(), "{slurm_run:?}");
     let flag_run = spira()
-        .args(["sweep", file.to_str().expect("path"), "--shard", "2/3", "--out"])
+        .args([
+            "sweep",
+            file.to_str().expect("path"),
+            "--shard",
+            "2/3",
+            "--out",
+        ])
         .arg(&b)
         .env_remove("SLURM_ARRAY_TASK_ID")
         .output()
@@ -319,7 +349,10 @@ fn slurm_variables_select_the_shard_of_the_task() {
     assert_eq!(without_wall(&ta), without_wall(&tb));
     let sweep = Sweep::from_file(&file).expect("valid sweep");
     let ids: Vec<&str> = ta.rows.iter().map(|r| r[0].as_str()).collect();
-    assert_eq!(ids, [sweep.cases[1].id.as_str(), sweep.cases[4].id.as_str()]);
+    assert_eq!(
+        ids,
+        [sweep.cases[1].id.as_str(), sweep.cases[4].id.as_str()]
+    );
 }
 
 /// The error of a sweep file, its file, line and key.
@@ -349,7 +382,10 @@ fn invalid_axes_and_invalid_generated_cases_are_refused_before_anything_runs() {
     );
     assert!(matches!(e, SweepError::Generated { .. }), "{e:?}");
     assert_eq!((e.line(), e.key()), (Some(5), Some("geometry.helices")));
-    assert!(msg.contains("sweep.toml:5: axis `geometry.helices` = 3"), "{msg}");
+    assert!(
+        msg.contains("sweep.toml:5: axis `geometry.helices` = 3"),
+        "{msg}"
+    );
 
     // a key that is not a case key, written bare and dotted
     let (e, msg) = refused("base = \"base.toml\"\n[axes]\ngeometry.helix = [1, 2]\n");
@@ -357,7 +393,8 @@ fn invalid_axes_and_invalid_generated_cases_are_refused_before_anything_runs() {
     assert!(msg.contains("unknown field"), "{msg}");
 
     // a value of the wrong type
-    let (e, _) = refused("[case]\ngeometry.helices = 2\n[axes]\n\"stiffness.b3\" = [1.0, \"stiff\"]\n");
+    let (e, _) =
+        refused("[case]\ngeometry.helices = 2\n[axes]\n\"stiffness.b3\" = [1.0, \"stiff\"]\n");
     assert_eq!((e.line(), e.key()), (Some(4), Some("stiffness.b3")));
 
     // a key whose parent is not a table in the base
@@ -376,7 +413,8 @@ fn invalid_axes_and_invalid_generated_cases_are_refused_before_anything_runs() {
     assert!(msg.contains("zip"), "{msg}");
 
     // sweep-file keys: combine, unknown keys, a missing base
-    let (e, _) = refused("base = \"base.toml\"\ncombine = \"cross\"\n[axes]\n\"geometry.helices\" = [1]\n");
+    let (e, _) =
+        refused("base = \"base.toml\"\ncombine = \"cross\"\n[axes]\n\"geometry.helices\" = [1]\n");
     assert_eq!((e.line(), e.key()), (Some(2), Some("combine")));
     let (e, _) = refused("base = \"base.toml\"\naxis = 1\n[axes]\n\"geometry.helices\" = [1]\n");
     assert_eq!((e.line(), e.key()), (Some(2), Some("axis")));
@@ -404,7 +442,10 @@ fn a_failing_case_is_recorded_with_its_reason_and_the_others_run() {
     let t = &report.table;
     for i in 0..4 {
         let iterations = t.get(i, "solver.max_iterations").expect("axis column");
-        let (status, reason) = (t.get(i, "status").expect("status"), t.get(i, "reason").expect("reason"));
+        let (status, reason) = (
+            t.get(i, "status").expect("status"),
+            t.get(i, "reason").expect("reason"),
+        );
         if iterations == "1" {
             assert_eq!(status, "failed");
             assert!(!reason.is_empty());

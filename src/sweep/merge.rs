@@ -35,7 +35,8 @@ pub fn merge_dirs(inputs: &[PathBuf], out: &Path) -> Result<(SweepTable, PathBuf
             let p = e.path();
             let name = e.file_name().to_string_lossy().into_owned();
             if p.is_file()
-                && (name == "sweep.csv" || (name.starts_with("sweep-shard-") && name.ends_with(".csv")))
+                && (name == "sweep.csv"
+                    || (name.starts_with("sweep-shard-") && name.ends_with(".csv")))
             {
                 files.push(p);
             } else if p.is_dir() && !name.starts_with('.') && p.join(MARKER).is_file() {

@@ -69,11 +69,13 @@ impl Sweep {
     /// Parses sweep text; `file` names it in errors, `stem` is the sweep's name when it gives
     /// none, `dir` is where a `base` file is looked for. Every generated case is validated.
     pub fn parse(text: &str, file: &str, stem: &str, dir: &Path) -> Result<Sweep, SweepError> {
-        let doc: Table = text.parse().map_err(|e: toml::de::Error| SweepError::Syntax {
-            file: file.into(),
-            line: line_of(text, e.span().map_or(0, |s| s.start)),
-            message: e.message().trim().to_string(),
-        })?;
+        let doc: Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| SweepError::Syntax {
+                file: file.into(),
+                line: line_of(text, e.span().map_or(0, |s| s.start)),
+                message: e.message().trim().to_string(),
+            })?;
         let key_err = |key: &str, section: Option<&str>, message: String| SweepError::Key {
             file: file.into(),
             line: line_of_key(text, section, key),
@@ -92,7 +94,13 @@ impl Sweep {
         let name = match doc.get("name") {
             None => stem.to_string(),
             Some(Value::String(s)) => s.clone(),
-            Some(v) => return Err(key_err("name", None, format!("expected a string, found {v}"))),
+            Some(v) => {
+                return Err(key_err(
+                    "name",
+                    None,
+                    format!("expected a string, found {v}"),
+                ))
+            }
         };
         let combine = match doc.get("combine") {
             None => Combine::Product,
@@ -147,7 +155,13 @@ impl Sweep {
                 base_line = line_of_section(text, "case").unwrap_or(base_line);
                 merge(&mut base, t);
             }
-            Some(v) => return Err(key_err("case", None, format!("expected a table, found {v}"))),
+            Some(v) => {
+                return Err(key_err(
+                    "case",
+                    None,
+                    format!("expected a table, found {v}"),
+                ))
+            }
         }
         if !doc.contains_key("base") && !doc.contains_key("case") {
             return Err(SweepError::Syntax {
@@ -160,7 +174,13 @@ impl Sweep {
         let axes = match doc.get("axes") {
             None => Vec::new(),
             Some(Value::Table(t)) => axes(t, text, file)?,
-            Some(v) => return Err(key_err("axes", None, format!("expected a table, found {v}"))),
+            Some(v) => {
+                return Err(key_err(
+                    "axes",
+                    None,
+                    format!("expected a table, found {v}"),
+                ))
+            }
         };
         if axes.is_empty() {
             return Err(SweepError::Key {
@@ -241,8 +261,7 @@ fn axes(table: &Table, text: &str, file: &str) -> Result<Vec<Axis>, SweepError> 
                 message: "an axis needs at least one value, found an empty array".into(),
             });
         }
-        if let Some(seg) = key.split('.').find(|s| s.is_empty()) {
-            debug_assert!(seg.is_empty());
+        if key.split('.').any(str::is_empty) {
             return Err(SweepError::Key {
                 file: file.into(),
                 line,
@@ -273,7 +292,11 @@ fn flatten(table: &Table, prefix: String, out: &mut Vec<(String, Value)>) {
 }
 
 /// The value tuples of the cases.
-fn combinations(axes: &[Axis], combine: Combine, file: &str) -> Result<Vec<Vec<Value>>, SweepError> {
+fn combinations(
+    axes: &[Axis],
+    combine: Combine,
+    file: &str,
+) -> Result<Vec<Vec<Value>>, SweepError> {
     match combine {
         Combine::Zip => {
             let len = axes[0].values.len();
@@ -346,10 +369,13 @@ fn set(doc: &mut Table, key: &str, value: Value) -> Result<(), String> {
         };
     }
     if parts.len() == 2 && parts[0] == "geometry" {
-        match *last {
-            "turns" => drop(table.remove("length")),
-            "length" => drop(table.remove("turns")),
-            _ => {}
+        let other = match *last {
+            "turns" => Some("length"),
+            "length" => Some("turns"),
+            _ => None,
+        };
+        if let Some(other) = other {
+            table.remove(other);
         }
     }
     table.insert(last.to_string(), value);

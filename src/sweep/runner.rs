@@ -61,13 +61,12 @@ pub struct Progress<'a> {
 }
 
 impl Progress<'_> {
-    /// Estimated time to go: the mean time of the cases run so far times the cases left,
-    /// shared over the workers.
-    pub fn eta(&self, jobs: usize) -> Option<Duration> {
+    /// Estimated time to go: the cases left at the rate cases have been run so far (which
+    /// includes the parallelism).
+    pub fn eta(&self) -> Option<Duration> {
         (self.ran > 0).then(|| {
             let left = (self.total - self.done) as f64;
-            let per = self.elapsed.as_secs_f64() / self.ran as f64;
-            Duration::from_secs_f64(per * left * (self.ran.min(jobs).max(1) as f64) / jobs as f64)
+            Duration::from_secs_f64(self.elapsed.as_secs_f64() / self.ran as f64 * left)
         })
     }
 }
@@ -302,8 +301,7 @@ struct Solved {
 }
 
 fn solve(case: &Case) -> Result<Solved, String> {
-    let (case, choice) =
-        resolve_accuracy(case).map_err(|e| format!("choosing the mesh: {e}"))?;
+    let (case, choice) = resolve_accuracy(case).map_err(|e| format!("choosing the mesh: {e}"))?;
     let eps = case.output_eps(case.loading.target, case.loading.steps);
     let outcome =
         run_path(&case, &eps, |_, _| {}).map_err(|e| format!("no equilibrium at eps = 0: {e}"))?;
@@ -409,7 +407,9 @@ fn row(
                 num(last.eps),
                 num(last.load[2]),
                 num(last.energy),
-                stab.map_or(String::new(), |s| u8::from(s.unstable_directions == 0).to_string()),
+                stab.map_or(String::new(), |s| {
+                    u8::from(s.unstable_directions == 0).to_string()
+                }),
                 stab.map_or(String::new(), |s| s.unstable_directions.to_string()),
                 stab.and_then(|s| s.lowest_eigenvalue)
                     .map_or(String::new(), num),

@@ -50,7 +50,9 @@ impl Shard {
             }
         };
         let id = num("SLURM_ARRAY_TASK_ID")?.ok_or_else(|| {
-            SweepError::Shard(format!("SLURM_ARRAY_TASK_ID = {id:?}: expected a whole number"))
+            SweepError::Shard(format!(
+                "SLURM_ARRAY_TASK_ID = {id:?}: expected a whole number"
+            ))
         })?;
         let min = num("SLURM_ARRAY_TASK_MIN")?;
         let max = num("SLURM_ARRAY_TASK_MAX")?;
@@ -64,17 +66,16 @@ impl Shard {
             )));
         }
         let k = (id - min) / step + 1;
-        let n = match (count, max) {
-            (Some(c), _) => c,
-            (None, Some(max)) if max >= min => (max - min) / step + 1,
-            _ => {
-                return Err(SweepError::Shard(
+        let n =
+            match (count, max) {
+                (Some(c), _) => c,
+                (None, Some(max)) if max >= min => (max - min) / step + 1,
+                _ => return Err(SweepError::Shard(
                     "a Slurm array task without SLURM_ARRAY_TASK_COUNT or SLURM_ARRAY_TASK_MAX: \
                      the array's size is unknown; use --shard"
                         .into(),
-                ))
-            }
-        };
+                )),
+            };
         if let Some(max) = max {
             if (max - min) / step + 1 != n {
                 return Err(SweepError::Shard(format!(

@@ -55,7 +55,10 @@ impl SweepTable {
     /// The cell of `row` in column `name`.
     pub fn get(&self, row: usize, name: &str) -> Option<&str> {
         let c = self.column(name)?;
-        self.rows.get(row).and_then(|r| r.get(c)).map(String::as_str)
+        self.rows
+            .get(row)
+            .and_then(|r| r.get(c))
+            .map(String::as_str)
     }
 
     /// Sorts the rows by case name (which starts with the case's zero-padded index).
@@ -67,7 +70,8 @@ impl SweepTable {
     pub fn to_csv(&self) -> String {
         let mut w = csv::Writer::from_writer(Vec::new());
         let record = |w: &mut csv::Writer<Vec<u8>>, r: &[String]| {
-            w.write_record(r).expect("writing CSV into memory cannot fail");
+            w.write_record(r)
+                .expect("writing CSV into memory cannot fail");
         };
         record(&mut w, &self.headers);
         for r in &self.rows {
@@ -95,7 +99,9 @@ impl SweepTable {
         if headers.first().map(String::as_str) != Some("case")
             || headers.get(1).map(String::as_str) != Some("status")
         {
-            return Err(bad("not a sweep table: the header does not start with case,status".into()));
+            return Err(bad(
+                "not a sweep table: the header does not start with case,status".into(),
+            ));
         }
         let mut rows = Vec::new();
         for rec in r.records() {
