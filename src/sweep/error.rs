@@ -35,22 +35,9 @@ pub enum SweepError {
         #[source]
         source: CaseError,
     },
-    /// A generated case is refused by the case reader. `line` is that of the axis the key
-    /// at fault belongs to (or of the first axis when the key is not swept); `values` lists
-    /// every axis value of the case.
-    #[error(
-        "{file}:{line}: axis `{axis}` = {value}: generated case {case} ({values}) is invalid: key `{key}`: {message}"
-    )]
-    Generated {
-        file: String,
-        line: usize,
-        axis: String,
-        value: String,
-        case: String,
-        values: String,
-        key: String,
-        message: String,
-    },
+    /// A generated case is refused by the case reader.
+    #[error(transparent)]
+    Generated(Box<InvalidCase>),
     /// A `--shard K/N` that is not one, or Slurm variables that give none.
     #[error("{0}")]
     Shard(String),
@@ -72,8 +59,8 @@ impl SweepError {
             SweepError::Io { file, .. }
             | SweepError::Syntax { file, .. }
             | SweepError::Key { file, .. }
-            | SweepError::Base { file, .. }
-            | SweepError::Generated { file, .. } => Some(file),
+            | SweepError::Base { file, .. } => Some(file),
+            SweepError::Generated(g) => Some(&g.file),
             SweepError::Write { path, .. } | SweepError::Table { path, .. } => Some(path),
             SweepError::Shard(_) => None,
         }
@@ -84,8 +71,8 @@ impl SweepError {
         match self {
             SweepError::Syntax { line, .. }
             | SweepError::Key { line, .. }
-            | SweepError::Base { line, .. }
-            | SweepError::Generated { line, .. } => Some(*line),
+            | SweepError::Base { line, .. } => Some(*line),
+            SweepError::Generated(g) => Some(g.line),
             _ => None,
         }
     }
@@ -94,9 +81,28 @@ impl SweepError {
     /// refused.
     pub fn key(&self) -> Option<&str> {
         match self {
-            SweepError::Key { key, .. } | SweepError::Generated { key, .. } => Some(key),
+            SweepError::Key { key, .. } => Some(key),
+            SweepError::Generated(g) => Some(&g.key),
             SweepError::Base { source, .. } => source.key(),
             _ => None,
         }
     }
+}
+
+/// A generated case the case reader refused. `line` is that of the axis the key at fault
+/// belongs to (or of the first axis when the key is not swept); `values` lists every axis
+/// value of the case.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{file}:{line}: axis `{axis}` = {value}: generated case {case} ({values}) is invalid: key `{key}`: {message}"
+)]
+pub struct InvalidCase {
+    pub file: String,
+    pub line: usize,
+    pub axis: String,
+    pub value: String,
+    pub case: String,
+    pub values: String,
+    pub key: String,
+    pub message: String,
 }

@@ -11,7 +11,7 @@ pub mod runner;
 pub mod shard;
 pub mod table;
 
-pub use error::SweepError;
+pub use error::{InvalidCase, SweepError};
 pub use merge::merge_dirs;
 pub use plan::{Axis, Combine, Sweep, SweepCase};
 pub use runner::{

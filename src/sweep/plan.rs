@@ -2,7 +2,7 @@
 //! every generated case patched into the base document and read by the case reader before
 //! anything runs.
 
-use super::error::SweepError;
+use super::error::{InvalidCase, SweepError};
 use crate::case::{Case, CaseError};
 use std::path::Path;
 use toml::{Table, Value};
@@ -402,7 +402,7 @@ fn generated_error(
         .zip(values)
         .map(|(a, v)| format!("{} = {}", a.key, inline(v)))
         .collect();
-    SweepError::Generated {
+    SweepError::Generated(Box::new(InvalidCase {
         file: file.into(),
         line: axes[at].line,
         axis: axes[at].key.clone(),
@@ -411,7 +411,7 @@ fn generated_error(
         values: listed.join(", "),
         key: if key.is_empty() { "-".into() } else { key },
         message: e.message(),
-    }
+    }))
 }
 
 /// A value as TOML writes it inline (`8`, `"slide"`, `{ translation = "slide", … }`).
