@@ -19,4 +19,5 @@ pub mod session;
 pub mod simulation;
 pub mod solver;
 pub mod study;
+pub mod sweep;
 pub mod tui;

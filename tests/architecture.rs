@@ -26,6 +26,8 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("study", &["study", "precision"]),
     // `chart` is moving into output.
     ("output", &["output", "chart"]),
+    // runs cases (run) and writes tables (output)
+    ("sweep", &["sweep"]),
     ("session", &["session"]),
     ("tui", &["tui"]),
     // src/main.rs (and src/bin/), which may use anything through `spira::`.
@@ -810,7 +812,7 @@ fn rules_report_unplaced_modules_upward_imports_and_cycles() {
     let report = problems(&files).join("\n");
     let expected = [
         "src/gadget.rs (module `gadget`) is in no layer",
-        "src/model/helix.rs imports crate::tui (layer 0 model -> layer 10 tui)",
+        "src/model/helix.rs imports crate::tui (layer 0 model -> layer 11 tui)",
         "src/model/mod.rs and src/model/helix.rs import each other \
          (src/model/mod.rs imports crate::model::helix, src/model/helix.rs imports crate::model)",
         "src/model/helix.rs and src/tui/mod.rs import each other",

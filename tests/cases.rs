@@ -534,15 +534,26 @@ fn assert_thesis_geometry(case: &Case, name: &str) {
 
 #[test]
 fn every_shipped_case_parses() {
-    let mut count = 0;
+    let (mut count, mut sweeps) = (0, 0);
     for entry in std::fs::read_dir(manifest_dir().join("cases")).expect("cases/ exists") {
         let path = entry.expect("readable entry").path();
         if path.extension().is_some_and(|x| x == "toml") {
-            Case::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
-            count += 1;
+            let stem = path.file_stem().expect("a name").to_string_lossy();
+            if stem.starts_with("sweep-") {
+                // a sweep file: every case it generates is valid
+                spira::sweep::Sweep::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+                sweeps += 1;
+            } else {
+                Case::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+                count += 1;
+            }
         }
     }
     assert!(count >= 4, "expected the four thesis cases, found {count}");
+    assert!(
+        sweeps >= 2,
+        "expected the two shipped sweeps, found {sweeps}"
+    );
 }
 
 #[test]

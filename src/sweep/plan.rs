@@ -1,0 +1,520 @@
+//! Sweep files: a base case, axes over dotted case keys, combined as a product or zipped;
+//! every generated case patched into the base document and read by the case reader before
+//! anything runs.
+
+use super::error::{InvalidCase, SweepError};
+use crate::case::{Case, CaseError};
+use std::path::Path;
+use toml::{Table, Value};
+
+/// How the axes combine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Combine {
+    /// Every combination: the first axis varies slowest.
+    Product,
+    /// The k-th value of every axis together (all axes of one length).
+    Zip,
+}
+
+/// One axis: a dotted case key and its values, with the line of the sweep file it is on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    pub key: String,
+    pub values: Vec<Value>,
+    pub line: usize,
+}
+
+/// One generated case: its place in the sorted case list, its folder name, its axis values
+/// (one per axis), the patched TOML text and the case read from it.
+#[derive(Clone, Debug)]
+pub struct SweepCase {
+    /// 0-based position in the case list (the order of generation).
+    pub index: usize,
+    /// Folder and row name: the index, then the axis values.
+    pub id: String,
+    pub values: Vec<Value>,
+    pub text: String,
+    pub case: Case,
+}
+
+/// A validated sweep.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The sweep file, as named in errors.
+    pub file: String,
+    pub name: String,
+    pub combine: Combine,
+    pub axes: Vec<Axis>,
+    pub cases: Vec<SweepCase>,
+}
+
+const TOP_KEYS: [&str; 5] = ["name", "base", "combine", "case", "axes"];
+
+impl Sweep {
+    /// Reads a sweep file; a `base` case is looked for beside it.
+    pub fn from_file(path: &Path) -> Result<Sweep, SweepError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|reason| SweepError::Io {
+            file: file.clone(),
+            reason,
+        })?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "sweep".into());
+        Sweep::parse(&text, &file, &stem, dir)
+    }
+
+    /// Parses sweep text; `file` names it in errors, `stem` is the sweep's name when it gives
+    /// none, `dir` is where a `base` file is looked for. Every generated case is validated.
+    pub fn parse(text: &str, file: &str, stem: &str, dir: &Path) -> Result<Sweep, SweepError> {
+        let doc: Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| SweepError::Syntax {
+                file: file.into(),
+                line: line_of(text, e.span().map_or(0, |s| s.start)),
+                message: e.message().trim().to_string(),
+            })?;
+        let key_err = |key: &str, section: Option<&str>, message: String| SweepError::Key {
+            file: file.into(),
+            line: line_of_key(text, section, key),
+            key: key.into(),
+            message,
+        };
+        if let Some(k) = doc.keys().find(|k| !TOP_KEYS.contains(&k.as_str())) {
+            return Err(key_err(
+                k,
+                None,
+                format!(
+                    "unknown key `{k}`; a sweep file has `name`, `base`, `combine`, `[case]` and `[axes]`"
+                ),
+            ));
+        }
+        let name = match doc.get("name") {
+            None => stem.to_string(),
+            Some(Value::String(s)) => s.clone(),
+            Some(v) => {
+                return Err(key_err(
+                    "name",
+                    None,
+                    format!("expected a string, found {v}"),
+                ))
+            }
+        };
+        let combine = match doc.get("combine") {
+            None => Combine::Product,
+            Some(Value::String(s)) if s == "product" => Combine::Product,
+            Some(Value::String(s)) if s == "zip" => Combine::Zip,
+            Some(v) => {
+                return Err(key_err(
+                    "combine",
+                    None,
+                    format!("expected \"product\" or \"zip\", found {v}"),
+                ))
+            }
+        };
+        // the base document: a case file, then the inline [case] table over it
+        let mut base = Table::new();
+        let mut base_line = 1;
+        if let Some(v) = doc.get("base") {
+            let Value::String(rel) = v else {
+                return Err(key_err(
+                    "base",
+                    None,
+                    format!("expected the path of a case file, found {v}"),
+                ));
+            };
+            base_line = line_of_key(text, None, "base");
+            let path = dir.join(rel);
+            let base_file = path.display().to_string();
+            let base_text = std::fs::read_to_string(&path).map_err(|reason| SweepError::Key {
+                file: file.into(),
+                line: base_line,
+                key: "base".into(),
+                message: format!("cannot read case file {base_file}: {reason}"),
+            })?;
+            let as_base = |source: CaseError| SweepError::Base {
+                file: file.into(),
+                line: base_line,
+                source,
+            };
+            Case::parse(&base_text, &base_file, "base").map_err(as_base)?;
+            base = base_text
+                .parse()
+                .map_err(|e: toml::de::Error| SweepError::Key {
+                    file: file.into(),
+                    line: base_line,
+                    key: "base".into(),
+                    message: format!("{base_file}: {}", e.message().trim()),
+                })?;
+        }
+        match doc.get("case") {
+            None => {}
+            Some(Value::Table(t)) => {
+                base_line = line_of_section(text, "case").unwrap_or(base_line);
+                merge(&mut base, t);
+            }
+            Some(v) => {
+                return Err(key_err(
+                    "case",
+                    None,
+                    format!("expected a table, found {v}"),
+                ))
+            }
+        }
+        if !doc.contains_key("base") && !doc.contains_key("case") {
+            return Err(SweepError::Syntax {
+                file: file.into(),
+                line: 1,
+                message: "a sweep needs a base case: `base = \"case.toml\"` or a `[case]` table"
+                    .into(),
+            });
+        }
+        let axes = match doc.get("axes") {
+            None => Vec::new(),
+            Some(Value::Table(t)) => axes(t, text, file)?,
+            Some(v) => {
+                return Err(key_err(
+                    "axes",
+                    None,
+                    format!("expected a table, found {v}"),
+                ))
+            }
+        };
+        if axes.is_empty() {
+            return Err(SweepError::Key {
+                file: file.into(),
+                line: line_of_section(text, "axes").unwrap_or(1),
+                key: "axes".into(),
+                message: "no axes: give at least one, e.g. `\"geometry.helices\" = [2, 4, 8]`"
+                    .into(),
+            });
+        }
+        let combos = combinations(&axes, combine, file)?;
+        let width = combos.len().to_string().len().max(3);
+        let mut cases = Vec::with_capacity(combos.len());
+        for (index, values) in combos.into_iter().enumerate() {
+            let id = case_id(index, width, &axes, &values);
+            let mut doc = base.clone();
+            if !axes.iter().any(|a| a.key == "name") {
+                doc.insert("name".into(), Value::String(id.clone()));
+            }
+            for (axis, value) in axes.iter().zip(&values) {
+                set(&mut doc, &axis.key, value.clone()).map_err(|message| SweepError::Key {
+                    file: file.into(),
+                    line: axis.line,
+                    key: axis.key.clone(),
+                    message,
+                })?;
+            }
+            let patched = toml::to_string(&doc).map_err(|e| SweepError::Syntax {
+                file: file.into(),
+                line: base_line,
+                message: format!("case {id} cannot be written as TOML: {e}"),
+            })?;
+            let label = format!("{file} [{id}]");
+            let case = Case::parse(&patched, &label, &id)
+                .map_err(|e| generated_error(file, &id, &axes, &values, &e))?;
+            cases.push(SweepCase {
+                index,
+                id,
+                values,
+                text: patched,
+                case,
+            });
+        }
+        Ok(Sweep {
+            file: file.into(),
+            name,
+            combine,
+            axes,
+            cases,
+        })
+    }
+}
+
+/// The axes of the `[axes]` table: every array under it, named by its dotted path (quoted
+/// `"geometry.helices"` or bare `geometry.helices` alike), in the order of the file.
+fn axes(table: &Table, text: &str, file: &str) -> Result<Vec<Axis>, SweepError> {
+    let mut found = Vec::new();
+    flatten(table, String::new(), &mut found);
+    let mut axes = Vec::new();
+    for (key, value) in found {
+        let line = line_of_key(text, Some("axes"), &key);
+        let values = match value {
+            Value::Array(a) => a,
+            v => {
+                return Err(SweepError::Key {
+                    file: file.into(),
+                    line,
+                    key,
+                    message: format!("an axis is an array of values, found {v}"),
+                })
+            }
+        };
+        if values.is_empty() {
+            return Err(SweepError::Key {
+                file: file.into(),
+                line,
+                key,
+                message: "an axis needs at least one value, found an empty array".into(),
+            });
+        }
+        if key.split('.').any(str::is_empty) {
+            return Err(SweepError::Key {
+                file: file.into(),
+                line,
+                key,
+                message: "an empty part in a dotted key".into(),
+            });
+        }
+        axes.push(Axis { key, values, line });
+    }
+    axes.sort_by_key(|a| a.line);
+    Ok(axes)
+}
+
+/// Leaves of a table that are not tables, with their dotted paths. A table value under
+/// `[axes]` is a level of a dotted key; an axis's values are always in an array.
+fn flatten(table: &Table, prefix: String, out: &mut Vec<(String, Value)>) {
+    for (k, v) in table {
+        let key = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            Value::Table(t) => flatten(t, key, out),
+            v => out.push((key, v.clone())),
+        }
+    }
+}
+
+/// The value tuples of the cases.
+fn combinations(
+    axes: &[Axis],
+    combine: Combine,
+    file: &str,
+) -> Result<Vec<Vec<Value>>, SweepError> {
+    match combine {
+        Combine::Zip => {
+            let len = axes[0].values.len();
+            if let Some(a) = axes.iter().find(|a| a.values.len() != len) {
+                return Err(SweepError::Key {
+                    file: file.into(),
+                    line: a.line,
+                    key: a.key.clone(),
+                    message: format!(
+                        "combine = \"zip\" needs axes of one length: `{}` has {len} values, this one {}",
+                        axes[0].key,
+                        a.values.len()
+                    ),
+                });
+            }
+            Ok((0..len)
+                .map(|k| axes.iter().map(|a| a.values[k].clone()).collect())
+                .collect())
+        }
+        Combine::Product => {
+            let mut combos: Vec<Vec<Value>> = vec![Vec::new()];
+            for a in axes {
+                combos = combos
+                    .into_iter()
+                    .flat_map(|c| {
+                        a.values.iter().map(move |v| {
+                            let mut c = c.clone();
+                            c.push(v.clone());
+                            c
+                        })
+                    })
+                    .collect();
+            }
+            Ok(combos)
+        }
+    }
+}
+
+/// Merges `over` into `base`, table by table.
+fn merge(base: &mut Table, over: &Table) {
+    for (k, v) in over {
+        match (base.get_mut(k), v) {
+            (Some(Value::Table(b)), Value::Table(o)) => merge(b, o),
+            _ => {
+                base.insert(k.clone(), v.clone());
+            }
+        }
+    }
+}
+
+/// Sets the dotted `key` of a document to `value`, creating the tables on the way. Setting
+/// `geometry.turns` removes `geometry.length` and the other way round (a case gives one).
+fn set(doc: &mut Table, key: &str, value: Value) -> Result<(), String> {
+    let parts: Vec<&str> = key.split('.').collect();
+    let (last, path) = parts.split_last().expect("split gives one part at least");
+    let mut table = doc;
+    for (i, part) in path.iter().enumerate() {
+        let entry = table
+            .entry(part.to_string())
+            .or_insert_with(|| Value::Table(Table::new()));
+        table = match entry {
+            Value::Table(t) => t,
+            other => {
+                return Err(format!(
+                    "`{}` is {} in the base case, not a table",
+                    parts[..=i].join("."),
+                    other.type_str()
+                ))
+            }
+        };
+    }
+    if parts.len() == 2 && parts[0] == "geometry" {
+        let other = match *last {
+            "turns" => Some("length"),
+            "length" => Some("turns"),
+            _ => None,
+        };
+        if let Some(other) = other {
+            table.remove(other);
+        }
+    }
+    table.insert(last.to_string(), value);
+    Ok(())
+}
+
+/// The error of a generated case, said about the axis its key belongs to.
+fn generated_error(
+    file: &str,
+    id: &str,
+    axes: &[Axis],
+    values: &[Value],
+    e: &CaseError,
+) -> SweepError {
+    let key = e.key().unwrap_or("").to_string();
+    let related = |a: &Axis| {
+        a.key == key
+            || key.starts_with(&format!("{}.", a.key))
+            || a.key.starts_with(&format!("{key}."))
+    };
+    let at = axes.iter().position(related).unwrap_or(0);
+    let listed: Vec<String> = axes
+        .iter()
+        .zip(values)
+        .map(|(a, v)| format!("{} = {}", a.key, inline(v)))
+        .collect();
+    SweepError::Generated(Box::new(InvalidCase {
+        file: file.into(),
+        line: axes[at].line,
+        axis: axes[at].key.clone(),
+        value: inline(&values[at]),
+        case: id.into(),
+        values: listed.join(", "),
+        key: if key.is_empty() { "-".into() } else { key },
+        message: e.message(),
+    }))
+}
+
+/// A value as TOML writes it inline (`8`, `"slide"`, `{ translation = "slide", … }`).
+pub fn inline(v: &Value) -> String {
+    v.to_string()
+}
+
+/// A value as a table cell: strings without their quotes, everything else as TOML.
+pub fn cell(v: &Value) -> String {
+    match v {
+        Value::String(s) => s.clone(),
+        v => v.to_string(),
+    }
+}
+
+/// The folder name of a case: its index, then `name-value` per axis (the key without its
+/// first part; the values of a table joined by `-`), safe for any file system.
+fn case_id(index: usize, width: usize, axes: &[Axis], values: &[Value]) -> String {
+    let mut id = format!("{:0width$}", index + 1);
+    for (a, v) in axes.iter().zip(values) {
+        let short = a.key.split_once('.').map_or(a.key.as_str(), |(_, r)| r);
+        id.push('_');
+        id.push_str(&slug(short));
+        id.push('-');
+        id.push_str(&slug(&flat(v)));
+    }
+    id
+}
+
+fn flat(v: &Value) -> String {
+    match v {
+        Value::String(s) => s.clone(),
+        Value::Table(t) => t.values().map(flat).collect::<Vec<_>>().join("-"),
+        Value::Array(a) => a.iter().map(flat).collect::<Vec<_>>().join("-"),
+        v => v.to_string(),
+    }
+}
+
+fn slug(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// 1-based line of a byte offset.
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+/// The line of a `[section]` header.
+fn line_of_section(text: &str, section: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| header(l).as_deref() == Some(section))
+        .map(|i| i + 1)
+}
+
+fn header(line: &str) -> Option<String> {
+    let l = line.trim();
+    let l = l.split('#').next().unwrap_or("").trim();
+    (l.starts_with('[') && !l.starts_with("[[") && l.ends_with(']'))
+        .then(|| l[1..l.len() - 1].trim().to_string())
+}
+
+/// The line a key is written on, in the top level (`section` None) or under `[section]`:
+/// the key bare, quoted or dotted, then `=`. Falls back to the section's header, then 1.
+fn line_of_key(text: &str, section: Option<&str>, key: &str) -> usize {
+    let forms = [
+        key.to_string(),
+        format!("\"{key}\""),
+        format!("'{key}'"),
+        key.split('.')
+            .map(|p| format!("\"{p}\""))
+            .collect::<Vec<_>>()
+            .join("."),
+    ];
+    let mut current: Option<String> = None;
+    for (i, line) in text.lines().enumerate() {
+        if let Some(h) = header(line) {
+            current = Some(h);
+            continue;
+        }
+        let in_section = match (section, &current) {
+            (None, None) => true,
+            (Some(s), Some(c)) => c == s,
+            _ => false,
+        };
+        if !in_section {
+            continue;
+        }
+        let l = line.trim_start();
+        for f in &forms {
+            if let Some(rest) = l.strip_prefix(f.as_str()) {
+                if rest.trim_start().starts_with('=') {
+                    return i + 1;
+                }
+            }
+        }
+    }
+    section.and_then(|s| line_of_section(text, s)).unwrap_or(1)
+}

@@ -1,0 +1,439 @@
+//! Running a sweep: the cases of a shard in parallel (a local rayon pool), each into its own
+//! folder written atomically (a temporary folder beside it, renamed into place once its
+//! marker, `row.csv`, is written last), finished cases skipped, and the table written.
+
+use super::error::SweepError;
+use super::plan::{cell, Sweep, SweepCase};
+use super::shard::Shard;
+use super::table::SweepTable;
+use crate::case::Case;
+use crate::model::loading::Control;
+use crate::output::precision::ChoiceReport as _;
+use crate::run::{run_path, PathOutcome};
+use crate::study::resolve_accuracy;
+use rayon::prelude::*;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// The marker of a complete case folder: the case's row of the sweep table, written last.
+pub const MARKER: &str = "row.csv";
+/// The generated case, as run, in every case folder.
+pub const CASE_FILE: &str = "case.toml";
+
+/// How to run a sweep.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// The folder of the case folders and the table.
+    pub out: PathBuf,
+    /// Cases at once (default: the cores).
+    pub jobs: Option<usize>,
+    pub shard: Shard,
+}
+
+/// What became of a case.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CaseStatus {
+    Done,
+    Failed,
+    /// Its complete results were there already.
+    Skipped,
+}
+
+/// Said after every case of the shard.
+#[derive(Clone, Debug)]
+pub struct Progress<'a> {
+    pub case: &'a SweepCase,
+    pub status: CaseStatus,
+    /// The case's reason of failure, if it failed.
+    pub reason: Option<String>,
+    /// Wall time of the case's solve (of the original run for a skipped case).
+    pub wall: Duration,
+    /// Cases of the shard finished so far (skipped ones included), and their number.
+    pub done: usize,
+    pub total: usize,
+    /// Since the sweep started.
+    pub elapsed: Duration,
+    /// Cases run (not skipped) so far.
+    pub ran: usize,
+}
+
+impl Progress<'_> {
+    /// Estimated time to go: the cases left at the rate cases have been run so far (which
+    /// includes the parallelism).
+    pub fn eta(&self) -> Option<Duration> {
+        (self.ran > 0).then(|| {
+            let left = (self.total - self.done) as f64;
+            Duration::from_secs_f64(self.elapsed.as_secs_f64() / self.ran as f64 * left)
+        })
+    }
+}
+
+/// What a sweep did.
+#[derive(Clone, Debug)]
+pub struct SweepReport {
+    /// Rows of every finished case of the shard (done, failed, or found done).
+    pub table: SweepTable,
+    pub table_path: PathBuf,
+    /// Cases of the shard, run now, found complete, failed, and left (a stop was asked).
+    pub total: usize,
+    pub ran: usize,
+    pub skipped: usize,
+    pub failed: usize,
+    pub pending: usize,
+    pub jobs: usize,
+    pub wall: Duration,
+}
+
+/// The table's file name: `sweep.csv` for the whole sweep, `sweep-shard-K-of-N.csv` for a
+/// shard (so shards may share a folder).
+pub fn table_name(shard: Shard) -> String {
+    if shard == Shard::ALL {
+        "sweep.csv".into()
+    } else {
+        format!("sweep-shard-{}-of-{}.csv", shard.k, shard.n)
+    }
+}
+
+/// The number of workers `jobs` asks for (default: the cores).
+pub fn workers(jobs: Option<usize>) -> usize {
+    jobs.filter(|&j| j > 0).unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    })
+}
+
+/// Runs the cases of `opts.shard` not yet complete in `opts.out`, `on_case` told after each
+/// (one call at a time); when it breaks, no further case starts. Writes the table of the
+/// shard's finished cases and returns it.
+pub fn run_sweep(
+    sweep: &Sweep,
+    opts: &RunOptions,
+    on_case: impl FnMut(&Progress) -> ControlFlow<()> + Send,
+) -> Result<SweepReport, SweepError> {
+    let t0 = Instant::now();
+    let out = &opts.out;
+    std::fs::create_dir_all(out).map_err(|reason| write_err(out, reason))?;
+    let empty = SweepTable::new(&sweep.axes);
+    let selected: Vec<&SweepCase> = sweep
+        .cases
+        .iter()
+        .filter(|c| opts.shard.contains(c.index))
+        .collect();
+    let total = selected.len();
+    let jobs = workers(opts.jobs);
+    struct Shared<F> {
+        on_case: F,
+        done: usize,
+        ran: usize,
+    }
+    let shared = Mutex::new(Shared {
+        on_case,
+        done: 0,
+        ran: 0,
+    });
+    let stop = AtomicBool::new(false);
+    let tell = |case: &SweepCase, status: CaseStatus, reason: Option<String>, wall: Duration| {
+        let mut s = shared.lock().unwrap_or_else(|e| e.into_inner());
+        s.done += 1;
+        if status != CaseStatus::Skipped {
+            s.ran += 1;
+        }
+        let p = Progress {
+            case,
+            status,
+            reason,
+            wall,
+            done: s.done,
+            total,
+            elapsed: t0.elapsed(),
+            ran: s.ran,
+        };
+        if (s.on_case)(&p).is_break() {
+            stop.store(true, Ordering::SeqCst);
+        }
+    };
+    // finished cases first, in order
+    let mut rows = Vec::new();
+    let mut todo = Vec::new();
+    for c in selected {
+        match finished_row(out, c, &empty) {
+            Some(row) => {
+                let wall = wall_of(&empty, &row);
+                rows.push(row);
+                tell(c, CaseStatus::Skipped, None, wall);
+            }
+            None => todo.push(c),
+        }
+    }
+    let skipped = rows.len();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .thread_name(|i| format!("spira-sweep-{i}"))
+        .build()
+        .map_err(|e| SweepError::Shard(format!("cannot start {jobs} workers: {e}")))?;
+    let results: Vec<Option<Vec<String>>> = pool.install(|| {
+        todo.par_iter()
+            .with_max_len(1)
+            .map(|c| {
+                if stop.load(Ordering::SeqCst) {
+                    return None;
+                }
+                let (row, reason, wall) = run_case(out, c, &empty);
+                let status = if reason.is_some() {
+                    CaseStatus::Failed
+                } else {
+                    CaseStatus::Done
+                };
+                tell(c, status, reason, wall);
+                Some(row)
+            })
+            .collect()
+    });
+    let pending = results.iter().filter(|r| r.is_none()).count();
+    rows.extend(results.into_iter().flatten());
+    let ran = rows.len() - skipped;
+    let status = empty.column("status").expect("status column");
+    let failed = rows.iter().filter(|r| r[status] == "failed").count();
+    let mut table = empty;
+    table.rows = rows;
+    table.sort();
+    let table_path = out.join(table_name(opts.shard));
+    crate::output::write_atomic(&table_path, &table.to_csv())
+        .map_err(|reason| write_err(&table_path, reason))?;
+    Ok(SweepReport {
+        table,
+        table_path,
+        total,
+        ran,
+        skipped,
+        failed,
+        pending,
+        jobs,
+        wall: t0.elapsed(),
+    })
+}
+
+fn write_err(path: &Path, reason: std::io::Error) -> SweepError {
+    SweepError::Write {
+        path: path.display().to_string(),
+        reason,
+    }
+}
+
+/// The row of a complete case folder (its marker, for this sweep's columns), if there is one.
+fn finished_row(out: &Path, c: &SweepCase, empty: &SweepTable) -> Option<Vec<String>> {
+    let marker = out.join(&c.id).join(MARKER);
+    let text = std::fs::read_to_string(&marker).ok()?;
+    let t = SweepTable::from_csv(&text, &marker.display().to_string()).ok()?;
+    (t.headers == empty.headers && t.rows.len() == 1 && t.rows[0][0] == c.id)
+        .then(|| t.rows.into_iter().next().expect("one row"))
+}
+
+fn wall_of(t: &SweepTable, row: &[String]) -> Duration {
+    t.column("wall_s")
+        .and_then(|i| row[i].parse::<f64>().ok())
+        .map(|s| Duration::from_secs_f64(s.max(0.0)))
+        .unwrap_or_default()
+}
+
+/// Solves a case and writes its folder; returns its row, its reason of failure, and the
+/// solve's wall time. A failure of the case (no equilibrium, a solver failure mid-path, a
+/// panic, a file that cannot be written) is a failed row, never an error of the sweep.
+fn run_case(
+    out: &Path,
+    c: &SweepCase,
+    empty: &SweepTable,
+) -> (Vec<String>, Option<String>, Duration) {
+    let t = Instant::now();
+    let solved = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| solve(&c.case)));
+    let wall = t.elapsed();
+    let solved = solved.unwrap_or_else(|panic| {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown".into());
+        Err(format!("the solver panicked: {what}"))
+    });
+    let mut reason = match &solved {
+        Ok(s) => s.outcome.error.as_ref().map(|e| {
+            format!(
+                "{e}; the converged steps up to eps = {:.6} were written",
+                e.eps
+            )
+        }),
+        Err(e) => Some(e.clone()),
+    };
+    let written = write_folder(out, c, solved.as_ref().ok(), &empty.headers, |extra| {
+        // the row is built last, with any failure to write the result files in it
+        if let Some(e) = extra {
+            reason = Some(match reason.take() {
+                Some(r) => format!("{r}; {e}"),
+                None => e,
+            });
+        }
+        row(c, solved.as_ref().ok(), reason.as_deref(), wall, empty)
+    });
+    match written {
+        Ok(row) => (row, reason, wall),
+        Err(e) => {
+            let why = format!("writing its folder: {e}");
+            let reason = Some(match reason {
+                Some(r) => format!("{r}; {why}"),
+                None => why,
+            });
+            let row = row(c, solved.as_ref().ok(), reason.as_deref(), wall, empty);
+            (row, reason, wall)
+        }
+    }
+}
+
+/// A solved case: the case as run (its mesh chosen when it asks for an accuracy), the path,
+/// and the accuracy note.
+struct Solved {
+    case: Case,
+    outcome: PathOutcome,
+    note: Option<String>,
+}
+
+fn solve(case: &Case) -> Result<Solved, String> {
+    let (case, choice) = resolve_accuracy(case).map_err(|e| format!("choosing the mesh: {e}"))?;
+    let eps = case.output_eps(case.loading.target, case.loading.steps);
+    let outcome =
+        run_path(&case, &eps, |_, _| {}).map_err(|e| format!("no equilibrium at eps = 0: {e}"))?;
+    let note = choice.as_ref().map(|ch| {
+        let last = outcome.points.last().expect("step 0 is always there");
+        let response = match case.loading.control {
+            Control::Displacement => last.load[2],
+            Control::Force => last.eps,
+        };
+        ch.note(ch.estimate_with(response))
+    });
+    Ok(Solved {
+        case,
+        outcome,
+        note,
+    })
+}
+
+/// Writes a case folder atomically: the result files, `case.toml`, then the marker (the row
+/// `make_row` gives, told of a failure to write the result files), all into a temporary
+/// folder beside the target, renamed into place. Returns the row.
+fn write_folder(
+    out: &Path,
+    c: &SweepCase,
+    solved: Option<&Solved>,
+    headers: &[String],
+    make_row: impl FnOnce(Option<String>) -> Vec<String>,
+) -> std::io::Result<Vec<String>> {
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!(".spira-{}-", c.id))
+        .tempdir_in(out)?;
+    let mut failure = None;
+    if let Some(s) = solved {
+        let o = &s.outcome;
+        if let Err(e) = crate::output::write_run_noted(
+            tmp.path(),
+            &s.case.name,
+            s.note.as_deref(),
+            &o.points,
+            &o.snapshot,
+            &o.critical,
+            &o.model,
+        ) {
+            failure = Some(format!("writing the result files: {e}"));
+        }
+    }
+    crate::output::write_atomic(&tmp.path().join(CASE_FILE), &c.text)?;
+    let row = make_row(failure);
+    let t = SweepTable {
+        headers: headers.to_vec(),
+        rows: vec![row.clone()],
+    };
+    crate::output::write_atomic(&tmp.path().join(MARKER), &t.to_csv())?;
+    let target = out.join(&c.id);
+    if target.exists() {
+        // an incomplete folder (no marker) of an earlier run
+        std::fs::remove_dir_all(&target)?;
+    }
+    let kept = tmp.keep();
+    if let Err(e) = std::fs::rename(&kept, &target) {
+        let _ = std::fs::remove_dir_all(&kept);
+        return Err(e);
+    }
+    // permissions of a plain folder, not the temporary one's private 0o700
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        let _ = std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o755));
+    }
+    Ok(row)
+}
+
+/// The row of a case.
+fn row(
+    c: &SweepCase,
+    solved: Option<&Solved>,
+    reason: Option<&str>,
+    wall: Duration,
+    empty: &SweepTable,
+) -> Vec<String> {
+    let num = |v: f64| format!("{v}");
+    let mut r = vec![
+        c.id.clone(),
+        if reason.is_some() { "failed" } else { "done" }.to_string(),
+    ];
+    r.extend(c.values.iter().map(cell));
+    let case = solved.map_or(&c.case, |s| &s.case);
+    let d = &case.discretisation;
+    let mut rest: Vec<String> = vec![
+        if d.symmetric { "pair" } else { "full" }.into(),
+        d.order.name().into(),
+        d.elements.to_string(),
+    ];
+    match solved {
+        Some(s) => {
+            let o = &s.outcome;
+            let last = o.points.last().expect("step 0 is always there");
+            let first = o.critical.first();
+            let stab = last.stability;
+            rest.extend([
+                o.unknowns.to_string(),
+                num(case.loading.target),
+                num(last.eps),
+                num(last.load[2]),
+                num(last.energy),
+                stab.map_or(String::new(), |s| {
+                    u8::from(s.unstable_directions == 0).to_string()
+                }),
+                stab.map_or(String::new(), |s| s.unstable_directions.to_string()),
+                stab.and_then(|s| s.lowest_eigenvalue)
+                    .map_or(String::new(), num),
+                first.map_or(String::new(), |f| num(f.eps)),
+                first.map_or(String::new(), |f| f.kind.name().into()),
+                first.map_or(String::new(), |f| {
+                    format!("{}->{}", f.unstable_before, f.unstable_after)
+                }),
+                first.map_or(String::new(), |f| num(f.load[2])),
+                o.critical.len().to_string(),
+                o.stats.steps.to_string(),
+                o.stats.iterations.to_string(),
+            ]);
+        }
+        None => {
+            // unknowns, then the target, then nothing found up to the steps
+            rest.push(String::new());
+            rest.push(num(case.loading.target));
+            rest.extend(std::iter::repeat_n(String::new(), 13));
+        }
+    }
+    rest.push(format!("{:.3}", wall.as_secs_f64()));
+    rest.push(reason.unwrap_or("").to_string());
+    r.extend(rest);
+    debug_assert_eq!(r.len(), empty.headers.len());
+    r
+}
