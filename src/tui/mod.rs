@@ -19,7 +19,9 @@ use ratatui::Terminal;
 use std::fmt;
 use std::io::{self, IsTerminal};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{RecvTimeoutError, TryRecvError};
+use std::sync::Arc;
 use std::sync::Once;
 use std::time::{Duration, Instant};
 
@@ -28,6 +30,8 @@ use std::time::{Duration, Instant};
 pub enum TuiError {
     #[error("the explorer needs an interactive terminal; for a headless run use `spira run CASE`")]
     NotATerminal,
+    #[error("the terminal (TERM={0}) cannot address the cursor, which the explorer needs; for a headless run use `spira run CASE` (or `spira replay SESSION.toml`)")]
+    DumbTerminal(String),
     #[error("setting up the terminal")]
     Setup(#[source] io::Error),
     #[error("starting the solver thread")]
@@ -56,18 +60,41 @@ pub fn run(case: Case) -> Result<(), TuiError> {
 
 /// Opens the explorer on `case`, exporting into `out_dir`.
 pub fn run_in(case: Case, out_dir: PathBuf) -> Result<(), TuiError> {
+    run_with(case, out_dir, None)
+}
+
+/// Opens the explorer on `case` read from `case_file` (`None`: the built-in case), exporting
+/// into `out_dir`; a saved session names the case file.
+pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Result<(), TuiError> {
     if !io::stdout().is_terminal() || !io::stdin().is_terminal() {
         return Err(TuiError::NotATerminal);
     }
+    if let Some(term) = dumb_terminal() {
+        return Err(TuiError::DumbTerminal(term));
+    }
     install_panic_hook();
+    // SIGTERM and SIGHUP (a dropped SSH connection) end the explorer through the event
+    // loop, which restores the terminal on its way out
+    let stop = Arc::new(AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
+        signal_hook::flag::register(signal, Arc::clone(&stop)).map_err(TuiError::Setup)?;
+    }
     let mut terminal = TerminalGuard::enter().map_err(TuiError::Setup)?;
     let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
-    let result = event_loop(&mut terminal.terminal, &mut app, &worker);
+    app.case_file = case_file;
+    let result = event_loop(&mut terminal.terminal, &mut app, &worker, &stop);
     drop(terminal);
-    // A solve in progress cannot be interrupted: let the thread go, the process ends it.
+    // stop a solve in progress at its next check, then let the thread go
+    worker.cancel(u64::MAX);
     drop(worker);
     result
+}
+
+/// The value of `TERM` when it names a terminal without cursor addressing.
+fn dumb_terminal() -> Option<String> {
+    let term = std::env::var("TERM").ok()?;
+    matches!(term.as_str(), "dumb" | "unknown" | "").then_some(term)
 }
 
 /// Raw mode, alternate screen, hidden cursor while alive; restored when dropped.
@@ -132,8 +159,12 @@ fn apply(effects: Vec<Effect>, app: &mut App, worker: &Worker) -> bool {
                     app.on_solver_lost();
                 }
             }
+            Effect::Cancel(through) => worker.cancel(through),
             Effect::Export => {
                 app.export();
+            }
+            Effect::SaveSession => {
+                app.save_session();
             }
             Effect::Quit => return false,
         }
@@ -166,6 +197,7 @@ fn event_loop<B: Backend>(
     terminal: &mut Terminal<B>,
     app: &mut App,
     worker: &Worker,
+    stop: &AtomicBool,
 ) -> Result<(), TuiError>
 where
     B::Error: Into<TuiError>,
@@ -174,7 +206,17 @@ where
     apply(effects, app, worker);
     let mut dirty = true;
     let mut lost = false;
+    let mut last_tick = Instant::now();
     loop {
+        if stop.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        // the elapsed time of a long solve moves on screen about every 0.2 s
+        if app.busy() && last_tick.elapsed() >= Duration::from_millis(200) {
+            last_tick = Instant::now();
+            app.tick(last_tick);
+            dirty = true;
+        }
         if dirty {
             terminal.draw(|f| ui::draw(f, app)).map_err(Into::into)?;
             dirty = false;
