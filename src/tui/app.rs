@@ -176,6 +176,8 @@ pub struct App {
     pub case_file: Option<PathBuf>,
     /// The terminal is smaller than the screen needs: keys other than quit do nothing.
     pub too_small: bool,
+    /// `NO_COLOR` is set: curves are told apart by their marks, not their colours.
+    pub no_color: bool,
 }
 
 impl App {
@@ -224,6 +226,7 @@ impl App {
             ran: Vec::new(),
             case_file: None,
             too_small: false,
+            no_color: false,
         }
     }
 

@@ -83,6 +83,7 @@ pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Res
     let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
     app.case_file = case_file;
+    app.no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
     let result = event_loop(&mut terminal.terminal, &mut app, &worker, &stop);
     drop(terminal);
     // stop a solve in progress at its next check, then let the thread go
@@ -218,6 +219,8 @@ where
             dirty = true;
         }
         if dirty {
+            let size = terminal.size().map_err(Into::into)?;
+            app.too_small = size.width < ui::MIN_WIDTH || size.height < ui::MIN_HEIGHT;
             terminal.draw(|f| ui::draw(f, app)).map_err(Into::into)?;
             dirty = false;
         }
