@@ -67,6 +67,7 @@ fn solved(sim: &Simulation, step: usize) -> Box<Solved> {
         boundary: sim.boundary_conditions(),
         step_length: sim.step_length(),
         time: Duration::from_millis(42),
+        critical: Vec::new(),
     })
 }
 
@@ -166,38 +167,72 @@ fn arrows_and_vim_keys_step_compression_by_the_user_step() {
 }
 
 #[test]
-fn plus_and_minus_double_and_halve_the_step_within_limits() {
+fn plus_and_minus_choose_the_step_from_the_list_and_stop_at_its_ends() {
+    // issue 9: Δε from a fixed list, so that 0.05 can always be returned to
     let (mut app, _sim) = started(small_case(1));
     assert!(app.handle_key(ch('+')).is_empty());
     assert_eq!(app.step, 0.1);
     app.handle_key(ch('-'));
     app.handle_key(ch('-'));
-    assert_eq!(app.step, 0.025);
+    assert_eq!(app.step, 0.02);
+    app.handle_key(ch('+'));
+    assert_eq!(app.step, 0.05, "back to 0.05");
     for _ in 0..20 {
         app.handle_key(ch('-'));
     }
     assert_eq!(app.step, spira::tui::app::MIN_STEP);
+    assert_eq!(app.step, 0.005);
     for _ in 0..20 {
         app.handle_key(ch('='));
     }
     assert_eq!(app.step, spira::tui::app::MAX_STEP);
+    assert_eq!(app.step, 0.1);
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("largest")));
     let r = only_request(&app.handle_key(ch('l')));
-    assert_eq!(r.job, Job::Advance(0.5));
+    assert_eq!(r.job, Job::Advance(0.1));
+}
+
+#[test]
+fn stepping_stops_at_the_target() {
+    let mut case = small_case(1);
+    case.loading.target = 0.12;
+    case.loading.steps = 1;
+    let (mut app, _sim) = started(case);
+    assert_eq!(app.step, 0.1, "the listed step nearest target / steps");
+    assert_eq!(
+        only_request(&app.handle_key(ch('l'))).job,
+        Job::Advance(0.1)
+    );
+    assert_eq!(
+        only_request(&app.handle_key(ch('l'))).job,
+        Job::Advance(0.12),
+        "the step is cut at the target"
+    );
+    assert!(app.handle_key(ch('l')).is_empty(), "no step beyond it");
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("target")));
+    assert_eq!(
+        only_request(&app.handle_key(ch('h'))).job,
+        Job::Advance(0.02)
+    );
 }
 
 #[test]
 fn a_step_outside_the_geometry_is_refused_with_a_message() {
-    let (mut app, _sim) = started(small_case(1));
+    let mut case = small_case(1);
+    case.loading.target = 1.0;
+    let (mut app, _sim) = started(case);
     for _ in 0..20 {
         app.handle_key(ch('+'));
     }
-    only_request(&app.handle_key(ch('l'))); // 0.5
+    for _ in 0..9 {
+        only_request(&app.handle_key(ch('l'))); // up to 0.9
+    }
     assert!(app.handle_key(ch('l')).is_empty(), "ε = 1 is the base");
     match &app.message {
         Some(Message::Error(m)) => assert!(m.contains("ε = 1.00000"), "{m}"),
         other => panic!("expected an error message, got {other:?}"),
     }
-    assert_eq!(app.requested_eps, 0.5);
+    assert!((app.requested_eps - 0.9).abs() < 1e-12);
 }
 
 #[test]
@@ -262,17 +297,38 @@ fn n_changes_the_helices_and_starts_over_ignoring_old_answers() {
         .is_empty());
     assert!(app.path.is_empty(), "stale answer ignored");
     assert!(app.busy());
-    let r = only_request(&app.handle_key(ch('n')));
-    assert!(
-        matches!(&r.job, Job::Start(c) if c.geometry.helices == 1),
-        "wraps 16 -> 1"
-    );
+    // issue 9: no wrap-around, n stops at 16 (and N at 1)
+    assert!(app.handle_key(ch('n')).is_empty(), "no wrap 16 -> 1");
+    assert_eq!(app.helices, 16);
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("largest")));
     let r = only_request(&app.handle_key(ch('N')));
-    assert!(
-        matches!(&r.job, Job::Start(c) if c.geometry.helices == 16),
-        "wraps 1 -> 16"
-    );
-    assert_eq!(app.case_label(), "small-n16");
+    assert!(matches!(&r.job, Job::Start(c) if c.geometry.helices == 8));
+    for _ in 0..5 {
+        app.handle_key(ch('N'));
+    }
+    assert_eq!(app.helices, 1, "no wrap 1 -> 16");
+    assert_eq!(app.case_label(), "small-n1");
+}
+
+#[test]
+fn a_change_of_n_asks_before_it_discards_a_long_path() {
+    let (mut app, mut sim) = started(small_case(1));
+    for k in 1..=5 {
+        let r = only_request(&app.handle_key(ch('l')));
+        sim.advance_to(0.05 * k as f64).expect("converges");
+        app.on_worker_event(answer(&r, solved(&sim, k)));
+    }
+    assert_eq!(app.path.len(), 6);
+    assert!(app.handle_key(ch('n')).is_empty(), "asks first");
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("again to confirm")));
+    // another key keeps the path
+    assert!(app.handle_key(ch('j')).is_empty());
+    assert_eq!(app.path.len(), 6);
+    assert_eq!(app.helices, 1);
+    app.handle_key(ch('n'));
+    let r = only_request(&app.handle_key(ch('n')));
+    assert!(matches!(&r.job, Job::Start(c) if c.geometry.helices == 2));
+    assert!(app.path.is_empty());
 }
 
 #[test]
@@ -349,6 +405,7 @@ fn a_failed_step_shows_the_reason_and_keeps_the_last_state() {
         seq: r.seq,
         reason: reason.into(),
         boundary: Some(BoundaryConditions::default()),
+        interrupted: None,
     });
     assert!(effects.is_empty());
     assert_eq!(app.message, Some(Message::Error(reason.into())));
@@ -371,6 +428,7 @@ fn a_refused_condition_change_shows_the_conditions_in_force() {
         seq: r.seq,
         reason: "singular".into(),
         boundary: Some(BoundaryConditions::default()),
+        interrupted: None,
     });
     assert!(app.boundary.joints, "back to what the solver holds");
 }
@@ -423,23 +481,37 @@ fn e_exports_state_load_path_and_reactions_in_the_run_formats() {
     assert_eq!(
         names,
         [
-            "small-step1-state.csv",
-            "small-step1-load.csv",
-            "small-step1-reactions.csv"
+            "small-step1-eps0.0500-state.csv",
+            "small-step1-eps0.0500-load.csv",
+            "small-step1-eps0.0500-reactions.csv"
         ]
     );
     let read = |name: &str| std::fs::read_to_string(dir.join(name)).expect("written");
     let state = app.state.as_ref().unwrap();
     assert_eq!(
-        read("small-step1-state.csv"),
+        read("small-step1-eps0.0500-state.csv"),
         output::state_csv("small", &state.snapshot)
     );
+    // issue 9: the load table of `spira run` with the conditions of each row
+    let load = read("small-step1-eps0.0500-load.csv");
     assert_eq!(
-        read("small-step1-load.csv"),
-        output::load_csv("small", &app.path)
+        load,
+        spira::session::export::load_csv("small", &app.path, &app.conditions, &app.events)
     );
+    let run_format = output::load_csv("small", &app.path);
+    let data = |t: &str| -> Vec<String> {
+        t.lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(String::from)
+            .collect()
+    };
+    for (ours, run) in data(&load).iter().zip(data(&run_format)) {
+        assert!(ours.starts_with(&run), "{ours} extends {run}");
+    }
+    assert!(data(&load)[0].ends_with(",conditions"));
+    assert!(data(&load)[1].ends_with("base fixed/clamped tip fixed/clamped joints on"));
     assert_eq!(
-        read("small-step1-reactions.csv"),
+        read("small-step1-eps0.0500-reactions.csv"),
         output::reactions_csv("small", &app.path)
     );
     match &app.message {
@@ -723,7 +795,7 @@ fn screen_compressed_state_100x30() {
     let t = draw(&app, 100, 30);
     let screen = text(&t);
     for label in [
-        "rod 2 (left)",
+        "rod 1 (left)",
         "joints",
         "fx",
         "fy",

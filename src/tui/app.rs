@@ -157,6 +157,8 @@ pub struct App {
     started_at: Option<Instant>,
     /// A key that must be pressed again to confirm (a change of `n` discarding a path).
     pub confirm: Option<Action>,
+    /// The key in hand is the confirmation [`App::confirm`] asked for.
+    confirmed: bool,
     /// Critical points crossed on this simulation's path, in order (without state and mode).
     pub critical: Vec<CriticalPoint>,
     pub show_critical: bool,
@@ -215,6 +217,7 @@ impl App {
             elapsed: None,
             started_at: None,
             confirm: None,
+            confirmed: false,
             critical: Vec::new(),
             show_critical: false,
             cursor: CURSOR_STEPS / 2,
@@ -436,6 +439,7 @@ impl App {
             self.message = Some(Message::Info("kept the path: n unchanged".into()));
             return vec![];
         }
+        self.confirmed = confirm.is_some();
         if self.solver_lost && !action.is_some_and(Action::works_without_solver) {
             self.message = Some(Message::Error(
                 "the solver thread has stopped; export with e or quit with q".into(),
@@ -626,7 +630,7 @@ impl App {
             )));
             return vec![];
         };
-        if self.path.len() > CONFIRM_DISCARD && self.confirm.is_none() {
+        if self.path.len() > CONFIRM_DISCARD && !std::mem::take(&mut self.confirmed) {
             self.confirm = Some(key);
             self.message = Some(Message::Info(format!(
                 "n = {n} starts over and discards the path of {} points: press {} again to confirm, any other key keeps it",

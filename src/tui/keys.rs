@@ -65,28 +65,28 @@ pub struct Binding {
 
 /// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
 /// help is shown any key closes it).
-pub const BINDINGS: [Binding; 24] = {
+pub const BINDINGS: [Binding; 21] = {
     use Action::*;
     [
         Binding {
-            label: "→ l",
-            keys: &[(Right, StepForward), (Char('l'), StepForward)],
-            help: "step compression forward by Δε",
+            label: "→l ←h",
+            keys: &[
+                (Right, StepForward),
+                (Char('l'), StepForward),
+                (Left, StepBack),
+                (Char('h'), StepBack),
+            ],
+            help: "step compression forward / back by Δε (stops at the target)",
         },
         Binding {
-            label: "← h",
-            keys: &[(Left, StepBack), (Char('h'), StepBack)],
-            help: "step compression back by Δε",
-        },
-        Binding {
-            label: "+ =",
-            keys: &[(Char('+'), DoubleStep), (Char('='), DoubleStep)],
-            help: "larger Δε (0.005 0.01 0.02 0.05 0.1)",
-        },
-        Binding {
-            label: "- _",
-            keys: &[(Char('-'), HalveStep), (Char('_'), HalveStep)],
-            help: "smaller Δε",
+            label: "+= -_",
+            keys: &[
+                (Char('+'), DoubleStep),
+                (Char('='), DoubleStep),
+                (Char('-'), HalveStep),
+                (Char('_'), HalveStep),
+            ],
+            help: "larger / smaller Δε: 0.005 0.01 0.02 0.05 0.1",
         },
         Binding {
             label: "space",
@@ -94,14 +94,14 @@ pub const BINDINGS: [Binding; 24] = {
             help: "run / pause continuous loading to the target",
         },
         Binding {
-            label: "↑ k",
-            keys: &[(Up, PreviousRod), (Char('k'), PreviousRod)],
-            help: "select the previous rod",
-        },
-        Binding {
-            label: "↓ j",
-            keys: &[(Down, NextRod), (Char('j'), NextRod)],
-            help: "select the next rod",
+            label: "↑k ↓j",
+            keys: &[
+                (Up, PreviousRod),
+                (Char('k'), PreviousRod),
+                (Down, NextRod),
+                (Char('j'), NextRod),
+            ],
+            help: "select the previous / next rod",
         },
         Binding {
             label: "b",
@@ -131,7 +131,7 @@ pub const BINDINGS: [Binding; 24] = {
         Binding {
             label: "n N",
             keys: &[(Char('n'), MoreHelices), (Char('N'), FewerHelices)],
-            help: "more / fewer helices (1 2 4 8 16), start over",
+            help: "more / fewer helices (1 2 4 8 16), start over (asks first)",
         },
         Binding {
             label: "r",

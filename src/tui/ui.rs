@@ -257,6 +257,19 @@ impl K1Scale {
 }
 
 /// A number in a few characters: 3 significant digits.
+/// A short number for the readout: as [`fmt_num`], with one digit in scientific notation
+/// and values below `1e-9` of `scale` shown as 0 (round-off of a symmetric state).
+pub fn fmt_short(v: f64, scale: f64) -> String {
+    if v.abs() <= 1e-9 * scale.abs() {
+        return "0".into();
+    }
+    let a = v.abs();
+    if a.is_finite() && !(1e-3..1e4).contains(&a) {
+        return format!("{v:.1e}");
+    }
+    fmt_num(v)
+}
+
 pub fn fmt_num(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return if v.is_finite() {
@@ -581,12 +594,15 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     );
     let values = curvature_at(&rod.nodes, at);
     let block = block.title_bottom(
-        Line::from(format!(
-            " s/L {at:.3}: κ1 {} κ2 {} Ω {} ",
-            fmt_num(values[0]),
-            fmt_num(values[1]),
-            fmt_num(values[2])
-        ))
+        Line::from({
+            let big = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            format!(
+                " s/L {at:.2} κ1 {} κ2 {} Ω {} ",
+                fmt_short(values[0], big),
+                fmt_short(values[1], big),
+                fmt_short(values[2], big)
+            )
+        })
         .alignment(Alignment::Right),
     );
     let chart = Chart::new(datasets)
@@ -1088,29 +1104,31 @@ fn readout_line(app: &App) -> Line<'static> {
         ),
         None => ("–".into(), "–".into()),
     };
+    let big = p.load.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut spans = vec![
         Span::raw(format!("h {} m", fmt_num(p.height))),
         sep(),
         Span::raw(format!(
-            "fx {} fy {} fz/(n Pcrit) ",
-            fmt_num(p.load[0]),
-            fmt_num(p.load[1])
+            "fx {} fy {} fz/nPc ",
+            fmt_short(p.load[0], big),
+            fmt_short(p.load[1], big)
         )),
-        bold(fmt_num(p.load[2])),
+        bold(fmt_short(p.load[2], big)),
         sep(),
         Span::raw(format!("E {} J", fmt_num(p.energy))),
         sep(),
-        Span::raw(format!("unstable dirs {dirs} λmin {lowest}")),
+        Span::raw(format!("unstable {dirs} λmin {lowest}")),
     ];
     if let Some(r) = p.reactions.get(app.selected_rod) {
         let f = r.tip.force;
+        let big = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         spans.push(sep());
         spans.push(Span::raw(format!(
             "rod {} tip F ({}, {}, {}) N",
             r.rod,
-            fmt_num(f[0]),
-            fmt_num(f[1]),
-            fmt_num(f[2])
+            fmt_short(f[0], big),
+            fmt_short(f[1], big),
+            fmt_short(f[2], big)
         )));
     }
     Line::from(spans)
