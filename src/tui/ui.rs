@@ -710,9 +710,9 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let stretches = stability::stretches(path.len(), |k| stability::is_unstable(&path[k]));
     let mut block = load_block(stretches.iter().any(|s| s.unstable), app.no_color);
     if !app.critical.is_empty() {
-        block = block.title(Line::from(vec![
-            Span::styled("×", Style::new().fg(Color::Yellow)),
-            Span::raw(format!("critical {} ", app.critical.len())),
+        block = block.title_bottom(Line::from(vec![
+            Span::styled(" ×", Style::new().fg(Color::Yellow)),
+            Span::raw(format!("critical {} (x lists) ", app.critical.len())),
         ]));
     }
     if let Some(p) = app.path_cursor.and_then(|k| path.get(k)) {
@@ -1139,12 +1139,11 @@ fn activity(app: &App) -> Span<'static> {
     let solving = |job: &str| {
         let mut text = format!("solving {job}…");
         if let Some(e) = app.elapsed {
-            text.push_str(&format!(" {:.1} s", e.as_secs_f64()));
+            text.push_str(&format!(" {:.1} s · c cancels", e.as_secs_f64()));
         }
         if let Some(p) = app.progress {
-            text.push_str(&format!(" at {:.5} ({} steps)", p.parameter, p.steps));
+            text.push_str(&format!(" · at {:.5} ({} steps)", p.parameter, p.steps));
         }
-        text.push_str(" · c cancels");
         text
     };
     match (&app.solving, app.running) {
