@@ -426,6 +426,28 @@ fn a_long_solve_is_cancelled_within_a_second_of_the_key() {
         !String::from_utf8_lossy(&tui.screen.lock().unwrap()[solving_from..]).contains("idle"),
         "the scene solves for longer than a second"
     );
+    // key to redrawn screen while the solve runs: open the help (and close it again with
+    // another key, which only closes it)
+    let mut latencies = Vec::new();
+    for _ in 0..6 {
+        let from = tui.len();
+        let t = Instant::now();
+        tui.press("?");
+        let done = tui
+            .wait_for(from, "any key closes", Duration::from_secs(2))
+            .unwrap_or_else(|| panic!("help not drawn:\n{}", tui.output()));
+        latencies.push(done - t);
+        std::thread::sleep(Duration::from_millis(60));
+        tui.press("z");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    latencies.sort();
+    eprintln!(
+        "key -> redrawn screen during the long solve: median {:?}, max {:?}",
+        latencies[latencies.len() / 2],
+        latencies[latencies.len() - 1]
+    );
+    assert!(latencies[latencies.len() / 2] < Duration::from_millis(50));
     let from = tui.len();
     let pressed = Instant::now();
     tui.press("c");
