@@ -270,6 +270,11 @@ pub struct Responsiveness {
     /// Wall time of each measured step of `Δε` on the solver thread.
     pub step_times: Vec<Duration>,
     pub step: f64,
+    /// Key press to redrawn frame during a long solve (issue 9's hanging scene: both ends
+    /// free to slide and rotate, then a step), over its first second.
+    pub key_to_frame_long: Vec<Duration>,
+    /// The cancel key during that solve to an idle app (the answer received).
+    pub cancel_to_idle: Option<Duration>,
 }
 
 fn median(v: &[Duration]) -> Duration {
@@ -303,6 +308,17 @@ impl fmt::Display for Responsiveness {
             ms(self.key_to_frame_max()),
             self.key_to_frame.len()
         )?;
+        if !self.key_to_frame_long.is_empty() {
+            writeln!(
+                f,
+                "during a long solve (ends free to slide and rotate): key -> frame median {:.2} ms, max {:.2} ms ({} presses); cancel key -> idle {}",
+                ms(median(&self.key_to_frame_long)),
+                ms(self.key_to_frame_long.iter().max().copied().unwrap_or_default()),
+                self.key_to_frame_long.len(),
+                self.cancel_to_idle
+                    .map_or("n/a (the step finished first)".to_string(), |d| format!("{:.1} ms", ms(d)))
+            )?;
+        }
         let all: Vec<String> = self
             .step_times
             .iter()
@@ -338,6 +354,8 @@ pub fn measure_responsiveness(
         key_to_frame: Vec::new(),
         step_times: Vec::new(),
         step: app.step,
+        key_to_frame_long: Vec::new(),
+        cancel_to_idle: None,
     };
     let deadline = Instant::now() + Duration::from_secs(600);
     let effects = app.start();
@@ -346,8 +364,56 @@ pub fn measure_responsiveness(
     for _ in 0..steps {
         measure_step(&mut app, &worker, &mut terminal, &mut result, deadline)?;
     }
+    measure_long_solve(&mut app, &worker, &mut terminal, &mut result, deadline)?;
+    worker.cancel(u64::MAX);
     worker.join();
     Ok(result)
+}
+
+/// Issue 9's hanging scene: both ends free to slide and to rotate, then a step. Presses
+/// "next rod" for a second while it solves, then the cancel key, and times the way to idle.
+fn measure_long_solve(
+    app: &mut App,
+    worker: &Worker,
+    terminal: &mut Terminal<TestBackend>,
+    result: &mut Responsiveness,
+    deadline: Instant,
+) -> Result<(), TuiError> {
+    use keys::Action;
+    for a in [
+        Action::BaseTranslation,
+        Action::TipTranslation,
+        Action::BaseRotation,
+        Action::TipRotation,
+    ] {
+        send_requests(app.perform(a), worker);
+        wait_idle(app, worker, deadline)?;
+    }
+    let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
+    send_requests(app.perform(keys::Action::StepForward), worker);
+    let t0 = Instant::now();
+    while app.busy() && t0.elapsed() < Duration::from_secs(1) {
+        while let Ok(e) = worker.events.try_recv() {
+            app.on_worker_event(e);
+        }
+        let t = Instant::now();
+        app.handle_key(down);
+        let Ok(_) = terminal.draw(|f| ui::draw(f, app));
+        result.key_to_frame_long.push(t.elapsed());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    if app.busy() {
+        let t = Instant::now();
+        for e in app.perform(keys::Action::Cancel) {
+            if let Effect::Cancel(through) = e {
+                worker.cancel(through);
+            }
+        }
+        wait_idle(app, worker, deadline)?;
+        let Ok(_) = terminal.draw(|f| ui::draw(f, app));
+        result.cancel_to_idle = Some(t.elapsed());
+    }
+    Ok(())
 }
 
 /// Sends the solver requests among `effects` (the headless driver does nothing else).
