@@ -1456,3 +1456,12 @@ fn a_saved_session_replays_to_the_explorers_csvs() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn starting_over_during_a_solve_cancels_it() {
+    let (mut app, _sim) = started(small_case(1));
+    let step = only_request(&app.handle_key(ch('l')));
+    let effects = app.handle_key(ch('r'));
+    assert_eq!(effects[0], Effect::Cancel(step.seq), "{effects:?}");
+    assert!(matches!(&only_request(&effects).job, Job::Start(_)));
+}

@@ -336,6 +336,8 @@ impl App {
 
     /// A new simulation with the current `n` and conditions, from `ε = 0`.
     fn restart(&mut self) -> Vec<Effect> {
+        // a solve of the old simulation in progress is of no more use: stop it
+        let cancel = self.busy().then_some(Effect::Cancel(self.last_sent));
         self.generation += 1;
         self.path.clear();
         self.conditions.clear();
@@ -351,7 +353,8 @@ impl App {
         let mut case = self.case.with_helices(self.helices);
         case.boundary = self.boundary;
         self.mesh = None;
-        let mut effects = vec![self.request(Job::Start(Box::new(case)))];
+        let mut effects: Vec<Effect> = cancel.into_iter().collect();
+        effects.push(self.request(Job::Start(Box::new(case))));
         effects.extend(self.precision_obsolete());
         effects
     }
