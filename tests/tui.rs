@@ -1284,7 +1284,7 @@ fn the_status_line_shows_elapsed_time_and_progress_of_a_solve() {
     });
     let screen = text(&draw(&app, 160, 48));
     assert!(
-        screen.contains("solving ε → 0.05000… 2.5 s · c cancels · at 0.03210 (7 steps)"),
+        screen.contains("ε → 0.05000… 2.5 s · c cancels · at 0.03210 (7 steps)"),
         "{screen}"
     );
     assert_snapshot("progress_160x48", &screen);

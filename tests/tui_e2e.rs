@@ -414,7 +414,7 @@ fn a_long_solve_is_cancelled_within_a_second_of_the_key() {
     let from = tui.len();
     tui.press("\x1b[C");
     assert!(
-        tui.wait_for(from, "solving ε → 0.15000", TIMEOUT).is_some(),
+        tui.wait_for(from, "ε → 0.15000… ", TIMEOUT).is_some(),
         "{}",
         tui.output()
     );

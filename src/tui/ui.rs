@@ -1137,10 +1137,16 @@ fn readout_line(app: &App) -> Line<'static> {
 /// What the explorer is doing: solving (what, for how long, how far), running, or idle.
 fn activity(app: &App) -> Span<'static> {
     let solving = |job: &str| {
-        let mut text = format!("solving {job}…");
-        if let Some(e) = app.elapsed {
-            text.push_str(&format!(" {:.1} s · c cancels", e.as_secs_f64()));
-        }
+        // a step drops "solving" so that the cancel key fits 80 columns
+        let what = if job.starts_with('ε') {
+            job.to_string()
+        } else {
+            format!("solving {job}")
+        };
+        let mut text = match app.elapsed {
+            Some(e) => format!("{what}… {:.1} s · c cancels", e.as_secs_f64()),
+            None => format!("solving {job}…"),
+        };
         if let Some(p) = app.progress {
             text.push_str(&format!(" · at {:.5} ({} steps)", p.parameter, p.steps));
         }
