@@ -6,9 +6,12 @@ use clap::{Parser, Subcommand};
 use spira::case::Case;
 use spira::model::stiffness::euler_load;
 use spira::output::precision::{ChoiceReport, StudyReport};
-use spira::run::run_path;
+use spira::run::{run_path, run_path_with};
+use spira::session::script::{replay_into, Script};
+use spira::solver::interrupt::Interrupt;
 use spira::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -58,6 +61,15 @@ enum Command {
         /// Timed runs per mesh after one warm-up run (the best is kept).
         #[arg(long, default_value_t = 3)]
         repeats: usize,
+    },
+    /// Replay a session saved in the explorer (key `s`) headless and write the CSVs the
+    /// explorer's export (`e`) would have written at its end.
+    Replay {
+        /// Session file (TOML) written by the explorer.
+        session: PathBuf,
+        /// Output folder.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
     },
     /// Time the load path of a case (default: thesis n = 8 to eps = 0.5).
     Bench {
@@ -109,9 +121,9 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         None => spira::tui::run(Case::default_case()).map_err(Into::into),
-        Some(Command::Tui { case, out }) => {
-            load_case(case.as_deref()).and_then(|c| spira::tui::run_in(c, out).map_err(Into::into))
-        }
+        Some(Command::Tui { case, out }) => load_case(case.as_deref())
+            .and_then(|c| spira::tui::run_with(c, out, case).map_err(Into::into)),
+        Some(Command::Replay { session, out }) => replay(&session, &out),
         Some(Command::Run {
             case,
             to,
@@ -180,7 +192,37 @@ fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result
     );
     let eps = case.output_eps(target, steps);
     let t0 = Instant::now();
-    let outcome = run_path(&case, &eps, |p, dt| {
+    // Ctrl-C stops the path at its last converged state; the files are written as after
+    // a failure
+    let interrupt = Interrupt::new();
+    let raise = interrupt.clone();
+    if let Ok(mut signals) = signal_hook::iterator::Signals::new([signal_hook::consts::SIGINT]) {
+        std::thread::spawn(move || {
+            if signals.forever().next().is_some() {
+                eprintln!("spira run: interrupted; stopping at the last converged state");
+                raise.raise();
+            }
+        });
+    }
+    // progress of a step that takes long: at most one line every PROGRESS_EVERY
+    let last_line = Arc::new(Mutex::new(Instant::now()));
+    let seen = Arc::clone(&last_line);
+    let mut inner = 0usize;
+    let observer: spira::solver::continuation::Observer = Box::new(move |state| {
+        inner += 1;
+        let mut last = seen.lock().unwrap_or_else(|e| e.into_inner());
+        if last.elapsed() >= PROGRESS_EVERY {
+            *last = Instant::now();
+            eprintln!(
+                "  … still solving: inner step {inner} accepted at parameter {:.6} (step {:.2e}), {:.1} s into the run",
+                state.lambda,
+                state.step,
+                t0.elapsed().as_secs_f64()
+            );
+        }
+    });
+    let outcome = run_path_with(&case, &eps, Some(interrupt), Some(observer), |p, dt| {
+        *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
         let unstable = p
             .stability
             .map(|s| s.unstable_directions.to_string())
@@ -248,6 +290,23 @@ fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result
             err.reached
         );
     }
+    Ok(())
+}
+
+/// How long `spira run` stays silent during a step before it reports progress.
+const PROGRESS_EVERY: std::time::Duration = std::time::Duration::from_secs(2);
+
+fn replay(session: &Path, out: &Path) -> Result<()> {
+    let script = Script::read(session)?;
+    let case = load_case(script.case.as_deref())?;
+    let files = replay_into(&script, &case, out)?;
+    let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    println!(
+        "spira replay: {} actions of {}; wrote {}",
+        script.actions.len(),
+        session.display(),
+        names.join(", ")
+    );
     Ok(())
 }
 

@@ -7,6 +7,8 @@ use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, Snapshot};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
+use crate::solver::continuation::Observer;
+use crate::solver::interrupt::Interrupt;
 use crate::solver::stats::Statistics;
 use std::time::{Duration, Instant};
 
@@ -40,10 +42,24 @@ pub struct PathOutcome {
 pub fn run_path(
     case: &Case,
     targets: &[f64],
+    on_step: impl FnMut(&LoadPoint, Duration),
+) -> Result<PathOutcome, SolveError> {
+    run_path_with(case, targets, None, None, on_step)
+}
+
+/// As [`run_path`], stopping (with the path so far, as after a failure) when `interrupt`
+/// is raised, and telling `observer` of every accepted internal step.
+pub fn run_path_with(
+    case: &Case,
+    targets: &[f64],
+    interrupt: Option<Interrupt>,
+    observer: Option<Observer>,
     mut on_step: impl FnMut(&LoadPoint, Duration),
 ) -> Result<PathOutcome, SolveError> {
     let t0 = Instant::now();
     let mut sim = Simulation::from_case(case)?;
+    sim.set_interrupt(interrupt);
+    sim.set_observer(observer);
     let first = sim.load_point(0);
     on_step(&first, t0.elapsed());
     let mut points = vec![first];

@@ -479,3 +479,48 @@ fn solver_failure_writes_what_was_reached_and_says_where_and_why() {
     assert!(err.contains("Newton"), "no reason given: {err}");
     assert!(err.contains("were written"), "{err}");
 }
+
+/// Issue 9: Ctrl-C (SIGINT) stops `spira run` at its last converged state and the files
+/// are written as after a failure. The case (ends free to slide and rotate, symmetric pair)
+/// makes slow headway, so the signal arrives mid-path.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_run_keeping_what_was_reached() {
+    use rustix::process::{kill_process, Pid, Signal};
+    let dir = Scratch::new("ctrl-c");
+    let case = dir.path("free.toml");
+    std::fs::write(
+        &case,
+        "name = \"free\"\n[geometry]\nhelices = 8\n[boundary]\n\
+         base = { translation = \"slide\", rotation = \"free\" }\n\
+         tip = { translation = \"slide\", rotation = \"free\" }\n\
+         [discretisation]\nsymmetric = true\n",
+    )
+    .unwrap();
+    let out = dir.path("out");
+    let child = Command::new(env!("CARGO_BIN_EXE_spira"))
+        .arg("run")
+        .arg(&case)
+        .arg("--out")
+        .arg(&out)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spira run");
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let pid = Pid::from_raw(child.id() as i32).expect("pid");
+    let sent = std::time::Instant::now();
+    kill_process(pid, Signal::INT).expect("SIGINT");
+    let output = child.wait_with_output().expect("wait");
+    let took = sent.elapsed();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "a stopped run is a failure");
+    assert!(stderr.contains("interrupted"), "{stderr}");
+    assert!(
+        took < std::time::Duration::from_secs(10),
+        "stopped after {took:?}"
+    );
+    for f in OUTPUTS {
+        assert!(out.join(f).exists(), "{f} written");
+    }
+}

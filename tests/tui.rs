@@ -67,6 +67,7 @@ fn solved(sim: &Simulation, step: usize) -> Box<Solved> {
         boundary: sim.boundary_conditions(),
         step_length: sim.step_length(),
         time: Duration::from_millis(42),
+        critical: Vec::new(),
     })
 }
 
@@ -166,38 +167,72 @@ fn arrows_and_vim_keys_step_compression_by_the_user_step() {
 }
 
 #[test]
-fn plus_and_minus_double_and_halve_the_step_within_limits() {
+fn plus_and_minus_choose_the_step_from_the_list_and_stop_at_its_ends() {
+    // issue 9: Δε from a fixed list, so that 0.05 can always be returned to
     let (mut app, _sim) = started(small_case(1));
     assert!(app.handle_key(ch('+')).is_empty());
     assert_eq!(app.step, 0.1);
     app.handle_key(ch('-'));
     app.handle_key(ch('-'));
-    assert_eq!(app.step, 0.025);
+    assert_eq!(app.step, 0.02);
+    app.handle_key(ch('+'));
+    assert_eq!(app.step, 0.05, "back to 0.05");
     for _ in 0..20 {
         app.handle_key(ch('-'));
     }
     assert_eq!(app.step, spira::tui::app::MIN_STEP);
+    assert_eq!(app.step, 0.005);
     for _ in 0..20 {
         app.handle_key(ch('='));
     }
     assert_eq!(app.step, spira::tui::app::MAX_STEP);
+    assert_eq!(app.step, 0.1);
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("largest")));
     let r = only_request(&app.handle_key(ch('l')));
-    assert_eq!(r.job, Job::Advance(0.5));
+    assert_eq!(r.job, Job::Advance(0.1));
+}
+
+#[test]
+fn stepping_stops_at_the_target() {
+    let mut case = small_case(1);
+    case.loading.target = 0.12;
+    case.loading.steps = 1;
+    let (mut app, _sim) = started(case);
+    assert_eq!(app.step, 0.1, "the listed step nearest target / steps");
+    assert_eq!(
+        only_request(&app.handle_key(ch('l'))).job,
+        Job::Advance(0.1)
+    );
+    assert_eq!(
+        only_request(&app.handle_key(ch('l'))).job,
+        Job::Advance(0.12),
+        "the step is cut at the target"
+    );
+    assert!(app.handle_key(ch('l')).is_empty(), "no step beyond it");
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("target")));
+    assert_eq!(
+        only_request(&app.handle_key(ch('h'))).job,
+        Job::Advance(0.02)
+    );
 }
 
 #[test]
 fn a_step_outside_the_geometry_is_refused_with_a_message() {
-    let (mut app, _sim) = started(small_case(1));
+    let mut case = small_case(1);
+    case.loading.target = 1.0;
+    let (mut app, _sim) = started(case);
     for _ in 0..20 {
         app.handle_key(ch('+'));
     }
-    only_request(&app.handle_key(ch('l'))); // 0.5
+    for _ in 0..9 {
+        only_request(&app.handle_key(ch('l'))); // up to 0.9
+    }
     assert!(app.handle_key(ch('l')).is_empty(), "ε = 1 is the base");
     match &app.message {
         Some(Message::Error(m)) => assert!(m.contains("ε = 1.00000"), "{m}"),
         other => panic!("expected an error message, got {other:?}"),
     }
-    assert_eq!(app.requested_eps, 0.5);
+    assert!((app.requested_eps - 0.9).abs() < 1e-12);
 }
 
 #[test]
@@ -262,17 +297,38 @@ fn n_changes_the_helices_and_starts_over_ignoring_old_answers() {
         .is_empty());
     assert!(app.path.is_empty(), "stale answer ignored");
     assert!(app.busy());
-    let r = only_request(&app.handle_key(ch('n')));
-    assert!(
-        matches!(&r.job, Job::Start(c) if c.geometry.helices == 1),
-        "wraps 16 -> 1"
-    );
+    // issue 9: no wrap-around, n stops at 16 (and N at 1)
+    assert!(app.handle_key(ch('n')).is_empty(), "no wrap 16 -> 1");
+    assert_eq!(app.helices, 16);
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("largest")));
     let r = only_request(&app.handle_key(ch('N')));
-    assert!(
-        matches!(&r.job, Job::Start(c) if c.geometry.helices == 16),
-        "wraps 1 -> 16"
-    );
-    assert_eq!(app.case_label(), "small-n16");
+    assert!(matches!(&r.job, Job::Start(c) if c.geometry.helices == 8));
+    for _ in 0..5 {
+        app.handle_key(ch('N'));
+    }
+    assert_eq!(app.helices, 1, "no wrap 1 -> 16");
+    assert_eq!(app.case_label(), "small-n1");
+}
+
+#[test]
+fn a_change_of_n_asks_before_it_discards_a_long_path() {
+    let (mut app, mut sim) = started(small_case(1));
+    for k in 1..=5 {
+        let r = only_request(&app.handle_key(ch('l')));
+        sim.advance_to(0.05 * k as f64).expect("converges");
+        app.on_worker_event(answer(&r, solved(&sim, k)));
+    }
+    assert_eq!(app.path.len(), 6);
+    assert!(app.handle_key(ch('n')).is_empty(), "asks first");
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("again to confirm")));
+    // another key keeps the path
+    assert!(app.handle_key(ch('j')).is_empty());
+    assert_eq!(app.path.len(), 6);
+    assert_eq!(app.helices, 1);
+    app.handle_key(ch('n'));
+    let r = only_request(&app.handle_key(ch('n')));
+    assert!(matches!(&r.job, Job::Start(c) if c.geometry.helices == 2));
+    assert!(app.path.is_empty());
 }
 
 #[test]
@@ -349,6 +405,7 @@ fn a_failed_step_shows_the_reason_and_keeps_the_last_state() {
         seq: r.seq,
         reason: reason.into(),
         boundary: Some(BoundaryConditions::default()),
+        interrupted: None,
     });
     assert!(effects.is_empty());
     assert_eq!(app.message, Some(Message::Error(reason.into())));
@@ -371,6 +428,7 @@ fn a_refused_condition_change_shows_the_conditions_in_force() {
         seq: r.seq,
         reason: "singular".into(),
         boundary: Some(BoundaryConditions::default()),
+        interrupted: None,
     });
     assert!(app.boundary.joints, "back to what the solver holds");
 }
@@ -423,23 +481,37 @@ fn e_exports_state_load_path_and_reactions_in_the_run_formats() {
     assert_eq!(
         names,
         [
-            "small-step1-state.csv",
-            "small-step1-load.csv",
-            "small-step1-reactions.csv"
+            "small-step1-eps0.0500-state.csv",
+            "small-step1-eps0.0500-load.csv",
+            "small-step1-eps0.0500-reactions.csv"
         ]
     );
     let read = |name: &str| std::fs::read_to_string(dir.join(name)).expect("written");
     let state = app.state.as_ref().unwrap();
     assert_eq!(
-        read("small-step1-state.csv"),
+        read("small-step1-eps0.0500-state.csv"),
         output::state_csv("small", &state.snapshot)
     );
+    // issue 9: the load table of `spira run` with the conditions of each row
+    let load = read("small-step1-eps0.0500-load.csv");
     assert_eq!(
-        read("small-step1-load.csv"),
-        output::load_csv("small", &app.path)
+        load,
+        spira::session::export::load_csv("small", &app.path, &app.conditions, &app.events)
     );
+    let run_format = output::load_csv("small", &app.path);
+    let data = |t: &str| -> Vec<String> {
+        t.lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(String::from)
+            .collect()
+    };
+    for (ours, run) in data(&load).iter().zip(data(&run_format)) {
+        assert!(ours.starts_with(&run), "{ours} extends {run}");
+    }
+    assert!(data(&load)[0].ends_with(",conditions"));
+    assert!(data(&load)[1].ends_with("base fixed/clamped tip fixed/clamped joints on"));
     assert_eq!(
-        read("small-step1-reactions.csv"),
+        read("small-step1-eps0.0500-reactions.csv"),
         output::reactions_csv("small", &app.path)
     );
     match &app.message {
@@ -723,7 +795,7 @@ fn screen_compressed_state_100x30() {
     let t = draw(&app, 100, 30);
     let screen = text(&t);
     for label in [
-        "rod 2 (left)",
+        "rod 1 (left)",
         "joints",
         "fx",
         "fy",
@@ -1120,4 +1192,276 @@ fn the_mesh_chosen_for_an_accuracy_is_on_the_status_line() {
     let nodes = app.state.as_ref().unwrap().snapshot.rods[0].nodes.len();
     assert_eq!(nodes, mesh.order.degree() * mesh.elements + 1);
     worker.join();
+}
+
+// ---- issue 9: long solves, numbers on screen, recorded what-ifs, terminals ----
+
+#[test]
+fn c_cancels_the_solve_and_the_answer_keeps_the_last_state() {
+    let (mut app, _sim) = started(small_case(1));
+    assert!(
+        app.handle_key(ch('c')).is_empty(),
+        "nothing to cancel when idle"
+    );
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("nothing to cancel")));
+    app.handle_key(ch(' '));
+    let r = only_request(&app.handle_key(ch('l')));
+    assert_eq!(app.handle_key(ch('c')), vec![Effect::Cancel(r.seq)]);
+    assert!(!app.running, "cancelling stops continuous loading");
+    let effects = app.on_worker_event(WorkerEvent::Failed {
+        generation: r.generation,
+        seq: r.seq,
+        reason: "ε → 0.05000 cancelled after 0.3 s; the last converged state (ε = 0.00000) is kept"
+            .into(),
+        boundary: Some(BoundaryConditions::default()),
+        interrupted: Some(spira::solver::interrupt::Interruption::Cancelled),
+    });
+    assert!(effects.is_empty());
+    assert!(!app.busy() && app.solving.is_none());
+    assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("cancelled")));
+    assert_eq!(app.eps(), Some(0.0), "last converged state stays");
+}
+
+#[test]
+fn the_worker_answers_cancelled_requests_without_solving_and_stops_at_its_budget() {
+    // cancelled before it started: answered at once, no solve
+    let worker = Worker::spawn().expect("thread");
+    worker.cancel(5);
+    assert!(worker.send(req(3, Job::Advance(0.1))));
+    match worker
+        .events
+        .recv_timeout(Duration::from_secs(60))
+        .expect("answer")
+    {
+        WorkerEvent::Failed {
+            interrupted,
+            reason,
+            ..
+        } => {
+            assert_eq!(
+                interrupted,
+                Some(spira::solver::interrupt::Interruption::Cancelled)
+            );
+            assert!(reason.contains("cancelled"), "{reason}");
+        }
+        other => panic!("expected a cancelled answer, got {other:?}"),
+    }
+    worker.join();
+    // a budget of zero stops every step at once, keeping the natural state
+    let worker = Worker::spawn_with_budget(Duration::ZERO).expect("thread");
+    let mut app = App::new(small_case(1), PathBuf::from("."));
+    let effects = app.start();
+    settle(&mut app, &worker, effects);
+    assert_eq!(app.eps(), Some(0.0));
+    let effects = app.handle_key(ch('l'));
+    settle(&mut app, &worker, effects);
+    match &app.message {
+        Some(Message::Error(m)) => {
+            assert!(m.contains("time budget"), "{m}");
+            assert!(m.contains("ε → 0.05000"), "says what was asked: {m}");
+        }
+        other => panic!("expected the budget's message, got {other:?}"),
+    }
+    assert_eq!(app.eps(), Some(0.0));
+    worker.join();
+}
+
+#[test]
+fn the_status_line_shows_elapsed_time_and_progress_of_a_solve() {
+    let (mut app, _sim) = started(small_case(1));
+    let r = only_request(&app.handle_key(ch('l')));
+    app.on_worker_event(WorkerEvent::Started {
+        generation: r.generation,
+        seq: r.seq,
+        job: Job::Advance(0.05).describe(),
+    });
+    app.on_worker_event(WorkerEvent::Progress {
+        generation: r.generation,
+        seq: r.seq,
+        parameter: 0.0321,
+        steps: 7,
+        elapsed: Duration::from_millis(2500),
+    });
+    let screen = text(&draw(&app, 160, 48));
+    assert!(
+        screen.contains("ε → 0.05000… 2.5 s · c cancels · at 0.03210 (7 steps)"),
+        "{screen}"
+    );
+    assert_snapshot("progress_160x48", &screen);
+}
+
+fn critical_point() -> spira::results::CriticalPoint {
+    spira::results::CriticalPoint {
+        kind: spira::results::CriticalKind::Bifurcation,
+        control: spira::model::loading::Control::Displacement,
+        parameter: 0.05,
+        eps: 0.05,
+        load: [0.0, 0.0, -1.25],
+        unstable_before: 0,
+        unstable_after: 1,
+        state: vec![],
+        mode: vec![],
+    }
+}
+
+#[test]
+fn a_critical_point_crossed_is_announced_marked_and_listed() {
+    let (mut app, mut sim) = started(small_case(2));
+    let r = only_request(&app.handle_key(ch('l')));
+    sim.advance_to(0.05).expect("converges");
+    let mut state = solved(&sim, 1);
+    state.critical = vec![critical_point()];
+    app.on_worker_event(answer(&r, state));
+    match &app.message {
+        Some(Message::Info(m)) => {
+            assert!(m.contains("bifurcation at ε = 0.05000"), "{m}");
+            assert!(m.contains("0 → 1"), "{m}");
+        }
+        other => panic!("expected the announcement, got {other:?}"),
+    }
+    assert_eq!(app.critical.len(), 1);
+    let screen = text(&draw(&app, 80, 24));
+    assert!(
+        screen.contains("×critical 1 (x lists)"),
+        "marked on the load plot:\n{screen}"
+    );
+    assert_snapshot("critical_announced_80x24", &screen);
+    app.handle_key(ch('x'));
+    let screen = text(&draw(&app, 80, 24));
+    assert!(screen.contains("critical points"), "{screen}");
+    assert!(screen.contains("bifurcation"), "{screen}");
+    assert_snapshot("critical_list_80x24", &screen);
+    // a restart forgets them
+    app.handle_key(ch('r'));
+    assert!(app.critical.is_empty());
+}
+
+#[test]
+fn the_readout_and_the_cursors_give_the_numbers() {
+    let mut app = compressed_app();
+    let screen = text(&draw(&app, 160, 48));
+    for label in ["h 0.", "fz/nPc", "E ", "unstable", "λmin", "rod 1 tip F ("] {
+        assert!(screen.contains(label), "readout has {label}:\n{screen}");
+    }
+    assert!(
+        screen.contains("s/L 0.50 κ1"),
+        "curvature cursor:\n{screen}"
+    );
+    for _ in 0..40 {
+        app.handle_key(ch('.'));
+    }
+    assert_eq!(
+        app.cursor,
+        spira::tui::app::CURSOR_STEPS,
+        "stops at s/L = 1"
+    );
+    app.handle_key(ch('<'));
+    let screen = text(&draw(&app, 160, 48));
+    assert!(screen.contains("s/L 1.00 κ1"), "{screen}");
+    let k = app.path_cursor.expect("on the path");
+    assert_eq!(k, app.path.len() - 2);
+    assert!(
+        screen.contains(&format!("◆ step {} ε", app.path[k].step)),
+        "load-path cursor:\n{screen}"
+    );
+    assert_snapshot("cursors_160x48", &screen);
+}
+
+#[test]
+fn v_gives_one_view_the_whole_left_area() {
+    let mut app = compressed_app();
+    app.handle_key(ch('v'));
+    let screen = text(&draw(&app, 80, 24));
+    assert!(
+        screen.contains("X-Y") && !screen.contains("Z-Y"),
+        "{screen}"
+    );
+    app.handle_key(ch('v'));
+    let screen = text(&draw(&app, 80, 24));
+    assert!(
+        screen.contains("Z-Y") && !screen.contains("X-Y"),
+        "{screen}"
+    );
+    assert_snapshot("single_view_zy_80x24", &screen);
+    app.handle_key(ch('v'));
+    app.handle_key(ch('v'));
+    let screen = text(&draw(&app, 80, 24));
+    assert!(
+        screen.contains("X-Y") && screen.contains("Z-X"),
+        "back to all"
+    );
+}
+
+#[test]
+fn no_color_legends_tell_the_curves_apart_by_their_marks() {
+    let mut app = compressed_app();
+    app.no_color = true;
+    let screen = text(&draw(&app, 100, 30));
+    for label in ["━κ1", "•κ2", "▀Ω", "━fx", "•fy", "▀fz"] {
+        assert!(screen.contains(label), "legend {label}:\n{screen}");
+    }
+    assert_snapshot("no_color_100x30", &screen);
+}
+
+#[test]
+fn keys_do_nothing_behind_the_too_small_screen() {
+    let (mut app, _sim) = started(small_case(1));
+    app.too_small = true;
+    for c in ['l', 'n', 'b', ' ', 'e', '?'] {
+        assert!(
+            app.handle_key(ch(c)).is_empty(),
+            "{c} acts behind the message"
+        );
+    }
+    assert!(!app.show_help);
+    assert_eq!(app.handle_key(ch('q')), vec![Effect::Quit]);
+}
+
+#[test]
+fn a_saved_session_replays_to_the_explorers_csvs() {
+    let worker = Worker::spawn().expect("thread");
+    let mut app = App::new(small_case(2), PathBuf::from("."));
+    let effects = app.start();
+    settle(&mut app, &worker, effects);
+    for c in ['l', 'l', 't', 'l', 'h', 'h', '+', 'l'] {
+        let effects = app.handle_key(ch(c));
+        settle(&mut app, &worker, effects);
+    }
+    worker.join();
+    assert!(app
+        .events
+        .iter()
+        .any(|e| e.what.contains("tip translation slide")));
+    let dir = temp_dir("replay");
+    app.out_dir = dir.join("explorer");
+    let files = app.export();
+    assert_eq!(files.len(), 3, "{:?}", app.message);
+    let load = std::fs::read_to_string(&files[1]).unwrap();
+    assert!(load.contains("# event: from point 3"), "{load}");
+    assert!(load.contains("tip fixed/clamped") && load.contains("tip slide/clamped"));
+    let session = app.save_session().expect("saved");
+    // the session file as written, read back and replayed headless
+    let script = spira::session::script::Script::read(&session).expect("readable");
+    let replayed =
+        spira::session::script::replay_into(&script, &small_case(2), &dir.join("replay"))
+            .expect("replays");
+    for (ours, theirs) in files.iter().zip(&replayed) {
+        assert_eq!(ours.file_name(), theirs.file_name());
+        assert_eq!(
+            std::fs::read_to_string(ours).unwrap(),
+            std::fs::read_to_string(theirs).unwrap(),
+            "{} replays exactly",
+            ours.display()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn starting_over_during_a_solve_cancels_it() {
+    let (mut app, _sim) = started(small_case(1));
+    let step = only_request(&app.handle_key(ch('l')));
+    let effects = app.handle_key(ch('r'));
+    assert_eq!(effects[0], Effect::Cancel(step.seq), "{effects:?}");
+    assert!(matches!(&only_request(&effects).job, Job::Start(_)));
 }

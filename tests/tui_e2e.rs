@@ -47,6 +47,20 @@ struct Explorer {
 
 impl Explorer {
     fn spawn(case: &Path, out: &Path, cols: u16, rows: u16) -> Explorer {
+        Explorer::spawn_args(
+            &[case.as_os_str(), "--out".as_ref(), out.as_os_str()],
+            cols,
+            rows,
+        )
+    }
+
+    /// `spira tui ARGS…` in a pseudo-terminal of `cols` x `rows`.
+    fn spawn_args(args: &[&std::ffi::OsStr], cols: u16, rows: u16) -> Explorer {
+        Explorer::spawn_term(args, cols, rows, "xterm-256color")
+    }
+
+    /// As [`Explorer::spawn_args`] with `TERM=term`.
+    fn spawn_term(args: &[&std::ffi::OsStr], cols: u16, rows: u16, term: &str) -> Explorer {
         let master =
             openpt(OpenptFlags::RDWR | OpenptFlags::NOCTTY | OpenptFlags::CLOEXEC).expect("openpt");
         grantpt(&master).expect("grantpt");
@@ -69,10 +83,8 @@ impl Explorer {
         .expect("window size");
         let mut cmd = Command::new(SPIRA);
         cmd.arg("tui")
-            .arg(case)
-            .arg("--out")
-            .arg(out)
-            .env("TERM", "xterm-256color")
+            .args(args)
+            .env("TERM", term)
             .stdin(Stdio::from(slave.try_clone().unwrap()))
             .stdout(Stdio::from(slave.try_clone().unwrap()))
             .stderr(Stdio::from(slave));
@@ -107,6 +119,11 @@ impl Explorer {
         }
     }
 
+    /// `spira tui CASE` in a pseudo-terminal with `TERM=dumb`.
+    fn spawn_dumb(case: &Path) -> Explorer {
+        Explorer::spawn_term(&[case.as_os_str()], 80, 24, "dumb")
+    }
+
     fn press(&mut self, keys: &str) {
         self.master.write_all(keys.as_bytes()).expect("type");
         self.master.flush().unwrap();
@@ -119,9 +136,11 @@ impl Explorer {
     /// Presses `e` until the export of step `step` exists (the state on screen is exported,
     /// so this also waits for the solver to get there).
     fn export_until(&mut self, out: &Path, step: usize) -> PathBuf {
-        let load = out.join(format!("e2e-step{step}-load.csv"));
         let t0 = Instant::now();
-        while !load.exists() {
+        loop {
+            if let Some(load) = export_file(out, step, "load") {
+                return load;
+            }
             if let Ok(Some(status)) = self.child.try_wait() {
                 panic!("spira tui exited early ({status}):\n{}", self.output());
             }
@@ -133,7 +152,25 @@ impl Explorer {
             self.press("e");
             std::thread::sleep(Duration::from_millis(150));
         }
-        load
+    }
+
+    /// Waits until the output after byte `from` contains `text`; returns when it did.
+    fn wait_for(&mut self, from: usize, text: &str, within: Duration) -> Option<Instant> {
+        let t0 = Instant::now();
+        loop {
+            let out = self.screen.lock().unwrap()[from..].to_vec();
+            if String::from_utf8_lossy(&out).contains(text) {
+                return Some(Instant::now());
+            }
+            if t0.elapsed() > within {
+                return None;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.screen.lock().unwrap().len()
     }
 
     fn wait(&mut self) -> ExitStatus {
@@ -155,6 +192,22 @@ impl Drop for Explorer {
             let _ = self.child.wait();
         }
     }
+}
+
+/// The export of `step` of kind `kind` (`load`, `state`, `reactions`) in `out`, if written:
+/// its name also gives the state's ε (`e2e-step4-eps0.1500-load.csv`).
+fn export_file(out: &Path, step: usize, kind: &str) -> Option<PathBuf> {
+    let prefix = format!("e2e-step{step}-");
+    let suffix = format!("-{kind}.csv");
+    std::fs::read_dir(out)
+        .ok()?
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with(&prefix) && n.ends_with(&suffix))
+        })
 }
 
 /// Data rows of a CSV written by spira (after `#` comments and the header).
@@ -186,7 +239,12 @@ fn close(a: f64, b: f64, abs: f64) -> bool {
 
 fn compare(what: &str, ours: &str, theirs: &str, ours_rows: &[Vec<f64>], columns: &[(&str, f64)]) {
     let h = header(ours);
-    assert_eq!(h, header(theirs), "{what}: same columns");
+    // the explorer's load table adds the conditions of each row (issue 9)
+    let mut theirs_h = header(theirs);
+    if h.last().is_some_and(|c| c == "conditions") {
+        theirs_h.push("conditions".into());
+    }
+    assert_eq!(h, theirs_h, "{what}: same columns");
     let expected = rows(theirs);
     assert_eq!(
         ours_rows.len(),
@@ -260,7 +318,7 @@ fn explorer_steps_toggles_exports_like_spira_run_and_quits() {
         String::from_utf8_lossy(&run.stderr)
     );
 
-    let ours = std::fs::read_to_string(out.join("e2e-step4-load.csv")).unwrap();
+    let ours = std::fs::read_to_string(export_file(&out, 4, "load").unwrap()).unwrap();
     let theirs = std::fs::read_to_string(run_out.join("load.csv")).unwrap();
     let ours_rows = rows(&ours);
     assert_eq!(ours_rows.len(), 5, "natural, slide at ε = 0, three steps");
@@ -283,7 +341,7 @@ fn explorer_steps_toggles_exports_like_spira_run_and_quits() {
             ("energy", 1e-10),
         ],
     );
-    let ours = std::fs::read_to_string(out.join("e2e-step4-state.csv")).unwrap();
+    let ours = std::fs::read_to_string(export_file(&out, 4, "state").unwrap()).unwrap();
     let theirs = std::fs::read_to_string(run_out.join("state.csv")).unwrap();
     compare(
         "state.csv",
@@ -300,7 +358,7 @@ fn explorer_steps_toggles_exports_like_spira_run_and_quits() {
             ("omega", 1e-7),
         ],
     );
-    let ours = std::fs::read_to_string(out.join("e2e-step4-reactions.csv")).unwrap();
+    let ours = std::fs::read_to_string(export_file(&out, 4, "reactions").unwrap()).unwrap();
     assert_eq!(rows(&ours).len(), 5, "one rod, five points");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -319,5 +377,129 @@ fn explorer_in_a_small_terminal_says_so_and_quits_cleanly() {
     tui.press("q");
     let status = tui.wait();
     assert!(status.success(), "exit status {status}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The terminal was put back after the last frame: alternate screen left, cursor shown.
+fn assert_restored(screen: &str) {
+    let entered = screen
+        .rfind("\x1b[?1049h")
+        .expect("alternate screen entered");
+    let left = screen.rfind("\x1b[?1049l").expect("alternate screen left");
+    let shown = screen.rfind("\x1b[?25h").expect("cursor shown");
+    assert!(
+        left > entered && shown > entered,
+        "restored after the last frame"
+    );
+}
+
+/// Issue 9's hanging scene: on the built-in n = 8 case, two steps, then base and tip free
+/// to slide and to rotate, then a step: the solve makes no headway. The `c` key must stop
+/// it within 1 s and leave the last converged state on screen.
+#[test]
+fn a_long_solve_is_cancelled_within_a_second_of_the_key() {
+    let dir = temp_dir("cancel");
+    let mut tui = Explorer::spawn_args(&["--out".as_ref(), dir.as_os_str()], 80, 24);
+    assert!(
+        tui.wait_for(0, "idle", TIMEOUT).is_some(),
+        "{}",
+        tui.output()
+    );
+    for keys in ["\x1b[C", "\x1b[C", "b", "t", "B", "T"] {
+        tui.press(keys);
+        std::thread::sleep(Duration::from_millis(300));
+    }
+    // let the re-solves under the new conditions finish
+    std::thread::sleep(Duration::from_secs(2));
+    let from = tui.len();
+    tui.press("\x1b[C");
+    assert!(
+        tui.wait_for(from, "ε → 0.15000… ", TIMEOUT).is_some(),
+        "{}",
+        tui.output()
+    );
+    // still at it a second later: the scene hangs (the screen only redraws the cells that
+    // change, so the elapsed time is all that moves)
+    let solving_from = tui.len();
+    std::thread::sleep(Duration::from_secs(1));
+    assert!(
+        !String::from_utf8_lossy(&tui.screen.lock().unwrap()[solving_from..]).contains("idle"),
+        "the scene solves for longer than a second"
+    );
+    // key to redrawn screen while the solve runs: open the help (and close it again with
+    // another key, which only closes it)
+    let mut latencies = Vec::new();
+    for _ in 0..6 {
+        let from = tui.len();
+        let t = Instant::now();
+        tui.press("?");
+        let done = tui
+            .wait_for(from, "any key closes", Duration::from_secs(2))
+            .unwrap_or_else(|| panic!("help not drawn:\n{}", tui.output()));
+        latencies.push(done - t);
+        std::thread::sleep(Duration::from_millis(60));
+        tui.press("z");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    latencies.sort();
+    eprintln!(
+        "key -> redrawn screen during the long solve: median {:?}, max {:?}",
+        latencies[latencies.len() / 2],
+        latencies[latencies.len() - 1]
+    );
+    assert!(latencies[latencies.len() / 2] < Duration::from_millis(50));
+    let from = tui.len();
+    let pressed = Instant::now();
+    tui.press("c");
+    let done = tui
+        .wait_for(from, "cancelled", Duration::from_secs(5))
+        .unwrap_or_else(|| panic!("no cancel within 5 s:\n{}", tui.output()));
+    let took = done - pressed;
+    eprintln!("cancel key -> cancelled on screen: {took:?}");
+    assert!(took < Duration::from_secs(1), "cancel took {took:?}");
+    assert!(tui.wait_for(from, "idle", Duration::from_secs(1)).is_some());
+    assert!(tui.output()[..].contains("last converged state"));
+    tui.press("q");
+    let status = tui.wait();
+    assert!(status.success(), "exit status {status}");
+    assert_restored(&tui.output());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// SIGTERM and SIGHUP (a dropped SSH connection) restore the terminal and exit cleanly.
+#[test]
+fn sigterm_and_sighup_restore_the_terminal() {
+    use rustix::process::{kill_process, Pid, Signal};
+    for signal in [Signal::TERM, Signal::HUP] {
+        let dir = temp_dir("signal");
+        let case = dir.join("e2e.toml");
+        std::fs::write(&case, case_text("fixed")).unwrap();
+        let mut tui = Explorer::spawn(&case, &dir, 80, 24);
+        assert!(
+            tui.wait_for(0, "idle", TIMEOUT).is_some(),
+            "{}",
+            tui.output()
+        );
+        let pid = Pid::from_raw(tui.child.id() as i32).expect("pid");
+        kill_process(pid, signal).expect("signal");
+        let status = tui.wait();
+        assert!(status.success(), "{signal:?}: exit status {status}");
+        assert_restored(&tui.output());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// TERM=dumb gets a message pointing to `spira run`, not the screen.
+#[test]
+fn a_dumb_terminal_is_refused_with_a_pointer_to_spira_run() {
+    let dir = temp_dir("dumb");
+    let case = dir.join("e2e.toml");
+    std::fs::write(&case, case_text("fixed")).unwrap();
+    let mut tui = Explorer::spawn_dumb(&case);
+    let status = tui.wait();
+    assert!(!status.success());
+    let out = tui.output();
+    assert!(out.contains("spira run"), "{out}");
+    assert!(!out.contains("\x1b[?1049h"), "no full screen");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,5 +3,7 @@
 //! ([`worker`]), and the generic "latest request wins" background job it runs its
 //! work-precision studies on ([`latest`]). The terminal UI ([`crate::tui`]) sits on top.
 
+pub mod export;
 pub mod latest;
+pub mod script;
 pub mod worker;

@@ -15,14 +15,17 @@
 use super::latest::{Context, Latest};
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
-use crate::results::{LoadPoint, Snapshot};
+use crate::results::{CriticalPoint, LoadPoint, Snapshot};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
+use crate::solver::continuation::StopReason;
+use crate::solver::interrupt::{Interrupt, Interruption};
 use crate::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem, Study, StudyError};
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};
 use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
@@ -33,6 +36,13 @@ pub const PRECISION_THREAD_NAME: &str = "spira-precision";
 /// Timed runs per mesh of the explorer's work-precision study (after a warm-up each): one,
 /// to keep the study short; `spira precision` takes the best of several.
 pub const PRECISION_REPEATS: usize = 1;
+/// Time budget of one request on the solver thread: a solve still running after this long
+/// stops by itself at its last converged state (reason [`Interruption::Deadline`]), so a
+/// path that makes no headway (a free motion, a step that keeps halving) never holds the
+/// explorer. A minute is far above a normal step (milliseconds) and below a user's patience.
+pub const SOLVE_BUDGET: Duration = Duration::from_secs(60);
+/// Shortest interval between two [`WorkerEvent::Progress`] reports of one solve.
+pub const PROGRESS_INTERVAL: Duration = Duration::from_millis(50);
 
 /// Work for the solver.
 #[derive(Clone, Debug, PartialEq)]
@@ -86,6 +96,8 @@ pub struct Solved {
     pub step_length: f64,
     /// Wall time of the job that produced it.
     pub time: Duration,
+    /// Critical points crossed on the way to this state (without their state and mode).
+    pub critical: Vec<CriticalPoint>,
 }
 
 /// What the solver thread reports.
@@ -107,12 +119,24 @@ pub enum WorkerEvent {
     },
     /// The job needed no solve (e.g. the conditions asked for are already in force).
     Unchanged { generation: u64, seq: u64 },
+    /// The job of request `seq` is still solving: an internal step was accepted at load
+    /// parameter `parameter` (`ε` under displacement control), `elapsed` after the job
+    /// started.
+    Progress {
+        generation: u64,
+        seq: u64,
+        parameter: f64,
+        steps: usize,
+        elapsed: Duration,
+    },
     /// The job failed; the last converged state (if any) stays, under `boundary`.
+    /// `interrupted` says when it was stopped from outside (cancelled, or out of time).
     Failed {
         generation: u64,
         seq: u64,
         reason: String,
         boundary: Option<BoundaryConditions>,
+        interrupted: Option<Interruption>,
     },
     /// The case gives an accuracy: the mesh chosen for it (before the natural state).
     MeshChosen {
@@ -142,6 +166,7 @@ impl WorkerEvent {
             | WorkerEvent::Solved { generation, .. }
             | WorkerEvent::Unchanged { generation, .. }
             | WorkerEvent::Failed { generation, .. }
+            | WorkerEvent::Progress { generation, .. }
             | WorkerEvent::MeshChosen { generation, .. }
             | WorkerEvent::PrecisionProgress { generation, .. }
             | WorkerEvent::Precision { generation, .. } => *generation,
@@ -169,21 +194,48 @@ pub fn coalesce(queue: &mut VecDeque<Request>) {
 /// after their current solve (a study: after its current mesh).
 pub struct Worker {
     requests: Sender<Request>,
+    cancel: Arc<Mutex<Cancel>>,
     precision: Latest<Request>,
     pub events: Receiver<WorkerEvent>,
     thread: Option<JoinHandle<()>>,
 }
 
+/// What cancelling shares between the UI and the solver thread: the interrupt of the job
+/// running now (and its request's sequence number) and the last sequence number cancelled.
+/// One lock, so a cancel can never fall between two jobs and be lost or hit the wrong one.
+#[derive(Debug, Default)]
+struct Cancel {
+    running: Option<(u64, Interrupt)>,
+    /// Requests up to this sequence number are cancelled (the running one is interrupted,
+    /// queued ones are answered without a solve).
+    through: u64,
+}
+
+impl Cancel {
+    fn lock(cancel: &Mutex<Cancel>) -> std::sync::MutexGuard<'_, Cancel> {
+        cancel.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
 impl Worker {
+    /// The solver thread with the time budget [`SOLVE_BUDGET`] per request.
     pub fn spawn() -> std::io::Result<Worker> {
+        Worker::spawn_with_budget(SOLVE_BUDGET)
+    }
+
+    /// The solver thread with a time budget of `budget` per request.
+    pub fn spawn_with_budget(budget: Duration) -> std::io::Result<Worker> {
         let (requests, rx) = mpsc::channel();
         let (tx, events) = mpsc::channel();
         let precision = Latest::spawn(PRECISION_THREAD_NAME, tx.clone(), run_precision)?;
+        let cancel = Arc::new(Mutex::new(Cancel::default()));
+        let shared = Arc::clone(&cancel);
         let thread = thread::Builder::new()
             .name(THREAD_NAME.to_string())
-            .spawn(move || serve(rx, tx))?;
+            .spawn(move || serve(rx, tx, shared, budget))?;
         Ok(Worker {
             requests,
+            cancel,
             precision,
             events,
             thread: Some(thread),
@@ -196,6 +248,19 @@ impl Worker {
         match request.job {
             Job::Precision(_) => self.precision.submit(request),
             _ => self.requests.send(request).is_ok(),
+        }
+    }
+
+    /// Cancels every request up to sequence number `through`: the solve running now stops
+    /// at its next check (between Newton iterations) keeping its last converged state, and
+    /// queued ones are answered as cancelled without a solve.
+    pub fn cancel(&self, through: u64) {
+        let mut c = Cancel::lock(&self.cancel);
+        c.through = c.through.max(through);
+        if let Some((seq, interrupt)) = &c.running {
+            if *seq <= c.through {
+                interrupt.raise();
+            }
         }
     }
 
@@ -261,19 +326,59 @@ fn run_precision(request: Request, ctx: &Context<Request, WorkerEvent>) {
     });
 }
 
+/// Runs `jobs` in order on this thread with the solver thread's code (no time budget, no
+/// cancellation, no coalescing) and returns its answers: a replay of a session.
+pub fn run_jobs(jobs: Vec<Job>) -> Vec<WorkerEvent> {
+    let mut solver = Solver {
+        sim: None,
+        interrupt: None,
+        progress: None,
+        generation: 0,
+        points: 0,
+        critical: 0,
+    };
+    let mut events = Vec::new();
+    for (k, job) in jobs.into_iter().enumerate() {
+        let generation = if matches!(job, Job::Start(_)) {
+            solver.generation + 1
+        } else {
+            solver.generation
+        };
+        events.extend(solver.run(Request {
+            generation,
+            seq: k as u64 + 1,
+            job,
+        }));
+    }
+    events
+}
+
 /// The solver thread's state: the simulation of the current generation and the number of
 /// converged points it has produced (the next point's step number).
 struct Solver {
     sim: Option<Simulation>,
+    /// The interrupt and progress channel of the job in hand.
+    interrupt: Option<Interrupt>,
+    progress: Option<(Sender<WorkerEvent>, u64, u64)>,
     generation: u64,
     points: usize,
+    /// Critical points of the simulation already reported.
+    critical: usize,
 }
 
-fn serve(rx: Receiver<Request>, tx: Sender<WorkerEvent>) {
+fn serve(
+    rx: Receiver<Request>,
+    tx: Sender<WorkerEvent>,
+    cancel: Arc<Mutex<Cancel>>,
+    budget: Duration,
+) {
     let mut solver = Solver {
         sim: None,
+        interrupt: None,
+        progress: None,
         generation: 0,
         points: 0,
+        critical: 0,
     };
     let mut queue = VecDeque::new();
     loop {
@@ -295,6 +400,30 @@ fn serve(rx: Receiver<Request>, tx: Sender<WorkerEvent>) {
             continue;
         };
         let (generation, seq) = (request.generation, request.seq);
+        let interrupt = {
+            let mut c = Cancel::lock(&cancel);
+            if seq <= c.through && !matches!(request.job, Job::Start(_)) {
+                c.running = None;
+                None
+            } else {
+                let i = Interrupt::new().with_deadline(Some(Instant::now() + budget));
+                c.running = Some((seq, i.clone()));
+                Some(i)
+            }
+        };
+        let Some(interrupt) = interrupt else {
+            let skipped = WorkerEvent::Failed {
+                generation,
+                seq,
+                reason: "cancelled before it started".into(),
+                boundary: solver.sim.as_ref().map(Simulation::boundary_conditions),
+                interrupted: Some(Interruption::Cancelled),
+            };
+            if tx.send(skipped).is_err() {
+                return;
+            }
+            continue;
+        };
         let started = WorkerEvent::Started {
             generation,
             seq,
@@ -305,6 +434,7 @@ fn serve(rx: Receiver<Request>, tx: Sender<WorkerEvent>) {
         }
         // A panic in the core must not take the explorer down: report it and drop the
         // simulation, whose state can no longer be trusted.
+        solver.watch(&interrupt, &tx, generation, seq);
         let events = match panic::catch_unwind(AssertUnwindSafe(|| solver.run(request))) {
             Ok(events) => events,
             Err(payload) => {
@@ -319,9 +449,15 @@ fn serve(rx: Receiver<Request>, tx: Sender<WorkerEvent>) {
                     seq,
                     reason: format!("the solver panicked ({what}); press r to start over"),
                     boundary: None,
+                    interrupted: None,
                 }]
             }
         };
+        Cancel::lock(&cancel).running = None;
+        if let Some(sim) = solver.sim.as_mut() {
+            sim.set_interrupt(None);
+            sim.set_observer(None);
+        }
         for e in events {
             if tx.send(e).is_err() {
                 return;
@@ -331,9 +467,38 @@ fn serve(rx: Receiver<Request>, tx: Sender<WorkerEvent>) {
 }
 
 impl Solver {
+    /// Hands the simulation the interrupt of this job and an observer that reports the
+    /// accepted internal steps as [`WorkerEvent::Progress`] (at most every
+    /// [`PROGRESS_INTERVAL`]). A `Start` sets them on its new simulation in [`Solver::run`].
+    fn watch(
+        &mut self,
+        interrupt: &Interrupt,
+        tx: &Sender<WorkerEvent>,
+        generation: u64,
+        seq: u64,
+    ) {
+        self.interrupt = Some(interrupt.clone());
+        self.progress = Some((tx.clone(), generation, seq));
+        if let Some(sim) = self.sim.as_mut() {
+            sim.set_interrupt(Some(interrupt.clone()));
+            sim.set_observer(Some(observer(tx.clone(), generation, seq)));
+        }
+    }
+
     fn solved(&mut self, seq: u64, done: bool, t0: Instant) -> Option<WorkerEvent> {
         let sim = self.sim.as_ref()?;
+        let all = sim.critical_points();
+        let critical = all[self.critical.min(all.len())..]
+            .iter()
+            .map(|c| CriticalPoint {
+                state: Vec::new(),
+                mode: Vec::new(),
+                ..c.clone()
+            })
+            .collect();
+        self.critical = all.len();
         let state = Solved {
+            critical,
             point: sim.load_point(self.points),
             snapshot: sim.snapshot(),
             boundary: sim.boundary_conditions(),
@@ -360,6 +525,7 @@ impl Solver {
             Job::Start(case) => {
                 self.generation = generation;
                 self.points = 0;
+                self.critical = 0;
                 self.sim = None;
                 // an accuracy target becomes a mesh here, before the natural state
                 let (case, choice) = match resolve_accuracy(&case) {
@@ -370,6 +536,7 @@ impl Solver {
                             seq,
                             reason: format!("no mesh for the case's accuracy: {e}"),
                             boundary: None,
+                            interrupted: None,
                         }]
                     }
                 };
@@ -382,7 +549,11 @@ impl Solver {
                     .into_iter()
                     .collect();
                 match Simulation::from_case(&case.for_explorer()) {
-                    Ok(sim) => {
+                    Ok(mut sim) => {
+                        sim.set_interrupt(self.interrupt.clone());
+                        if let Some((tx, g, s)) = &self.progress {
+                            sim.set_observer(Some(observer(tx.clone(), *g, *s)));
+                        }
                         self.sim = Some(sim);
                         events.extend(self.solved(seq, true, t0));
                     }
@@ -391,11 +562,12 @@ impl Solver {
                         seq,
                         reason: format!("no natural state: {e}"),
                         boundary: None,
+                        interrupted: interruption(&e),
                     }),
                 }
                 events
             }
-            Job::Advance(eps) => self.move_on(seq, t0, |sim| sim.advance_to(eps)),
+            Job::Advance(eps) => self.move_on(seq, t0, Asked::Eps(eps), |sim| sim.advance_to(eps)),
             Job::SetBoundary(bc) => {
                 if self
                     .sim
@@ -404,13 +576,16 @@ impl Solver {
                 {
                     return vec![WorkerEvent::Unchanged { generation, seq }];
                 }
-                self.move_on(seq, t0, |sim| sim.set_boundary_conditions(bc))
+                self.move_on(seq, t0, Asked::Boundary, |sim| {
+                    sim.set_boundary_conditions(bc)
+                })
             }
             Job::Precision(_) => vec![WorkerEvent::Failed {
                 generation,
                 seq,
                 reason: "work-precision studies run on their own thread".into(),
                 boundary: None,
+                interrupted: None,
             }],
         }
     }
@@ -421,6 +596,7 @@ impl Solver {
         &mut self,
         seq: u64,
         t0: Instant,
+        asked: Asked,
         step: impl FnOnce(&mut Simulation) -> Result<(), SolveError>,
     ) -> Vec<WorkerEvent> {
         let generation = self.generation;
@@ -430,6 +606,7 @@ impl Solver {
                 seq,
                 reason: "no converged state to continue from; press r to start over".into(),
                 boundary: None,
+                interrupted: None,
             }];
         };
         let before = sim.eps();
@@ -445,11 +622,82 @@ impl Solver {
                 events.push(WorkerEvent::Failed {
                     generation,
                     seq,
-                    reason: e.to_string(),
+                    reason: describe_failure(&e, asked, t0.elapsed()),
                     boundary,
+                    interrupted: interruption(&e),
                 });
                 events
             }
         }
     }
+}
+
+/// What a failed job asked for, for its message.
+#[derive(Clone, Copy, Debug)]
+enum Asked {
+    Eps(f64),
+    Boundary,
+}
+
+/// Why a solve stopped, if it was stopped from outside.
+fn interruption(e: &SolveError) -> Option<Interruption> {
+    match e.reason {
+        StopReason::Interrupted(why) => Some(why),
+        _ => None,
+    }
+}
+
+/// A failure in the user's terms: what was asked for, where the path stopped, why.
+fn describe_failure(e: &SolveError, asked: Asked, elapsed: Duration) -> String {
+    let what = match asked {
+        Asked::Eps(eps) => format!("ε → {eps:.5}"),
+        Asked::Boundary => "the new boundary conditions".to_string(),
+    };
+    let kept = format!("the last converged state (ε = {:.5}) is kept", e.eps);
+    match (interruption(e), asked) {
+        (Some(Interruption::Cancelled), _) => {
+            format!(
+                "{what} cancelled after {:.1} s; {kept}",
+                elapsed.as_secs_f64()
+            )
+        }
+        (Some(Interruption::Deadline), _) => format!(
+            "{what} stopped: its time budget of {:.0} s ran out; {kept}",
+            elapsed.as_secs_f64().round()
+        ),
+        (None, Asked::Boundary) => {
+            format!(
+                "the new boundary conditions were refused and undone ({}); {kept}",
+                e.reason
+            )
+        }
+        (None, Asked::Eps(_)) => format!("{what} failed: {}; {kept}", e.reason),
+    }
+}
+
+/// Reports accepted internal steps of request `seq` as [`WorkerEvent::Progress`], at most
+/// every [`PROGRESS_INTERVAL`].
+fn observer(
+    tx: Sender<WorkerEvent>,
+    generation: u64,
+    seq: u64,
+) -> crate::solver::continuation::Observer {
+    let t0 = Instant::now();
+    let mut last: Option<Instant> = None;
+    let mut steps = 0;
+    Box::new(move |state| {
+        steps += 1;
+        let now = Instant::now();
+        if last.is_some_and(|l| now.duration_since(l) < PROGRESS_INTERVAL) {
+            return;
+        }
+        last = Some(now);
+        let _ = tx.send(WorkerEvent::Progress {
+            generation,
+            seq,
+            parameter: state.lambda,
+            steps,
+            elapsed: now.duration_since(t0),
+        });
+    })
 }

@@ -6,24 +6,81 @@ use super::keys::{self, Action};
 use super::stability;
 use crate::case::Case;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
-use crate::output;
+use crate::results::CriticalPoint;
 use crate::results::{LoadPoint, Snapshot};
+use crate::session::export::{self, SessionEvent};
+use crate::session::script::Script;
 use crate::session::worker::{Job, Request, Solved, WorkerEvent};
+use crate::solver::interrupt::Interruption;
 use crate::study::{MeshChoice, Study};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
-/// The numbers of helices `n`/`N` cycle through.
+/// The numbers of helices `n`/`N` step through (no wrap-around: they stop at the ends).
 pub const HELICES: [usize; 5] = [1, 2, 4, 8, 16];
+/// The user steps in `ε` that `+`/`-` choose from.
+pub const STEPS: [f64; 5] = [0.005, 0.01, 0.02, 0.05, 0.1];
 /// Largest and smallest user step in `ε`.
-pub const MAX_STEP: f64 = 0.5;
-pub const MIN_STEP: f64 = 1.0 / 1024.0;
+pub const MAX_STEP: f64 = STEPS[STEPS.len() - 1];
+pub const MIN_STEP: f64 = STEPS[0];
+/// A change of `n` that would discard a path of more converged points than this asks
+/// first (the same key again confirms).
+pub const CONFIRM_DISCARD: usize = 4;
+/// Positions of the curvature plot's cursor along `s/L`: `0, 1/CURSOR_STEPS, …, 1`.
+pub const CURSOR_STEPS: usize = 32;
+
+/// How the left upper area is used: all three views, or one of them alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ViewMode {
+    #[default]
+    All,
+    XY,
+    ZY,
+    ZX,
+}
+
+impl ViewMode {
+    fn next(self) -> ViewMode {
+        match self {
+            ViewMode::All => ViewMode::XY,
+            ViewMode::XY => ViewMode::ZY,
+            ViewMode::ZY => ViewMode::ZX,
+            ViewMode::ZX => ViewMode::All,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewMode::All => "all views",
+            ViewMode::XY => "X-Y view",
+            ViewMode::ZY => "Z-Y view",
+            ViewMode::ZX => "Z-X view",
+        }
+    }
+}
+
+/// How far the solve in progress has got.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    /// Load parameter of the last accepted internal step (`ε` under displacement control).
+    pub parameter: f64,
+    /// Internal steps accepted so far.
+    pub steps: usize,
+    /// Time since the job started.
+    pub elapsed: Duration,
+}
 
 /// What a transition asks the outside world to do.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Effect {
     /// Send this request to the solver thread.
     Solve(Request),
+    /// Cancel every request up to this sequence number (the running solve stops at its
+    /// last converged state).
+    Cancel(u64),
+    /// Save the session as a replayable script ([`App::save_session`]).
+    SaveSession,
     /// Write the current state and load path to CSV ([`App::export`]).
     Export,
     /// Leave the explorer.
@@ -93,6 +150,36 @@ pub struct App {
     last_sent: u64,
     last_done: u64,
     solver_lost: bool,
+    /// The solve in progress: how far it got (from the solver's progress reports).
+    pub progress: Option<Progress>,
+    /// Time since the job in progress started (updated by [`App::tick`]).
+    pub elapsed: Option<Duration>,
+    started_at: Option<Instant>,
+    /// A key that must be pressed again to confirm (a change of `n` discarding a path).
+    pub confirm: Option<Action>,
+    /// The key in hand is the confirmation [`App::confirm`] asked for.
+    confirmed: bool,
+    /// Critical points crossed on this simulation's path, in order (without state and mode).
+    pub critical: Vec<CriticalPoint>,
+    pub show_critical: bool,
+    /// Cursor of the curvature plot, in steps of `1/CURSOR_STEPS` along `s/L`.
+    pub cursor: usize,
+    /// Cursor on the load path: an index into [`App::path`] (`None`: the current point).
+    pub path_cursor: Option<usize>,
+    pub view: ViewMode,
+    /// What changed in this session, in order (conditions, `n`, step, control).
+    pub events: Vec<SessionEvent>,
+    /// The conditions of each point of [`App::path`].
+    pub conditions: Vec<BoundaryConditions>,
+    /// The jobs the solver ran for this session, in order, for a replay (by sequence).
+    pub(crate) sent: Vec<(u64, Job)>,
+    pub ran: Vec<Job>,
+    /// Where the case came from (`None`: the built-in case), for a saved session.
+    pub case_file: Option<PathBuf>,
+    /// The terminal is smaller than the screen needs: keys other than quit do nothing.
+    pub too_small: bool,
+    /// `NO_COLOR` is set: curves are told apart by their marks, not their colours.
+    pub no_color: bool,
 }
 
 impl App {
@@ -126,7 +213,37 @@ impl App {
             last_sent: 0,
             last_done: 0,
             solver_lost: false,
+            progress: None,
+            elapsed: None,
+            started_at: None,
+            confirm: None,
+            confirmed: false,
+            critical: Vec::new(),
+            show_critical: false,
+            cursor: CURSOR_STEPS / 2,
+            path_cursor: None,
+            view: ViewMode::All,
+            events: Vec::new(),
+            conditions: Vec::new(),
+            sent: Vec::new(),
+            ran: Vec::new(),
+            case_file: None,
+            too_small: false,
+            no_color: false,
         }
+    }
+
+    /// Updates the elapsed time of the solve in progress (the event loop calls it).
+    pub fn tick(&mut self, now: Instant) {
+        self.elapsed = self.started_at.map(|t| now.saturating_duration_since(t));
+    }
+
+    fn record(&mut self, what: String) {
+        self.events.push(SessionEvent {
+            from_point: self.path.len(),
+            eps: self.requested_eps,
+            what,
+        });
     }
 
     /// The case as loaded.
@@ -178,6 +295,7 @@ impl App {
         }
         self.next_seq += 1;
         self.last_sent = self.next_seq;
+        self.sent.push((self.next_seq, job.clone()));
         Effect::Solve(Request {
             generation: self.generation,
             seq: self.next_seq,
@@ -218,8 +336,14 @@ impl App {
 
     /// A new simulation with the current `n` and conditions, from `ε = 0`.
     fn restart(&mut self) -> Vec<Effect> {
+        // a solve of the old simulation in progress is of no more use: stop it
+        let cancel = self.busy().then_some(Effect::Cancel(self.last_sent));
         self.generation += 1;
         self.path.clear();
+        self.conditions.clear();
+        self.critical.clear();
+        self.path_cursor = None;
+        self.progress = None;
         self.state = None;
         self.natural_k1 = None;
         self.running = false;
@@ -229,7 +353,8 @@ impl App {
         let mut case = self.case.with_helices(self.helices);
         case.boundary = self.boundary;
         self.mesh = None;
-        let mut effects = vec![self.request(Job::Start(Box::new(case)))];
+        let mut effects: Vec<Effect> = cancel.into_iter().collect();
+        effects.push(self.request(Job::Start(Box::new(case))));
         effects.extend(self.precision_obsolete());
         effects
     }
@@ -245,6 +370,20 @@ impl App {
         }
         self.requested_eps = eps;
         vec![self.request(Job::Advance(eps))]
+    }
+
+    /// Cancels the solve in progress (and what is queued behind it); the last converged
+    /// state stays.
+    fn cancel(&mut self) -> Vec<Effect> {
+        self.running = false;
+        if !self.busy() {
+            self.message = Some(Message::Info(
+                "nothing to cancel: the solver is idle".into(),
+            ));
+            return vec![];
+        }
+        self.message = Some(Message::Info("cancelling…".into()));
+        vec![Effect::Cancel(self.last_sent)]
     }
 
     /// Next request of continuous loading, if the target is not reached.
@@ -264,6 +403,7 @@ impl App {
 
     fn set_boundary(&mut self, bc: BoundaryConditions, what: String) -> Vec<Effect> {
         self.boundary = bc;
+        self.record(what.clone());
         self.message = Some(Message::Info(format!(
             "{what}; the path continues from ε = {:.5} under the new conditions",
             self.requested_eps
@@ -283,6 +423,12 @@ impl App {
         if ctrl && matches!(key.code, KeyCode::Char('c') | KeyCode::Char('C')) {
             return vec![Effect::Quit];
         }
+        if self.too_small {
+            return match keys::action_for(key.code) {
+                Some(Action::Quit) => vec![Effect::Quit],
+                _ => vec![],
+            };
+        }
         if self.show_help {
             self.show_help = false;
             return match key.code {
@@ -291,6 +437,12 @@ impl App {
             };
         }
         let action = keys::action_for(key.code);
+        let confirm = self.confirm.take();
+        if confirm.is_some() && action != confirm {
+            self.message = Some(Message::Info("kept the path: n unchanged".into()));
+            return vec![];
+        }
+        self.confirmed = confirm.is_some();
         if self.solver_lost && !action.is_some_and(Action::works_without_solver) {
             self.message = Some(Message::Error(
                 "the solver thread has stopped; export with e or quit with q".into(),
@@ -320,8 +472,34 @@ impl App {
             Action::TipTranslation => self.cycle_tip_translation(),
             Action::TipRotation => self.cycle_tip_rotation(),
             Action::PinJoints => self.toggle_joints(),
-            Action::MoreHelices => self.change_helices(true),
-            Action::FewerHelices => self.change_helices(false),
+            Action::MoreHelices => self.change_helices(true, action),
+            Action::FewerHelices => self.change_helices(false, action),
+            Action::Cancel => self.cancel(),
+            Action::CriticalPoints => {
+                self.show_critical = !self.show_critical;
+                if self.show_critical && self.critical.is_empty() {
+                    self.message = Some(Message::Info(
+                        "no critical point crossed on this path yet".into(),
+                    ));
+                }
+                vec![]
+            }
+            Action::CursorBack => {
+                self.cursor = self.cursor.saturating_sub(1);
+                vec![]
+            }
+            Action::CursorForward => {
+                self.cursor = (self.cursor + 1).min(CURSOR_STEPS);
+                vec![]
+            }
+            Action::PathCursorBack => self.move_path_cursor(-1),
+            Action::PathCursorForward => self.move_path_cursor(1),
+            Action::SingleView => {
+                self.view = self.view.next();
+                self.message = Some(Message::Info(format!("{} (v cycles)", self.view.name())));
+                vec![]
+            }
+            Action::SaveSession => vec![Effect::SaveSession],
             Action::Reset => self.reset(),
             Action::Export => vec![Effect::Export],
             Action::Precision => self.toggle_precision(),
@@ -331,13 +509,52 @@ impl App {
     /// One user step forward (`sign` 1) or back (−1); stops continuous loading.
     fn step_by(&mut self, sign: f64) -> Vec<Effect> {
         self.running = false;
-        self.advance(self.requested_eps + sign * self.step)
+        let (from, target) = (self.requested_eps, self.target());
+        let mut next = from + sign * self.step;
+        // a step forward towards the target stops there; one beyond it is refused
+        if target > 0.0 && sign > 0.0 {
+            if from >= target - 1e-12 {
+                self.message = Some(Message::Info(format!(
+                    "at the target ε = {target}; ← steps back, r starts over"
+                )));
+                return vec![];
+            }
+            next = next.min(target);
+        }
+        self.advance(next)
+    }
+
+    /// Moves the load-path cursor by `by` points (from the current point when it is off).
+    fn move_path_cursor(&mut self, by: isize) -> Vec<Effect> {
+        if self.path.is_empty() {
+            return vec![];
+        }
+        let last = self.path.len() - 1;
+        let at = self.path_cursor.unwrap_or(last) as isize + by;
+        let at = at.clamp(0, last as isize) as usize;
+        self.path_cursor = (at != last || by < 0).then_some(at);
+        vec![]
     }
 
     /// The user step times `factor`, within [`MIN_STEP`] and [`MAX_STEP`].
     fn scale_step(&mut self, factor: f64) -> Vec<Effect> {
-        self.step = (self.step * factor).clamp(MIN_STEP, MAX_STEP);
+        let next = if factor > 1.0 {
+            STEPS.iter().copied().find(|&s| s > self.step + 1e-12)
+        } else {
+            STEPS.iter().rev().copied().find(|&s| s < self.step - 1e-12)
+        };
+        let Some(step) = next else {
+            self.message = Some(Message::Info(format!(
+                "Δε = {} is the {} step ({})",
+                fmt_step(self.step),
+                if factor > 1.0 { "largest" } else { "smallest" },
+                STEPS.map(fmt_step).join(" ")
+            )));
+            return vec![];
+        };
+        self.step = step;
         self.message = Some(Message::Info(format!("step Δε = {}", fmt_step(self.step))));
+        self.record(format!("step Δε = {}", fmt_step(self.step)));
         vec![]
     }
 
@@ -406,12 +623,32 @@ impl App {
     }
 
     /// The next larger (`up`) or smaller number of helices of [`HELICES`], from `ε = 0`.
-    fn change_helices(&mut self, up: bool) -> Vec<Effect> {
-        self.helices = cycle_helices(self.helices, up);
+    fn change_helices(&mut self, up: bool, key: Action) -> Vec<Effect> {
+        let Some(n) = next_helices(self.helices, up) else {
+            self.message = Some(Message::Info(format!(
+                "n = {} is the {} ({})",
+                self.helices,
+                if up { "largest" } else { "smallest" },
+                HELICES.map(|n| n.to_string()).join(" ")
+            )));
+            return vec![];
+        };
+        if self.path.len() > CONFIRM_DISCARD && !std::mem::take(&mut self.confirmed) {
+            self.confirm = Some(key);
+            self.message = Some(Message::Info(format!(
+                "n = {n} starts over and discards the path of {} points: press {} again to confirm, any other key keeps it",
+                self.path.len(),
+                if up { "n" } else { "N" }
+            )));
+            return vec![];
+        }
+        self.confirm = None;
+        self.helices = n;
         self.message = Some(Message::Info(format!(
             "n = {}: starting over from ε = 0",
             self.helices
         )));
+        self.record(format!("n = {n}, start over"));
         self.restart()
     }
 
@@ -422,6 +659,7 @@ impl App {
         self.message = Some(Message::Info(
             "reset: ε = 0 under the case's boundary conditions".into(),
         ));
+        self.record("reset".into());
         self.restart()
     }
 
@@ -447,6 +685,34 @@ impl App {
             WorkerEvent::Started { seq, job, .. } => {
                 if seq > self.last_done {
                     self.solving = Some(job);
+                    self.progress = None;
+                    self.started_at = Some(Instant::now());
+                    self.elapsed = Some(Duration::ZERO);
+                }
+                if let Some(j) = self
+                    .sent
+                    .iter()
+                    .find(|(s, _)| *s == seq)
+                    .map(|(_, j)| j.clone())
+                {
+                    self.ran.push(j);
+                }
+                vec![]
+            }
+            WorkerEvent::Progress {
+                seq,
+                parameter,
+                steps,
+                elapsed,
+                ..
+            } => {
+                if seq > self.last_done {
+                    self.progress = Some(Progress {
+                        parameter,
+                        steps,
+                        elapsed,
+                    });
+                    self.elapsed = Some(elapsed);
                 }
                 vec![]
             }
@@ -454,6 +720,18 @@ impl App {
                 seq, done, state, ..
             } => {
                 self.path.push(state.point.clone());
+                self.conditions.push(state.boundary);
+                for c in &state.critical {
+                    self.message = Some(Message::Info(format!(
+                        "critical point: {} at ε = {:.5}, fz/(n Pcrit) = {:.4}, unstable directions {} → {} (x lists them)",
+                        c.kind.name(),
+                        c.eps,
+                        c.load[2],
+                        c.unstable_before,
+                        c.unstable_after
+                    )));
+                }
+                self.critical.extend(state.critical.iter().cloned());
                 if self.natural_k1.is_none() {
                     self.natural_k1 = mean_k1(&state.snapshot);
                 }
@@ -494,16 +772,25 @@ impl App {
                 seq,
                 reason,
                 boundary,
+                interrupted,
                 ..
             } => {
                 self.running = false;
-                self.message = Some(Message::Error(reason));
+                if interrupted == Some(Interruption::Cancelled) {
+                    // a cancel the user asked for is news, not an error
+                    self.message = Some(Message::Info(reason));
+                } else {
+                    self.message = Some(Message::Error(reason));
+                }
                 if let Some(bc) = boundary {
                     self.boundary_settled(bc, seq);
                 }
                 self.last_done = self.last_done.max(seq);
                 if !self.busy() {
                     self.solving = None;
+                    self.progress = None;
+                    self.started_at = None;
+                    self.elapsed = None;
                     // pending steps start again from the state on screen
                     if let Some(eps) = self.eps() {
                         self.requested_eps = eps;
@@ -528,6 +815,9 @@ impl App {
             return vec![];
         }
         self.solving = None;
+        self.progress = None;
+        self.started_at = None;
+        self.elapsed = None;
         if self.running {
             self.run_on()
         } else {
@@ -548,31 +838,45 @@ impl App {
 
     /// File names of an export of the current state.
     pub fn export_names(&self) -> Option<[String; 3]> {
-        let step = self.state.as_ref()?.point.step;
-        let stem = sanitise(&self.case_label());
-        Some([
-            format!("{stem}-step{step}-state.csv"),
-            format!("{stem}-step{step}-load.csv"),
-            format!("{stem}-step{step}-reactions.csv"),
-        ])
+        let point = &self.state.as_ref()?.point;
+        Some(export::names(&self.case_label(), point.step, point.eps))
     }
 
-    /// Writes the current state and the load path so far into [`App::out_dir`], in the
-    /// formats of `spira run`, and says so in the message line.
+    fn place(&self) -> String {
+        if self.out_dir == Path::new(".") {
+            String::new()
+        } else {
+            format!(" in {}", self.out_dir.display())
+        }
+    }
+
+    /// Writes the current state and the load path so far (with the conditions of each
+    /// point and the session's events) into [`App::out_dir`], in the formats of
+    /// `spira run`, and says so in the message line.
     pub fn export(&mut self) -> Vec<PathBuf> {
-        match self.write_export(&self.out_dir.clone()) {
+        let written = match self.state.as_ref() {
+            Some(state) => export::write(
+                &self.out_dir,
+                &self.case_label(),
+                &state.snapshot,
+                &self.path,
+                &self.conditions,
+                &self.events,
+            ),
+            None => Err(std::io::Error::other("no converged state yet")),
+        };
+        match written {
             Ok(files) => {
                 let names: Vec<String> = files
                     .iter()
                     .filter_map(|f| f.file_name())
                     .map(|f| f.to_string_lossy().into_owned())
                     .collect();
-                let place = if self.out_dir == Path::new(".") {
-                    String::new()
-                } else {
-                    format!(" in {}", self.out_dir.display())
-                };
-                self.message = Some(Message::Info(format!("wrote {}{place}", names.join(", "))));
+                self.message = Some(Message::Info(format!(
+                    "wrote {}{}",
+                    names.join(", "),
+                    self.place()
+                )));
                 files
             }
             Err(e) => {
@@ -582,24 +886,46 @@ impl App {
         }
     }
 
-    fn write_export(&self, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
-        let (Some(state), Some(names)) = (self.state.as_ref(), self.export_names()) else {
-            return Err(std::io::Error::other("no converged state yet"));
-        };
-        std::fs::create_dir_all(dir)?;
-        let label = self.case_label();
-        let texts = [
-            output::state_csv(&label, &state.snapshot),
-            output::load_csv(&label, &self.path),
-            output::reactions_csv(&label, &self.path),
-        ];
-        let mut files = Vec::new();
-        for (name, text) in names.iter().zip(texts) {
-            let path = dir.join(name);
-            output::write_atomic(&path, &text)?;
-            files.push(path);
+    /// The session so far as a replayable script.
+    pub fn script(&self) -> Script {
+        let case = self
+            .case_file
+            .as_ref()
+            .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()));
+        let from = self
+            .events
+            .iter()
+            .rposition(|e| e.from_point == 0 && (e.what.starts_with("n =") || e.what == "reset"))
+            .unwrap_or(0);
+        Script::of(
+            case,
+            self.case_label(),
+            self.events[from..].to_vec(),
+            &self.ran,
+        )
+    }
+
+    /// Writes [`App::script`] to `<case>-session.toml` in [`App::out_dir`].
+    pub fn save_session(&mut self) -> Option<PathBuf> {
+        let name = format!("{}-session.toml", export::sanitise(&self.case_label()));
+        let file = self.out_dir.join(name);
+        let saved = std::fs::create_dir_all(&self.out_dir)
+            .map_err(|e| e.to_string())
+            .and_then(|()| self.script().write(&file).map_err(|e| e.to_string()));
+        match saved {
+            Ok(()) => {
+                self.message = Some(Message::Info(format!(
+                    "saved the session to {}; spira replay {} --out DIR writes its CSVs",
+                    file.display(),
+                    file.display()
+                )));
+                Some(file)
+            }
+            Err(e) => {
+                self.message = Some(Message::Error(format!("saving the session failed: {e}")));
+                None
+            }
         }
-        Ok(files)
     }
 }
 
@@ -613,14 +939,17 @@ fn mean_k1(snapshot: &Snapshot) -> Option<f64> {
     (!k1.is_empty()).then(|| k1.iter().sum::<f64>() / k1.len() as f64)
 }
 
-/// The case's output spacing: `target / steps`.
+/// The step of [`STEPS`] nearest the case's output spacing `target / steps`.
 fn default_step(case: &Case) -> f64 {
     let s = (case.loading.target / case.loading.steps as f64).abs();
-    if s.is_finite() && s > 0.0 {
-        s.clamp(MIN_STEP, MAX_STEP)
-    } else {
-        0.05
+    if !(s.is_finite() && s > 0.0) {
+        return 0.05;
     }
+    STEPS
+        .iter()
+        .copied()
+        .min_by(|a, b| (a.ln() - s.ln()).abs().total_cmp(&(b.ln() - s.ln()).abs()))
+        .unwrap_or(0.05)
 }
 
 /// A step in `ε` with the digits it needs.
@@ -630,20 +959,12 @@ pub fn fmt_step(step: f64) -> String {
     s.trim_end_matches('.').to_string()
 }
 
-fn cycle_helices(n: usize, up: bool) -> usize {
+/// The next larger (`up`) or smaller number of helices, none past the ends.
+fn next_helices(n: usize, up: bool) -> Option<usize> {
     if up {
-        HELICES
-            .iter()
-            .copied()
-            .find(|&m| m > n)
-            .unwrap_or(HELICES[0])
+        HELICES.iter().copied().find(|&m| m > n)
     } else {
-        HELICES
-            .iter()
-            .rev()
-            .copied()
-            .find(|&m| m < n)
-            .unwrap_or(HELICES[HELICES.len() - 1])
+        HELICES.iter().rev().copied().find(|&m| m < n)
     }
 }
 
@@ -676,24 +997,5 @@ fn rotation_name(r: Rotation) -> &'static str {
         Rotation::Clamped => "clamped",
         Rotation::Free => "free",
         Rotation::Pinned => "pinned",
-    }
-}
-
-/// A file-name-safe version of a case name.
-fn sanitise(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if s.is_empty() {
-        "case".into()
-    } else {
-        s
     }
 }

@@ -24,6 +24,14 @@ pub enum Action {
     Reset,
     Export,
     Precision,
+    Cancel,
+    CriticalPoints,
+    CursorBack,
+    CursorForward,
+    PathCursorBack,
+    PathCursorForward,
+    SingleView,
+    SaveSession,
     Help,
     Quit,
 }
@@ -31,7 +39,19 @@ pub enum Action {
 impl Action {
     /// The actions left once the solver thread has stopped.
     pub fn works_without_solver(self) -> bool {
-        matches!(self, Action::Quit | Action::Help | Action::Export)
+        matches!(
+            self,
+            Action::Quit
+                | Action::Help
+                | Action::Export
+                | Action::CriticalPoints
+                | Action::CursorBack
+                | Action::CursorForward
+                | Action::PathCursorBack
+                | Action::PathCursorForward
+                | Action::SingleView
+                | Action::SaveSession
+        )
     }
 }
 
@@ -45,28 +65,28 @@ pub struct Binding {
 
 /// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
 /// help is shown any key closes it).
-pub const BINDINGS: [Binding; 18] = {
+pub const BINDINGS: [Binding; 21] = {
     use Action::*;
     [
         Binding {
-            label: "→ l",
-            keys: &[(Right, StepForward), (Char('l'), StepForward)],
-            help: "step compression forward by Δε",
+            label: "→l ←h",
+            keys: &[
+                (Right, StepForward),
+                (Char('l'), StepForward),
+                (Left, StepBack),
+                (Char('h'), StepBack),
+            ],
+            help: "step compression forward / back by Δε (stops at the target)",
         },
         Binding {
-            label: "← h",
-            keys: &[(Left, StepBack), (Char('h'), StepBack)],
-            help: "step compression back by Δε",
-        },
-        Binding {
-            label: "+ =",
-            keys: &[(Char('+'), DoubleStep), (Char('='), DoubleStep)],
-            help: "double the step Δε",
-        },
-        Binding {
-            label: "- _",
-            keys: &[(Char('-'), HalveStep), (Char('_'), HalveStep)],
-            help: "halve the step Δε",
+            label: "+= -_",
+            keys: &[
+                (Char('+'), DoubleStep),
+                (Char('='), DoubleStep),
+                (Char('-'), HalveStep),
+                (Char('_'), HalveStep),
+            ],
+            help: "larger / smaller Δε: 0.005 0.01 0.02 0.05 0.1",
         },
         Binding {
             label: "space",
@@ -74,14 +94,14 @@ pub const BINDINGS: [Binding; 18] = {
             help: "run / pause continuous loading to the target",
         },
         Binding {
-            label: "↑ k",
-            keys: &[(Up, PreviousRod), (Char('k'), PreviousRod)],
-            help: "select the previous rod",
-        },
-        Binding {
-            label: "↓ j",
-            keys: &[(Down, NextRod), (Char('j'), NextRod)],
-            help: "select the next rod",
+            label: "↑k ↓j",
+            keys: &[
+                (Up, PreviousRod),
+                (Char('k'), PreviousRod),
+                (Down, NextRod),
+                (Char('j'), NextRod),
+            ],
+            help: "select the previous / next rod",
         },
         Binding {
             label: "b",
@@ -91,7 +111,7 @@ pub const BINDINGS: [Binding; 18] = {
         Binding {
             label: "B",
             keys: &[(Char('B'), BaseRotation)],
-            help: "base rotation: clamped ↔ free",
+            help: "base rotation: clamped → free → pinned",
         },
         Binding {
             label: "t",
@@ -101,7 +121,7 @@ pub const BINDINGS: [Binding; 18] = {
         Binding {
             label: "T",
             keys: &[(Char('T'), TipRotation)],
-            help: "tip rotation: clamped ↔ free",
+            help: "tip rotation: clamped → free → pinned",
         },
         Binding {
             label: "p",
@@ -111,7 +131,7 @@ pub const BINDINGS: [Binding; 18] = {
         Binding {
             label: "n N",
             keys: &[(Char('n'), MoreHelices), (Char('N'), FewerHelices)],
-            help: "more / fewer helices (1 2 4 8 16), start over",
+            help: "more / fewer helices (1 2 4 8 16), start over (asks first)",
         },
         Binding {
             label: "r",
@@ -127,6 +147,36 @@ pub const BINDINGS: [Binding; 18] = {
             label: "w",
             keys: &[(Char('w'), Precision)],
             help: "work-precision chart of the case (on/off)",
+        },
+        Binding {
+            label: "c",
+            keys: &[(Char('c'), Cancel)],
+            help: "cancel the solve (keeps the last converged state)",
+        },
+        Binding {
+            label: "x",
+            keys: &[(Char('x'), CriticalPoints)],
+            help: "critical points crossed so far (on/off)",
+        },
+        Binding {
+            label: ", .",
+            keys: &[(Char(','), CursorBack), (Char('.'), CursorForward)],
+            help: "move the s/L cursor of the curvature plot",
+        },
+        Binding {
+            label: "< >",
+            keys: &[(Char('<'), PathCursorBack), (Char('>'), PathCursorForward)],
+            help: "move the cursor along the load path",
+        },
+        Binding {
+            label: "v",
+            keys: &[(Char('v'), SingleView)],
+            help: "views: all → X-Y → Z-Y → Z-X alone",
+        },
+        Binding {
+            label: "s",
+            keys: &[(Char('s'), SaveSession)],
+            help: "save the session (replay: spira replay FILE)",
         },
         Binding {
             label: "?",

@@ -19,7 +19,9 @@ use ratatui::Terminal;
 use std::fmt;
 use std::io::{self, IsTerminal};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{RecvTimeoutError, TryRecvError};
+use std::sync::Arc;
 use std::sync::Once;
 use std::time::{Duration, Instant};
 
@@ -28,6 +30,8 @@ use std::time::{Duration, Instant};
 pub enum TuiError {
     #[error("the explorer needs an interactive terminal; for a headless run use `spira run CASE`")]
     NotATerminal,
+    #[error("the terminal (TERM={0}) cannot address the cursor, which the explorer needs; for a headless run use `spira run CASE` (or `spira replay SESSION.toml`)")]
+    DumbTerminal(String),
     #[error("setting up the terminal")]
     Setup(#[source] io::Error),
     #[error("starting the solver thread")]
@@ -56,18 +60,42 @@ pub fn run(case: Case) -> Result<(), TuiError> {
 
 /// Opens the explorer on `case`, exporting into `out_dir`.
 pub fn run_in(case: Case, out_dir: PathBuf) -> Result<(), TuiError> {
+    run_with(case, out_dir, None)
+}
+
+/// Opens the explorer on `case` read from `case_file` (`None`: the built-in case), exporting
+/// into `out_dir`; a saved session names the case file.
+pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Result<(), TuiError> {
     if !io::stdout().is_terminal() || !io::stdin().is_terminal() {
         return Err(TuiError::NotATerminal);
     }
+    if let Some(term) = dumb_terminal() {
+        return Err(TuiError::DumbTerminal(term));
+    }
     install_panic_hook();
+    // SIGTERM and SIGHUP (a dropped SSH connection) end the explorer through the event
+    // loop, which restores the terminal on its way out
+    let stop = Arc::new(AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
+        signal_hook::flag::register(signal, Arc::clone(&stop)).map_err(TuiError::Setup)?;
+    }
     let mut terminal = TerminalGuard::enter().map_err(TuiError::Setup)?;
     let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
-    let result = event_loop(&mut terminal.terminal, &mut app, &worker);
+    app.case_file = case_file;
+    app.no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
+    let result = event_loop(&mut terminal.terminal, &mut app, &worker, &stop);
     drop(terminal);
-    // A solve in progress cannot be interrupted: let the thread go, the process ends it.
+    // stop a solve in progress at its next check, then let the thread go
+    worker.cancel(u64::MAX);
     drop(worker);
     result
+}
+
+/// The value of `TERM` when it names a terminal without cursor addressing.
+fn dumb_terminal() -> Option<String> {
+    let term = std::env::var("TERM").ok()?;
+    matches!(term.as_str(), "dumb" | "unknown" | "").then_some(term)
 }
 
 /// Raw mode, alternate screen, hidden cursor while alive; restored when dropped.
@@ -132,8 +160,12 @@ fn apply(effects: Vec<Effect>, app: &mut App, worker: &Worker) -> bool {
                     app.on_solver_lost();
                 }
             }
+            Effect::Cancel(through) => worker.cancel(through),
             Effect::Export => {
                 app.export();
+            }
+            Effect::SaveSession => {
+                app.save_session();
             }
             Effect::Quit => return false,
         }
@@ -166,6 +198,7 @@ fn event_loop<B: Backend>(
     terminal: &mut Terminal<B>,
     app: &mut App,
     worker: &Worker,
+    stop: &AtomicBool,
 ) -> Result<(), TuiError>
 where
     B::Error: Into<TuiError>,
@@ -174,8 +207,20 @@ where
     apply(effects, app, worker);
     let mut dirty = true;
     let mut lost = false;
+    let mut last_tick = Instant::now();
     loop {
+        if stop.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        // the elapsed time of a long solve moves on screen about every 0.2 s
+        if app.busy() && last_tick.elapsed() >= Duration::from_millis(200) {
+            last_tick = Instant::now();
+            app.tick(last_tick);
+            dirty = true;
+        }
         if dirty {
+            let size = terminal.size().map_err(Into::into)?;
+            app.too_small = size.width < ui::MIN_WIDTH || size.height < ui::MIN_HEIGHT;
             terminal.draw(|f| ui::draw(f, app)).map_err(Into::into)?;
             dirty = false;
         }
@@ -225,6 +270,11 @@ pub struct Responsiveness {
     /// Wall time of each measured step of `Δε` on the solver thread.
     pub step_times: Vec<Duration>,
     pub step: f64,
+    /// Key press to redrawn frame during a long solve (issue 9's hanging scene: both ends
+    /// free to slide and rotate, then a step), over its first second.
+    pub key_to_frame_long: Vec<Duration>,
+    /// The cancel key during that solve to an idle app (the answer received).
+    pub cancel_to_idle: Option<Duration>,
 }
 
 fn median(v: &[Duration]) -> Duration {
@@ -258,6 +308,17 @@ impl fmt::Display for Responsiveness {
             ms(self.key_to_frame_max()),
             self.key_to_frame.len()
         )?;
+        if !self.key_to_frame_long.is_empty() {
+            writeln!(
+                f,
+                "during a long solve (ends free to slide and rotate): key -> frame median {:.2} ms, max {:.2} ms ({} presses); cancel key -> idle {}",
+                ms(median(&self.key_to_frame_long)),
+                ms(self.key_to_frame_long.iter().max().copied().unwrap_or_default()),
+                self.key_to_frame_long.len(),
+                self.cancel_to_idle
+                    .map_or("n/a (the step finished first)".to_string(), |d| format!("{:.1} ms", ms(d)))
+            )?;
+        }
         let all: Vec<String> = self
             .step_times
             .iter()
@@ -293,6 +354,8 @@ pub fn measure_responsiveness(
         key_to_frame: Vec::new(),
         step_times: Vec::new(),
         step: app.step,
+        key_to_frame_long: Vec::new(),
+        cancel_to_idle: None,
     };
     let deadline = Instant::now() + Duration::from_secs(600);
     let effects = app.start();
@@ -301,8 +364,56 @@ pub fn measure_responsiveness(
     for _ in 0..steps {
         measure_step(&mut app, &worker, &mut terminal, &mut result, deadline)?;
     }
+    measure_long_solve(&mut app, &worker, &mut terminal, &mut result, deadline)?;
+    worker.cancel(u64::MAX);
     worker.join();
     Ok(result)
+}
+
+/// Issue 9's hanging scene: both ends free to slide and to rotate, then a step. Presses
+/// "next rod" for a second while it solves, then the cancel key, and times the way to idle.
+fn measure_long_solve(
+    app: &mut App,
+    worker: &Worker,
+    terminal: &mut Terminal<TestBackend>,
+    result: &mut Responsiveness,
+    deadline: Instant,
+) -> Result<(), TuiError> {
+    use keys::Action;
+    for a in [
+        Action::BaseTranslation,
+        Action::TipTranslation,
+        Action::BaseRotation,
+        Action::TipRotation,
+    ] {
+        send_requests(app.perform(a), worker);
+        wait_idle(app, worker, deadline)?;
+    }
+    let down = KeyEvent::new(KeyCode::Down, KeyModifiers::NONE);
+    send_requests(app.perform(keys::Action::StepForward), worker);
+    let t0 = Instant::now();
+    while app.busy() && t0.elapsed() < Duration::from_secs(1) {
+        while let Ok(e) = worker.events.try_recv() {
+            app.on_worker_event(e);
+        }
+        let t = Instant::now();
+        app.handle_key(down);
+        let Ok(_) = terminal.draw(|f| ui::draw(f, app));
+        result.key_to_frame_long.push(t.elapsed());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    if app.busy() {
+        let t = Instant::now();
+        for e in app.perform(keys::Action::Cancel) {
+            if let Effect::Cancel(through) = e {
+                worker.cancel(through);
+            }
+        }
+        wait_idle(app, worker, deadline)?;
+        let Ok(_) = terminal.draw(|f| ui::draw(f, app));
+        result.cancel_to_idle = Some(t.elapsed());
+    }
+    Ok(())
 }
 
 /// Sends the solver requests among `effects` (the headless driver does nothing else).

@@ -1,7 +1,7 @@
 //! Drawing the explorer: one function per panel, each taking the [`App`] read-only. Only the
 //! 16 ANSI colours are used, so the screen reads the same on any terminal and over SSH.
 
-use super::app::{fmt_step, App, Message, PrecisionView};
+use super::app::{fmt_step, App, Message, PrecisionView, ViewMode, CURSOR_STEPS};
 use super::keys::BINDINGS;
 use super::stability;
 use crate::output::precision::{self, StudyReport};
@@ -29,7 +29,7 @@ pub const K1_PALETTE: [Color; 5] = [
     Color::Red,
 ];
 const SELECTED: Color = Color::White;
-const JOINT: Color = Color::LightMagenta;
+const JOINT: Color = Color::Gray;
 const K1_LINE: Color = Color::LightYellow;
 const K2_LINE: Color = Color::LightCyan;
 const OMEGA_LINE: Color = Color::LightMagenta;
@@ -47,7 +47,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
     }
     let [main, status] = Layout::vertical([
         Constraint::Min(0),
-        Constraint::Length(3 + message_lines(app, area.width)),
+        Constraint::Length(4 + message_lines(app, area.width)),
     ])
     .areas(area);
     let [views, plots] =
@@ -63,9 +63,27 @@ pub fn draw(frame: &mut Frame, app: &App) {
         .state
         .as_ref()
         .map(|s| K1Scale::of(&s.snapshot, app.natural_k1));
-    draw_view(frame, xy, app, View::XY, scale);
-    draw_view(frame, zy, app, View::ZY, scale);
-    draw_view(frame, zx, app, View::ZX, scale);
+    match app.view {
+        ViewMode::All => {
+            // the two side views at one scale, so their shapes compare
+            let per_dot = app.state.as_ref().map_or(0.0, |s| {
+                [(zy, View::ZY), (zx, View::ZX)]
+                    .iter()
+                    .map(|&(a, v)| {
+                        let inner = Block::new().borders(Borders::ALL).inner(a);
+                        let (x, y) = view_extent(app, &s.snapshot, v);
+                        dot_size(inner.width, inner.height, x, y)
+                    })
+                    .fold(0.0, f64::max)
+            });
+            draw_view(frame, xy, app, View::XY, scale, 0.0);
+            draw_view(frame, zy, app, View::ZY, scale, per_dot);
+            draw_view(frame, zx, app, View::ZX, scale, per_dot);
+        }
+        ViewMode::XY => draw_view(frame, views, app, View::XY, scale, 0.0),
+        ViewMode::ZY => draw_view(frame, views, app, View::ZY, scale, 0.0),
+        ViewMode::ZX => draw_view(frame, views, app, View::ZX, scale, 0.0),
+    }
     if app.show_precision {
         draw_precision(frame, plots, app);
     } else {
@@ -73,9 +91,51 @@ pub fn draw(frame: &mut Frame, app: &App) {
         draw_load_path(frame, load, app);
     }
     draw_status(frame, status, app);
+    if app.show_critical {
+        draw_critical(frame, area, app);
+    }
     if app.show_help {
         draw_help(frame, area, app);
     }
+}
+
+/// The critical points crossed so far, as a list over the screen.
+fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
+    let mut lines = vec![Line::from(Span::styled(
+        "  #  kind           ε         fz/(n Pcrit)  unstable",
+        Style::new().fg(DIM),
+    ))];
+    if app.critical.is_empty() {
+        lines.push(Line::from(" none crossed on this path yet"));
+    }
+    for (i, c) in app.critical.iter().enumerate() {
+        lines.push(Line::from(format!(
+            " {i:>2}  {:<13} {:>9.5}  {:>12.5}  {} → {}",
+            c.kind.name(),
+            c.eps,
+            c.load[2],
+            c.unstable_before,
+            c.unstable_after
+        )));
+    }
+    let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3).min(area.width);
+    let height = (lines.len() as u16 + 2).min(area.height);
+    let rect = Rect {
+        x: area.x + (area.width - width) / 2,
+        y: area.y + (area.height - height) / 2,
+        width,
+        height,
+    };
+    frame.render_widget(Clear, rect);
+    frame.render_widget(
+        Paragraph::new(lines).block(
+            Block::new()
+                .borders(Borders::ALL)
+                .title(" critical points ")
+                .title_bottom(Line::from(" x closes ").alignment(Alignment::Right)),
+        ),
+        rect,
+    );
 }
 
 /// The message for a terminal below [`MIN_WIDTH`] x [`MIN_HEIGHT`].
@@ -197,6 +257,19 @@ impl K1Scale {
 }
 
 /// A number in a few characters: 3 significant digits.
+/// A short number for the readout: as [`fmt_num`], with one digit in scientific notation
+/// and values below `1e-9` of `scale` shown as 0 (round-off of a symmetric state).
+pub fn fmt_short(v: f64, scale: f64) -> String {
+    if v.abs() <= 1e-9 * scale.abs() {
+        return "0".into();
+    }
+    let a = v.abs();
+    if a.is_finite() && !(1e-3..1e4).contains(&a) {
+        return format!("{v:.1e}");
+    }
+    fmt_num(v)
+}
+
 pub fn fmt_num(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return if v.is_finite() {
@@ -245,9 +318,28 @@ fn position_at(nodes: &[NodeState], s: f64) -> Option<[f64; 3]> {
 /// Bounds `[lo, hi]` of `range` grown so that both axes have the same length per braille
 /// dot in an area of `width` x `height` cells, centred on the data.
 pub fn fit_aspect(width: u16, height: u16, x: [f64; 2], y: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+    fit_scale(width, height, x, y, 0.0)
+}
+
+/// Length per braille dot that [`fit_aspect`] needs to show `x` by `y` in `width` x
+/// `height` cells.
+pub fn dot_size(width: u16, height: u16, x: [f64; 2], y: [f64; 2]) -> f64 {
     let (w, h) = (2.0 * width.max(1) as f64, 4.0 * height.max(1) as f64);
     let (dx, dy) = ((x[1] - x[0]).max(1e-9), (y[1] - y[0]).max(1e-9));
-    let per_dot = (dx / w).max(dy / h);
+    (dx / w).max(dy / h)
+}
+
+/// As [`fit_aspect`], at a length per dot of at least `min_per_dot` (views drawn at one
+/// scale share it).
+pub fn fit_scale(
+    width: u16,
+    height: u16,
+    x: [f64; 2],
+    y: [f64; 2],
+    min_per_dot: f64,
+) -> ([f64; 2], [f64; 2]) {
+    let (w, h) = (2.0 * width.max(1) as f64, 4.0 * height.max(1) as f64);
+    let per_dot = dot_size(width, height, x, y).max(min_per_dot);
     let (cx, cy) = (0.5 * (x[0] + x[1]), 0.5 * (y[0] + y[1]));
     let (hx, hy) = (0.5 * per_dot * w, 0.5 * per_dot * h);
     ([cx - hx, cx + hx], [cy - hy, cy + hy])
@@ -313,7 +405,14 @@ fn draw_rod(ctx: &mut Context, rod: &RodShape, view: View, color: impl Fn(f64) -
 
 /// One projection of the assembly: rods coloured by κ1, the selected rod in white on top,
 /// joints in magenta.
-fn draw_view(frame: &mut Frame, area: Rect, app: &App, view: View, scale: Option<K1Scale>) {
+fn draw_view(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    view: View,
+    scale: Option<K1Scale>,
+    per_dot: f64,
+) {
     let mut block = Block::new().borders(Borders::ALL).title(Span::styled(
         format!(" {} ", view.title()),
         Style::new().add_modifier(Modifier::BOLD),
@@ -330,7 +429,7 @@ fn draw_view(frame: &mut Frame, area: Rect, app: &App, view: View, scale: Option
             block = block.title_bottom(Line::from(vec![
                 Span::raw(" "),
                 Span::styled("━", Style::new().fg(SELECTED)),
-                Span::raw(format!(" rod {} ({chir}) ", app.selected_rod + 1)),
+                Span::raw(format!(" rod {} ({chir}) ", app.selected_rod)),
                 Span::styled("•", Style::new().fg(JOINT)),
                 Span::raw(" joints "),
             ]));
@@ -346,7 +445,7 @@ fn draw_view(frame: &mut Frame, area: Rect, app: &App, view: View, scale: Option
     }
     let inner = block.inner(area);
     let (x, y) = view_extent(app, snapshot, view);
-    let (x_bounds, y_bounds) = fit_aspect(inner.width, inner.height, x, y);
+    let (x_bounds, y_bounds) = fit_scale(inner.width, inner.height, x, y, per_dot);
     let joints: Vec<(f64, f64)> = snapshot
         .rods
         .iter()
@@ -439,7 +538,7 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
         .state
         .as_ref()
         .and_then(|s| s.snapshot.rods.get(app.selected_rod));
-    let block = curvature_block(rod);
+    let block = curvature_block(rod, app.no_color);
     let Some(rod) = rod else {
         return placeholder(frame, area, block, app);
     };
@@ -470,15 +569,42 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
                 .style(Style::new().fg(JOINT))
         })
         .collect();
-    for (data, color) in series.iter().zip([K1_LINE, K2_LINE, OMEGA_LINE]) {
+    for (c, (data, color)) in series
+        .iter()
+        .zip([K1_LINE, K2_LINE, OMEGA_LINE])
+        .enumerate()
+    {
+        let (graph, marker) = line_style(app.no_color, c);
         datasets.push(
             Dataset::default()
                 .data(data)
-                .graph_type(GraphType::Line)
-                .marker(Marker::Braille)
+                .graph_type(graph)
+                .marker(marker)
                 .style(Style::new().fg(color)),
         );
     }
+    let at = app.cursor as f64 / CURSOR_STEPS as f64;
+    let cursor = [(at, y[0]), (at, y[1])];
+    datasets.push(
+        Dataset::default()
+            .data(&cursor)
+            .graph_type(GraphType::Line)
+            .marker(Marker::Braille)
+            .style(Style::new().fg(DIM)),
+    );
+    let values = curvature_at(&rod.nodes, at);
+    let block = block.title_bottom(
+        Line::from({
+            let big = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            format!(
+                " s/L {at:.2} κ1 {} κ2 {} Ω {} ",
+                fmt_short(values[0], big),
+                fmt_short(values[1], big),
+                fmt_short(values[2], big)
+            )
+        })
+        .alignment(Alignment::Right),
+    );
     let chart = Chart::new(datasets)
         .block(block)
         .legend_position(None)
@@ -499,17 +625,18 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
 }
 
 /// The curvature panel's frame: the rod and the legend of its lines.
-fn curvature_block(rod: Option<&RodShape>) -> Block<'static> {
+fn curvature_block(rod: Option<&RodShape>, no_color: bool) -> Block<'static> {
     let mut title = vec![Span::styled(
         match rod {
-            Some(r) => format!(" rod {} ({}) ", r.rod + 1, r.chirality.name()),
+            Some(r) => format!(" rod {} ({}) ", r.rod, r.chirality.name()),
             None => " curvature ".to_string(),
         },
         Style::new().add_modifier(Modifier::BOLD),
     )];
-    title.extend(key_span("━", "κ1", K1_LINE));
-    title.extend(key_span("━", "κ2", K2_LINE));
-    title.extend(key_span("━", "Ω", OMEGA_LINE));
+    let marks = legend_marks(no_color);
+    title.extend(key_span(marks[0], "κ1", K1_LINE));
+    title.extend(key_span(marks[1], "κ2", K2_LINE));
+    title.extend(key_span(marks[2], "Ω", OMEGA_LINE));
     if rod.is_some_and(|r| !r.joints.is_empty()) {
         title.extend(key_span("╷", "joints", JOINT));
     }
@@ -517,6 +644,39 @@ fn curvature_block(rod: Option<&RodShape>) -> Block<'static> {
         .borders(Borders::ALL)
         .title(Line::from(title))
         .title_bottom(Line::from(" (1/m) ").alignment(Alignment::Left))
+}
+
+/// How curve `c` (0, 1, 2) of a plot is drawn: all lines in colour; without colour
+/// (`NO_COLOR`) a line, dots and blocks, so the legend's marks tell them apart.
+fn line_style(no_color: bool, c: usize) -> (GraphType, Marker) {
+    match (no_color, c) {
+        (false, _) | (true, 0) => (GraphType::Line, Marker::Braille),
+        (true, 1) => (GraphType::Scatter, Marker::Dot),
+        (true, _) => (GraphType::Scatter, Marker::HalfBlock),
+    }
+}
+
+/// The legend's marks of the three curves of a plot (see [`line_style`]).
+fn legend_marks(no_color: bool) -> [&'static str; 3] {
+    if no_color {
+        ["━", "•", "▀"]
+    } else {
+        ["━", "━", "━"]
+    }
+}
+
+/// κ1, κ2, Ω at `s/L = at`, interpolated between nodes.
+fn curvature_at(nodes: &[NodeState], at: f64) -> [f64; 3] {
+    let Some(k) = nodes.windows(2).position(|w| w[1].s_over_l >= at) else {
+        return nodes.last().map_or([f64::NAN; 3], |n| n.curvature);
+    };
+    let (a, b) = (&nodes[k], &nodes[k + 1]);
+    let t = if b.s_over_l > a.s_over_l {
+        ((at - a.s_over_l) / (b.s_over_l - a.s_over_l)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    std::array::from_fn(|i| a.curvature[i] + t * (b.curvature[i] - a.curvature[i]))
 }
 
 /// A tick of height `tick` up from `bottom` at each joint of `rod`, at its s/L.
@@ -539,6 +699,8 @@ struct Series {
     points: Vec<(f64, f64)>,
     color: Color,
     unstable: bool,
+    component: usize,
+    no_color: bool,
 }
 
 /// The load path so far: averaged normalised fx, fy, fz against ε, the current point as a
@@ -546,7 +708,26 @@ struct Series {
 fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let path = &app.path;
     let stretches = stability::stretches(path.len(), |k| stability::is_unstable(&path[k]));
-    let block = load_block(stretches.iter().any(|s| s.unstable));
+    let mut block = load_block(stretches.iter().any(|s| s.unstable), app.no_color);
+    if !app.critical.is_empty() {
+        block = block.title_bottom(Line::from(vec![
+            Span::styled(" ×", Style::new().fg(Color::Yellow)),
+            Span::raw(format!("critical {} (x lists) ", app.critical.len())),
+        ]));
+    }
+    if let Some(p) = app.path_cursor.and_then(|k| path.get(k)) {
+        block = block.title_bottom(
+            Line::from(format!(
+                " ◆ step {} ε {:.5}: fx {} fy {} fz {} ",
+                p.step,
+                p.eps,
+                fmt_num(p.load[0]),
+                fmt_num(p.load[1]),
+                fmt_num(p.load[2])
+            ))
+            .alignment(Alignment::Right),
+        );
+    }
     if path.is_empty() {
         return placeholder(frame, area, block, app);
     }
@@ -555,7 +736,13 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
         path.iter().flat_map(|p| p.load).chain([0.0]),
         0.2,
     ));
-    let series = load_series(path, &stretches);
+    let series = load_series(path, &stretches, app.no_color);
+    let critical: Vec<(f64, f64)> = app.critical.iter().map(|c| (c.eps, c.load[2])).collect();
+    let cursor: Vec<(f64, f64)> = app
+        .path_cursor
+        .and_then(|k| path.get(k))
+        .map(|p| (0..3).map(|c| (p.eps, p.load[c])).collect())
+        .unwrap_or_default();
     let now: Vec<(f64, f64)> = app
         .state
         .as_ref()
@@ -567,7 +754,7 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
             let (graph, marker) = if s.unstable {
                 (GraphType::Scatter, Marker::Dot)
             } else {
-                (GraphType::Line, Marker::Braille)
+                line_style(s.no_color, s.component)
             };
             Dataset::default()
                 .data(&s.points)
@@ -582,6 +769,20 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
             .graph_type(GraphType::Scatter)
             .marker(Marker::Block)
             .style(Style::new().fg(SELECTED)),
+    );
+    datasets.push(
+        Dataset::default()
+            .data(&cursor)
+            .graph_type(GraphType::Scatter)
+            .marker(Marker::Bar)
+            .style(Style::new().fg(Color::White)),
+    );
+    datasets.push(
+        Dataset::default()
+            .data(&critical)
+            .graph_type(GraphType::Scatter)
+            .marker(Marker::Block)
+            .style(Style::new().fg(Color::Yellow)),
     );
     let chart = Chart::new(datasets)
         .block(block)
@@ -603,14 +804,15 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
 }
 
 /// The load panel's frame: the legend of its lines (unstable stretches once there are).
-fn load_block(any_unstable: bool) -> Block<'static> {
+fn load_block(any_unstable: bool, no_color: bool) -> Block<'static> {
     let mut title = vec![Span::styled(
         " load Σf/(n Pcrit) ",
         Style::new().add_modifier(Modifier::BOLD),
     )];
-    title.extend(key_span("━", "fx", FX_LINE));
-    title.extend(key_span("━", "fy", FY_LINE));
-    title.extend(key_span("━", "fz", FZ_LINE));
+    let marks = legend_marks(no_color);
+    title.extend(key_span(marks[0], "fx", FX_LINE));
+    title.extend(key_span(marks[1], "fy", FY_LINE));
+    title.extend(key_span(marks[2], "fz", FZ_LINE));
     if any_unstable {
         title.extend(key_span("•", "unstable", DIM));
     }
@@ -635,7 +837,11 @@ fn eps_bounds(app: &App) -> [f64; 2] {
 }
 
 /// fx, fy, fz along each stretch of stable or unstable states.
-fn load_series(path: &[LoadPoint], stretches: &[stability::Stretch]) -> Vec<Series> {
+fn load_series(
+    path: &[LoadPoint],
+    stretches: &[stability::Stretch],
+    no_color: bool,
+) -> Vec<Series> {
     let colors = [FX_LINE, FY_LINE, FZ_LINE];
     stretches
         .iter()
@@ -647,6 +853,8 @@ fn load_series(path: &[LoadPoint], stretches: &[stability::Stretch]) -> Vec<Seri
                     .collect(),
                 color: colors[c],
                 unstable: s.unstable,
+                component: c,
+                no_color,
             })
         })
         .collect()
@@ -864,7 +1072,8 @@ fn message_lines(app: &App, width: u16) -> u16 {
 
 /// Case and loading; boundary conditions; the last solve; messages (wrapped).
 fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
-    let [a, b, c, d] = Layout::vertical([
+    let [a, r, b, c, d] = Layout::vertical([
+        Constraint::Length(1),
         Constraint::Length(1),
         Constraint::Length(1),
         Constraint::Length(1),
@@ -872,6 +1081,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
     ])
     .areas(area);
     frame.render_widget(Paragraph::new(case_line(app)), a);
+    frame.render_widget(Paragraph::new(readout_line(app)), r);
     frame.render_widget(Paragraph::new(boundary_line(app)), b);
     frame.render_widget(Paragraph::new(solve_line(app)), c);
     frame.render_widget(
@@ -880,16 +1090,74 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
     );
 }
 
-/// What the explorer is doing: solving (what), running, or idle.
+/// The numbers of the state on screen: ε, h, the loads, energy, stability, and the
+/// selected rod's tip reaction.
+fn readout_line(app: &App) -> Line<'static> {
+    let Some(s) = app.state.as_ref() else {
+        return Line::from(Span::styled("no converged state", Style::new().fg(DIM)));
+    };
+    let p = &s.point;
+    let (dirs, lowest) = match p.stability {
+        Some(st) => (
+            st.unstable_directions.to_string(),
+            st.lowest_eigenvalue.map_or("–".into(), fmt_num),
+        ),
+        None => ("–".into(), "–".into()),
+    };
+    let big = p.load.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut spans = vec![
+        Span::raw(format!("h {} m", fmt_num(p.height))),
+        sep(),
+        Span::raw(format!(
+            "fx {} fy {} fz/nPc ",
+            fmt_short(p.load[0], big),
+            fmt_short(p.load[1], big)
+        )),
+        bold(fmt_short(p.load[2], big)),
+        sep(),
+        Span::raw(format!("E {} J", fmt_num(p.energy))),
+        sep(),
+        Span::raw(format!("unstable {dirs} λmin {lowest}")),
+    ];
+    if let Some(r) = p.reactions.get(app.selected_rod) {
+        let f = r.tip.force;
+        let big = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        spans.push(sep());
+        spans.push(Span::raw(format!(
+            "rod {} tip F ({}, {}, {}) N",
+            r.rod,
+            fmt_short(f[0], big),
+            fmt_short(f[1], big),
+            fmt_short(f[2], big)
+        )));
+    }
+    Line::from(spans)
+}
+
+/// What the explorer is doing: solving (what, for how long, how far), running, or idle.
 fn activity(app: &App) -> Span<'static> {
+    let solving = |job: &str| {
+        // a step drops "solving" so that the cancel key fits 80 columns
+        let what = if job.starts_with('ε') {
+            job.to_string()
+        } else {
+            format!("solving {job}")
+        };
+        let mut text = match app.elapsed {
+            Some(e) => format!("{what}… {:.1} s · c cancels", e.as_secs_f64()),
+            None => format!("solving {job}…"),
+        };
+        if let Some(p) = app.progress {
+            text.push_str(&format!(" · at {:.5} ({} steps)", p.parameter, p.steps));
+        }
+        text
+    };
     match (&app.solving, app.running) {
         (Some(job), true) => Span::styled(
-            format!("▶ running · solving {job}…"),
+            format!("▶ running · {}", solving(job)),
             Style::new().fg(Color::Yellow),
         ),
-        (Some(job), false) => {
-            Span::styled(format!("solving {job}…"), Style::new().fg(Color::Yellow))
-        }
+        (Some(job), false) => Span::styled(solving(job), Style::new().fg(Color::Yellow)),
         (None, true) => Span::styled("▶ running", Style::new().fg(Color::Yellow)),
         (None, false) => Span::styled("idle", Style::new().fg(Color::Green)),
     }

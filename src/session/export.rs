@@ -1,0 +1,120 @@
+//! The explorer's exports, shared with `spira replay`: the current state, the load path
+//! with the conditions of each point and the session's events, and the tip reactions, in
+//! the formats of `spira run` (the load table gains a `conditions` column and `# event`
+//! comment lines).
+
+use crate::model::boundary::BoundaryConditions;
+use crate::output;
+use crate::results::{LoadPoint, Snapshot};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A change the user made during the session, at the path point it applies from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SessionEvent {
+    /// Index in the path of the first point under the change (the next point).
+    pub from_point: usize,
+    /// `ε` asked for when the change was made.
+    pub eps: f64,
+    pub what: String,
+}
+
+/// A file-name-safe version of a case name.
+pub fn sanitise(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        "case".into()
+    } else {
+        s
+    }
+}
+
+/// File names of an export of the state at output step `step` and `ε = eps` of case
+/// `label`: state, load path, reactions.
+pub fn names(label: &str, step: usize, eps: f64) -> [String; 3] {
+    let stem = format!("{}-step{step}-eps{eps:.4}", sanitise(label));
+    [
+        format!("{stem}-state.csv"),
+        format!("{stem}-load.csv"),
+        format!("{stem}-reactions.csv"),
+    ]
+}
+
+/// The load table of `spira run` with the conditions of each point (`conditions[k]` for
+/// `path[k]`) in a last column and the session's events as `# event` comment lines.
+pub fn load_csv(
+    label: &str,
+    path: &[LoadPoint],
+    conditions: &[BoundaryConditions],
+    events: &[SessionEvent],
+) -> String {
+    let base = output::load_csv(label, path);
+    let mut out = String::with_capacity(base.len() + 64 * path.len());
+    let mut row = 0usize;
+    let mut header_done = false;
+    for line in base.lines() {
+        if line.starts_with('#') {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        }
+        if !header_done {
+            out.push_str("# conditions: the boundary conditions the point was solved under\n");
+            for e in events {
+                out.push_str(&format!(
+                    "# event: from point {} (eps asked {:.6}): {}\n",
+                    e.from_point, e.eps, e.what
+                ));
+            }
+            out.push_str(line);
+            out.push_str(",conditions\n");
+            header_done = true;
+            continue;
+        }
+        out.push_str(line);
+        out.push(',');
+        if let Some(bc) = conditions.get(row) {
+            out.push_str(&bc.label());
+        }
+        out.push('\n');
+        row += 1;
+    }
+    out
+}
+
+/// Writes the three tables of the state on screen and the path into `dir`; returns the
+/// files written.
+pub fn write(
+    dir: &Path,
+    label: &str,
+    snapshot: &Snapshot,
+    path: &[LoadPoint],
+    conditions: &[BoundaryConditions],
+    events: &[SessionEvent],
+) -> std::io::Result<Vec<PathBuf>> {
+    let last = path
+        .last()
+        .ok_or_else(|| std::io::Error::other("no converged state yet"))?;
+    std::fs::create_dir_all(dir)?;
+    let texts = [
+        output::state_csv(label, snapshot),
+        load_csv(label, path, conditions, events),
+        output::reactions_csv(label, path),
+    ];
+    let mut files = Vec::new();
+    for (name, text) in names(label, last.step, last.eps).iter().zip(texts) {
+        let file = dir.join(name);
+        output::write_atomic(&file, &text)?;
+        files.push(file);
+    }
+    Ok(files)
+}
