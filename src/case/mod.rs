@@ -11,12 +11,21 @@
 mod error;
 mod raw;
 mod settings;
+mod size;
 mod tables;
 mod target;
 
 pub use error::CaseError;
 pub use settings::{Accuracy, Discretisation, Geometry, Loading};
+pub use size::{available_memory, SizeEstimate, TooLarge};
+pub use tables::{
+    LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MIN_ELEMENTS_PER_TURN, PITCH_RATIO,
+    STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
+};
 pub use target::TargetError;
+
+/// The most output steps a case (`loading.steps`) or the command line (`--steps`) may ask.
+pub const MAX_STEPS: usize = 100_000;
 
 use crate::discretisation::model::DiscreteModel;
 use crate::model::assembly::Assembly;
@@ -75,11 +84,13 @@ impl Case {
         let raw = RawCase::from_text(text, file)?;
         let ck = Checker { file, text };
         let geometry = tables::geometry(&raw.geometry, &ck)?;
-        let stiffness = tables::stiffness(&raw.stiffness, &ck)?;
+        let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
         let boundary = tables::boundary(&raw.boundary);
         let loading = tables::loading(&raw.loading, &geometry, &ck)?;
-        let discretisation = tables::discretisation(&raw.discretisation, geometry.helices, &ck)?;
-        let solver = tables::solver(&raw.solver, &ck)?;
+        let discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
+        let mut solver = tables::solver(&raw.solver, &ck)?;
+        // Newton's balance rows in units of the stiffness (scale-free convergence)
+        solver.newton.force_scale = stiffness.b1;
         Ok(Case {
             name: raw.name.unwrap_or_else(|| stem.to_string()),
             geometry,
@@ -110,6 +121,11 @@ impl Case {
         c.discretisation.symmetric |= n >= 4 && n % 2 == 0;
         c.solver.lowest_eigenvalue = false;
         c
+    }
+
+    /// The size of the case's problem, estimated from its mesh without building it.
+    pub fn size_estimate(&self) -> SizeEstimate {
+        SizeEstimate::of(self)
     }
 
     /// The discrete model of the case.

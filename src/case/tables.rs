@@ -25,8 +25,11 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         "geometry.radius",
         &g.radius,
         0.06,
-        |a| a >= 0.0,
-        "a positive radius in m (0 for a straight rod)",
+        |a| a == 0.0 || in_range(a, LENGTH_RANGE),
+        &format!(
+            "a radius in m from {} to {} (0 for a straight rod)",
+            LENGTH_RANGE.0, LENGTH_RANGE.1
+        ),
     )?;
     if radius == 0.0 && helices > 1 {
         return Err(ck.invalid(
@@ -39,16 +42,122 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         "geometry.pitch",
         &g.pitch,
         0.025,
-        positive,
-        "a positive pitch parameter b in m",
+        |b| in_range(b, LENGTH_RANGE),
+        &format!(
+            "a pitch parameter b in m from {} to {}",
+            LENGTH_RANGE.0, LENGTH_RANGE.1
+        ),
     )?;
+    if radius > 0.0 && !in_range(pitch / radius, PITCH_RATIO) {
+        let (key, at) = if g.pitch.is_some() {
+            ("geometry.pitch", span(&g.pitch))
+        } else {
+            ("geometry.radius", span(&g.radius))
+        };
+        return Err(ck.invalid(
+            key,
+            at,
+            format!(
+                "expected a pitch/radius ratio b/a from {} to {}, found {} (b = {} m, a = {} m)",
+                PITCH_RATIO.0,
+                PITCH_RATIO.1,
+                num(pitch / radius),
+                num(pitch),
+                num(radius)
+            ),
+        ));
+    }
     let length = rod_length(g, radius.hypot(pitch), ck)?;
-    Ok(Geometry {
+    let geometry = Geometry {
         helices,
         radius,
         pitch,
         length,
-    })
+    };
+    derived_geometry(g, &geometry, ck)?;
+    Ok(geometry)
+}
+
+/// The quantities derived from the geometry: the rod length `L` within
+/// [`LENGTH_RANGE`], the number of turns within [`TURNS_RANGE`] (a helix), the initial
+/// height `h0` finite and positive, and the number of joints at most [`MAX_JOINTS`].
+fn derived_geometry(g: &RawGeometry, geometry: &Geometry, ck: &Checker) -> Result<(), CaseError> {
+    // the key the length comes from
+    let (key, at) = if g.length.is_some() {
+        ("geometry.length", span(&g.length))
+    } else if g.turns.is_some() {
+        ("geometry.turns", span(&g.turns))
+    } else if g.radius.is_some() {
+        ("geometry.radius", span(&g.radius))
+    } else {
+        ("geometry.pitch", span(&g.pitch))
+    };
+    let length = geometry.length;
+    if !in_range(length, LENGTH_RANGE) {
+        return Err(ck.invalid(
+            key,
+            at,
+            format!(
+                "the rod length L would be {} m; expected L from {} to {} m",
+                num(length),
+                LENGTH_RANGE.0,
+                LENGTH_RANGE.1
+            ),
+        ));
+    }
+    if geometry.radius > 0.0 {
+        let turns = geometry.turns();
+        if !in_range(turns, TURNS_RANGE) {
+            return Err(ck.invalid(
+                key,
+                at,
+                format!(
+                    "the helices would have {} turns (L = {} m); expected from {} to {} turns",
+                    num(turns),
+                    num(length),
+                    TURNS_RANGE.0,
+                    TURNS_RANGE.1
+                ),
+            ));
+        }
+    }
+    let h0 = geometry.height0();
+    if !(h0.is_finite() && h0 > 0.0) {
+        return Err(ck.invalid(
+            key,
+            at,
+            format!("the initial height h0 = b L / c would be {}", num(h0)),
+        ));
+    }
+    let joints = estimated_joints(geometry);
+    if joints > MAX_JOINTS as f64 {
+        let (key, at) = if g.helices.is_some() {
+            ("geometry.helices", span(&g.helices))
+        } else {
+            (key, at)
+        };
+        return Err(ck.invalid(
+            key,
+            at,
+            format!(
+                "{} helices of {} turns would have about {} pin joints; expected at most {MAX_JOINTS} (fewer helices or turns)",
+                geometry.helices,
+                num(geometry.turns()),
+                num(joints.round())
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// An upper estimate of the number of pin joints: each of the `(n/2)²` right/left pairs of
+/// rods crosses twice per turn, and possibly at both ends.
+pub(super) fn estimated_joints(geometry: &Geometry) -> f64 {
+    if geometry.helices < 2 || geometry.radius == 0.0 {
+        return 0.0;
+    }
+    let half = (geometry.helices / 2) as f64;
+    half * half * (2.0 * geometry.turns() + 2.0)
 }
 
 /// `geometry.helices`: 1, or an even number (as many right- as left-handed helices).
@@ -83,16 +192,22 @@ fn rod_length(g: &RawGeometry, c: f64, ck: &Checker) -> Result<f64, CaseError> {
             "geometry.length",
             &g.length,
             0.0,
-            positive,
-            "a positive rod length in m",
+            |l| in_range(l, LENGTH_RANGE),
+            &format!(
+                "a rod length in m from {} to {}",
+                LENGTH_RANGE.0, LENGTH_RANGE.1
+            ),
         ),
         (turns, None) => {
             let turns = ck.number(
                 "geometry.turns",
                 turns,
                 3.5,
-                positive,
-                "a positive number of turns",
+                |t| in_range(t, TURNS_RANGE),
+                &format!(
+                    "a number of turns from {} to {}",
+                    TURNS_RANGE.0, TURNS_RANGE.1
+                ),
             )?;
             Ok(2.0 * PI * c * turns)
         }
@@ -101,19 +216,62 @@ fn rod_length(g: &RawGeometry, c: f64, ck: &Checker) -> Result<f64, CaseError> {
 
 /// `[stiffness]`: bending stiffnesses `B1`, `B2` about `d1`, `d2` and torsional stiffness
 /// `B3` (N m²); the thesis's 1, 1, 2.
-pub(super) fn stiffness(s: &RawStiffness, ck: &Checker) -> Result<Stiffness, CaseError> {
-    let bending = "a positive bending stiffness in N m²";
-    Ok(Stiffness {
-        b1: ck.number("stiffness.b1", &s.b1, 1.0, positive, bending)?,
-        b2: ck.number("stiffness.b2", &s.b2, 1.0, positive, bending)?,
+pub(super) fn stiffness(
+    s: &RawStiffness,
+    geometry: &Geometry,
+    ck: &Checker,
+) -> Result<Stiffness, CaseError> {
+    let (lo, hi) = STIFFNESS_RANGE;
+    let bending = format!("a bending stiffness in N m² from {lo} to {hi}");
+    let ok = |b: f64| in_range(b, STIFFNESS_RANGE);
+    let stiffness = Stiffness {
+        b1: ck.number("stiffness.b1", &s.b1, 1.0, ok, &bending)?,
+        b2: ck.number("stiffness.b2", &s.b2, 1.0, ok, &bending)?,
         b3: ck.number(
             "stiffness.b3",
             &s.b3,
             2.0,
-            positive,
-            "a positive torsional stiffness in N m²",
+            ok,
+            &format!("a torsional stiffness in N m² from {lo} to {hi}"),
         )?,
-    })
+    };
+    for (key, value, given) in [
+        ("stiffness.b2", stiffness.b2, &s.b2),
+        ("stiffness.b3", stiffness.b3, &s.b3),
+    ] {
+        let ratio = value / stiffness.b1;
+        if !in_range(ratio, STIFFNESS_RATIO) {
+            let (key, at) = if given.is_some() {
+                (key, span(given))
+            } else {
+                ("stiffness.b1", span(&s.b1))
+            };
+            return Err(ck.invalid(
+                key,
+                at,
+                format!(
+                    "expected {}/B1 from {} to {}, found {} (B1 = {} N m²)",
+                    key.trim_start_matches("stiffness.").to_uppercase(),
+                    STIFFNESS_RATIO.0,
+                    STIFFNESS_RATIO.1,
+                    num(ratio),
+                    num(stiffness.b1)
+                ),
+            ));
+        }
+    }
+    let pcrit = stiffness.euler_load(geometry.length);
+    if !(pcrit.is_finite() && pcrit > 0.0 && pcrit.is_normal()) {
+        return Err(ck.invalid(
+            "stiffness.b1",
+            span(&s.b1),
+            format!(
+                "the reference load Pcrit = B1 (2π/L)² would be {} N",
+                num(pcrit)
+            ),
+        ));
+    }
+    Ok(stiffness)
 }
 
 /// `[boundary]`: the supports of the base and the tip, and the joints at the crossings.
@@ -159,7 +317,7 @@ pub(super) fn loading(
         "loading.steps",
         &l.steps,
         10,
-        (1, 100_000),
+        (1, super::MAX_STEPS as i64),
         "a number of output steps",
     )?;
     Ok(Loading {
@@ -174,9 +332,10 @@ pub(super) fn loading(
 /// whether the symmetric reduction is used; it needs the number of helices.
 pub(super) fn discretisation(
     d: &RawDiscretisation,
-    helices: usize,
+    geometry: &Geometry,
     ck: &Checker,
 ) -> Result<Discretisation, CaseError> {
+    let helices = geometry.helices;
     let accuracy = accuracy(d, ck)?;
     let elements = ck.integer(
         "discretisation.elements",
@@ -185,6 +344,22 @@ pub(super) fn discretisation(
         (1, 100_000),
         "a number of elements per rod",
     )?;
+    if geometry.radius > 0.0 && accuracy.is_none() {
+        // the mesh a rod gets: at least `elements`, and a vertex at every joint
+        let per_rod = elements as f64 + estimated_joints(geometry) / (helices / 2).max(1) as f64;
+        let per_turn = per_rod / geometry.turns();
+        if !(MIN_ELEMENTS_PER_TURN..=MAX_ELEMENTS_PER_TURN).contains(&per_turn) {
+            return Err(ck.invalid(
+                "discretisation.elements",
+                span(&d.elements),
+                format!(
+                    "expected from {MIN_ELEMENTS_PER_TURN} to {MAX_ELEMENTS_PER_TURN} elements per turn of helix, found {} ({elements} elements per rod over {} turns)",
+                    num(per_turn),
+                    num(geometry.turns())
+                ),
+            ));
+        }
+    }
     Ok(Discretisation {
         elements,
         order: d.order.unwrap_or(Order::Quadratic),
@@ -250,8 +425,11 @@ pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings
         "solver.tolerance",
         &s.tolerance,
         d.newton.tolerance,
-        positive,
-        "a positive residual tolerance",
+        |t| in_range(t, TOLERANCE_RANGE),
+        &format!(
+            "a residual tolerance from {:e} to {:e} (relative to the stiffness B1: a looser one accepts states that are not equilibria)",
+            TOLERANCE_RANGE.0, TOLERANCE_RANGE.1
+        ),
     )?;
     solver.newton.max_iterations = ck.integer(
         "solver.max_iterations",
@@ -281,6 +459,44 @@ pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings
 
 fn positive(v: f64) -> bool {
     v > 0.0
+}
+
+/// Lengths (radius when not 0, pitch parameter, rod length), m.
+pub const LENGTH_RANGE: (f64, f64) = (1e-6, 1e6);
+/// Pitch over radius `b/a` of a helix: flatter or steeper helices make the KKT matrix
+/// ill-conditioned (the rise per turn against the circumference).
+pub const PITCH_RATIO: (f64, f64) = (1e-3, 1e3);
+/// Turns of a helix (`L / (2π c)`).
+pub const TURNS_RANGE: (f64, f64) = (1e-2, 1e3);
+/// Stiffnesses `B1`, `B2`, `B3`, N m².
+pub const STIFFNESS_RANGE: (f64, f64) = (1e-12, 1e12);
+/// `B2/B1` and `B3/B1`.
+pub const STIFFNESS_RATIO: (f64, f64) = (1e-4, 1e4);
+/// Elements per turn of a helix (the elements per rod, joints' vertices included, over the
+/// turns): fewer cannot represent the turn, more is all round-off.
+pub const MIN_ELEMENTS_PER_TURN: f64 = 1.0;
+pub const MAX_ELEMENTS_PER_TURN: f64 = 1e4;
+/// `solver.tolerance`: below round-off Newton never converges, above it accepts states
+/// that are not equilibria (the natural state as the answer of the first step).
+pub const TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-6);
+/// Pin joints of an assembly.
+pub const MAX_JOINTS: usize = 1_000_000;
+/// `|P/Pcrit|` of a load-control target.
+pub const MAX_LOAD: f64 = 100.0;
+
+/// `lo ≤ v ≤ hi` (false for NaN).
+fn in_range(v: f64, (lo, hi): (f64, f64)) -> bool {
+    v >= lo && v <= hi
+}
+
+/// A number for a message: as Rust prints it, in scientific notation when it would be long.
+pub(super) fn num(x: f64) -> String {
+    let a = x.abs();
+    if x != 0.0 && a.is_finite() && !(1e-4..1e6).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// Where a value given in the file is (the start of the text when it is not given).
@@ -320,7 +536,7 @@ impl Checker<'_> {
             Some(v) => Err(self.invalid(
                 key,
                 v.span(),
-                format!("expected {expected}, found {}", v.get_ref()),
+                format!("expected {expected}, found {}", num(*v.get_ref())),
             )),
         }
     }

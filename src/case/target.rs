@@ -6,6 +6,7 @@
 //! Under load control the target `P / Pcrit` only has to be a finite number.
 
 use super::settings::Geometry;
+use super::tables::num;
 use crate::model::loading::Control;
 use std::fmt;
 
@@ -14,6 +15,9 @@ use std::fmt;
 pub enum TargetError {
     /// Load control: `P / Pcrit` is NaN or infinite.
     LoadNotFinite { load: f64 },
+    /// Load control: `|P / Pcrit|` beyond [`super::MAX_LOAD`] (a path of more than
+    /// `MAX_LOAD / max_step` steps, far past every critical load of a rod).
+    LoadOutOfRange { load: f64 },
     /// Displacement control: `ε` is NaN or infinite. `min_eps = 1 − L/h0` is the lower
     /// limit of the admissible `ε`.
     RatioNotFinite { eps: f64, min_eps: f64 },
@@ -36,8 +40,16 @@ impl fmt::Display for TargetError {
             TargetError::LoadNotFinite { load } => {
                 write!(f, "expected a finite load P/Pcrit, found {load}")
             }
+            TargetError::LoadOutOfRange { load } => {
+                let max = super::MAX_LOAD;
+                write!(
+                    f,
+                    "expected a load P/Pcrit from -{max} to {max}, found {}",
+                    super::tables::num(load)
+                )
+            }
             TargetError::RatioNotFinite { eps, min_eps } => {
-                write!(f, "{}, found {eps}", admissible_ratios(min_eps))
+                write!(f, "{}, found {}", admissible_ratios(min_eps), num(eps))
             }
             TargetError::TipOnOrBelowBase {
                 eps,
@@ -47,8 +59,9 @@ impl fmt::Display for TargetError {
                 let place = if eps == 1.0 { "on" } else { "below" };
                 write!(
                     f,
-                    "{}, found {eps}: {}, {place} the base",
+                    "{}, found {}: {}, {place} the base",
                     admissible_ratios(min_eps),
+                    num(eps),
                     tip_height(height)
                 )
             }
@@ -62,8 +75,9 @@ impl fmt::Display for TargetError {
                 let place = if eps == min_eps { "equal to" } else { "beyond" };
                 write!(
                     f,
-                    "{}, found {eps}: {}, {place} the rod length L = {} m (the rod pulled straight; h0 = {} m)",
+                    "{}, found {}: {}, {place} the rod length L = {} m (the rod pulled straight; h0 = {} m)",
                     admissible_ratios(min_eps),
+                    num(eps),
                     tip_height(height),
                     short(length),
                     short(height0)
@@ -96,10 +110,12 @@ pub(super) fn check_target(
     target: f64,
 ) -> Result<(), TargetError> {
     if control == Control::Force {
-        return if target.is_finite() {
-            Ok(())
-        } else {
+        return if !target.is_finite() {
             Err(TargetError::LoadNotFinite { load: target })
+        } else if target.abs() > super::MAX_LOAD {
+            Err(TargetError::LoadOutOfRange { load: target })
+        } else {
+            Ok(())
         };
     }
     let eps = target;
