@@ -161,16 +161,11 @@ fn steps_flag(steps: Option<u64>, case: &Case) -> Result<usize> {
 /// in memory (unless `force`).
 fn check_size(case: &Case, force: bool) -> Result<()> {
     let estimate = case.size_estimate();
-    let available = spira::case::available_memory();
-    if estimate.is_large() || available.is_some_and(|a| estimate.memory_bytes() > a) {
-        println!("size estimate: {estimate}");
-    }
-    if let Err(e) = estimate.check_fits(available) {
-        if force {
-            println!("warning: {e}; solving anyway (--force)");
-        } else {
-            bail!("{e}; --force solves it anyway");
-        }
+    match estimate.check_fits(spira::case::available_memory()) {
+        Err(e) if !force => bail!("{e}; --force solves it anyway"),
+        Err(e) => println!("warning: {e}; solving anyway (--force)"),
+        Ok(()) if estimate.is_large() => println!("size estimate: {estimate}"),
+        Ok(()) => {}
     }
     Ok(())
 }

@@ -94,10 +94,26 @@ impl CaseError {
 
     /// A grammar error of the TOML text (reported before any key is looked at).
     pub(super) fn syntax(e: &toml::de::Error, text: &str, file: &str) -> CaseError {
+        let span = e.span().unwrap_or(0..0);
+        let mut message = plain_types(e.message().trim());
+        if message.starts_with("duplicate key") && !message.contains('`') {
+            // name the key: the text of the line up to its `=`
+            let key = line_at(text, &span)
+                .split('=')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string();
+            if !key.is_empty() && !key.starts_with('[') {
+                message = format!("duplicate key `{key}` (each key may be given once)");
+            } else {
+                message = format!("{message} (each key and table may be given once)");
+            }
+        }
         CaseError::Syntax {
             file: file.to_string(),
-            line: line_of(text, e.span().unwrap_or(0..0).start),
-            message: plain_types(e.message().trim()),
+            line: line_of(text, span.start),
+            message,
         }
     }
 
@@ -122,6 +138,47 @@ impl CaseError {
             };
         }
         let key = keys.join(".");
+        let value = text
+            .get(span.clone())
+            .unwrap_or("")
+            .trim()
+            .chars()
+            .take(40)
+            .collect::<String>();
+        if message.contains("$__toml_private_datetime")
+            || (message.starts_with("invalid type: table")
+                && value.starts_with(|c: char| c.is_ascii_digit()))
+        {
+            let expected = message
+                .split_once("expected ")
+                .map_or("another value".to_string(), |(_, e)| e.to_string());
+            return CaseError::WrongType {
+                file,
+                line,
+                key,
+                message: format!("expected {expected}, found a TOML date or time `{value}`"),
+            };
+        }
+        if let Some(allowed) = allowed_names(&key) {
+            if message.contains("wanted string or table") || message.starts_with("invalid type") {
+                return CaseError::WrongType {
+                    file,
+                    line,
+                    key,
+                    message: format!("expected one of {allowed}, found `{value}`"),
+                };
+            }
+        }
+        if message.starts_with("invalid value: integer") {
+            return CaseError::WrongType {
+                file,
+                line,
+                key,
+                message: format!(
+                    "the whole number `{value}` is out of range (beyond 64 bits); see the key's range in the README"
+                ),
+            };
+        }
         if message.starts_with("unknown field") {
             let message = if line_at(text, &span).starts_with('[') {
                 unknown_table(&message, &key)
@@ -150,6 +207,19 @@ impl CaseError {
             message,
         }
     }
+}
+
+/// The names a key that takes a name allows, quoted, for messages.
+fn allowed_names(key: &str) -> Option<&'static str> {
+    let last = key.rsplit('.').next().unwrap_or(key);
+    Some(match last {
+        "control" => "\"displacement\", \"force\"",
+        "branch" => "\"fundamental\", \"switch\", \"switch-negative\"",
+        "order" => "\"quadratic\", \"linear\"",
+        "translation" => "\"fixed\", \"slide\", \"radial\"",
+        "rotation" => "\"clamped\", \"free\", \"pinned\"",
+        _ => return None,
+    })
 }
 
 /// serde's "unknown field `material`" said of a key on a header line (`[material]`): the

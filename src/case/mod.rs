@@ -86,6 +86,7 @@ impl Case {
         let geometry = tables::geometry(&raw.geometry, &ck)?;
         let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
         let boundary = tables::boundary(&raw.boundary);
+        tables::free_motion(&boundary, &geometry, &ck)?;
         let loading = tables::loading(&raw.loading, &geometry, &ck)?;
         let discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
         let mut solver = tables::solver(&raw.solver, &ck)?;

@@ -10,8 +10,8 @@ use std::fmt;
 /// Cases of more unknowns than this print their size before solving.
 pub const LARGE_UNKNOWNS: f64 = 50_000.0;
 
-/// An estimate of the size of a case's problem (upper bounds within a few tens of per cent;
-/// measured against the thesis n = 8 case and a 64-helix assembly).
+/// An estimate of the size of a case's problem: upper bounds, within a factor of about 2
+/// of the unknowns and the peak memory measured on thesis assemblies of 8 to 32 helices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SizeEstimate {
     /// Rods solved (a symmetric pair: 2).
@@ -47,7 +47,10 @@ impl SizeEstimate {
             n
         };
         let joints = joints_all * rods / n;
-        let elements = case.discretisation.elements as f64 + joints_per_rod + 1.0;
+        // every interval between joints gets at least one element, and the `elements`
+        // are shared out over the intervals (rounded up)
+        let asked = case.discretisation.elements as f64;
+        let elements = asked.max(joints_per_rod) + 0.5 * asked.min(joints_per_rod) + 1.0;
         let p = match case.discretisation.order {
             Order::Linear => 1.0,
             Order::Quadratic => 2.0,
@@ -61,7 +64,9 @@ impl SizeEstimate {
         let nonzeros = rods * elements * (block * block + 6.0 * block + 8.0 * p) + 36.0 * joints;
         // fill of the factors: a band of a few elements along each rod, plus a front across
         // the tube that grows with the rods the joints tie together
-        let front = per_element * (4.0 + if g.helices >= 2 { 2.0 * rods } else { 0.0 });
+        // (fitted to the peak memory of thesis assemblies of n = 8, 16 and 32 helices:
+        // 46, 122 and 675 MB for 7652, 15976 and 63312 unknowns, within a factor 2.2 above)
+        let front = per_element * (8.0 + if g.helices >= 2 { 0.5 * rods } else { 0.0 });
         let factor_entries = unknowns * front;
         let key = if g.helices >= 16 && joints_per_rod > case.discretisation.elements as f64 {
             "geometry.helices"

@@ -27,8 +27,8 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         0.06,
         |a| a == 0.0 || in_range(a, LENGTH_RANGE),
         &format!(
-            "a radius in m from {} to {} (0 for a straight rod)",
-            LENGTH_RANGE.0, LENGTH_RANGE.1
+            "a radius in m {} (0 for a straight rod)",
+            range(LENGTH_RANGE)
         ),
     )?;
     if radius == 0.0 && helices > 1 {
@@ -43,10 +43,7 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         &g.pitch,
         0.025,
         |b| in_range(b, LENGTH_RANGE),
-        &format!(
-            "a pitch parameter b in m from {} to {}",
-            LENGTH_RANGE.0, LENGTH_RANGE.1
-        ),
+        &format!("a pitch parameter b in m {}", range(LENGTH_RANGE)),
     )?;
     if radius > 0.0 && !in_range(pitch / radius, PITCH_RATIO) {
         let (key, at) = if g.pitch.is_some() {
@@ -98,10 +95,9 @@ fn derived_geometry(g: &RawGeometry, geometry: &Geometry, ck: &Checker) -> Resul
             key,
             at,
             format!(
-                "the rod length L would be {} m; expected L from {} to {} m",
+                "the rod length L would be {} m; expected L {} m",
                 num(length),
-                LENGTH_RANGE.0,
-                LENGTH_RANGE.1
+                range(LENGTH_RANGE)
             ),
         ));
     }
@@ -193,10 +189,7 @@ fn rod_length(g: &RawGeometry, c: f64, ck: &Checker) -> Result<f64, CaseError> {
             &g.length,
             0.0,
             |l| in_range(l, LENGTH_RANGE),
-            &format!(
-                "a rod length in m from {} to {}",
-                LENGTH_RANGE.0, LENGTH_RANGE.1
-            ),
+            &format!("a rod length in m {}", range(LENGTH_RANGE)),
         ),
         (turns, None) => {
             let turns = ck.number(
@@ -221,8 +214,7 @@ pub(super) fn stiffness(
     geometry: &Geometry,
     ck: &Checker,
 ) -> Result<Stiffness, CaseError> {
-    let (lo, hi) = STIFFNESS_RANGE;
-    let bending = format!("a bending stiffness in N m² from {lo} to {hi}");
+    let bending = format!("a bending stiffness in N m² {}", range(STIFFNESS_RANGE));
     let ok = |b: f64| in_range(b, STIFFNESS_RANGE);
     let stiffness = Stiffness {
         b1: ck.number("stiffness.b1", &s.b1, 1.0, ok, &bending)?,
@@ -232,7 +224,7 @@ pub(super) fn stiffness(
             &s.b3,
             2.0,
             ok,
-            &format!("a torsional stiffness in N m² from {lo} to {hi}"),
+            &format!("a torsional stiffness in N m² {}", range(STIFFNESS_RANGE)),
         )?,
     };
     for (key, value, given) in [
@@ -282,6 +274,50 @@ pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
         base: end_condition(&b.base, thesis.base),
         tip: end_condition(&b.tip, thesis.tip),
         joints: b.joints.unwrap_or(thesis.joints),
+    }
+}
+
+/// Refuses supports that leave a rigid motion of the assembly free (a zero-energy mode the
+/// solver would see as a singular matrix, or the stability count as a neutral direction
+/// flipping at every step): both ends sliding (a sideways translation), or both ends
+/// spherical hinges on a rod no joint ties to others (its rotation about its chord).
+pub(super) fn free_motion(
+    b: &BoundaryConditions,
+    geometry: &Geometry,
+    ck: &Checker,
+) -> Result<(), CaseError> {
+    use crate::model::boundary::{Rotation, Translation};
+    let (base, tip) = (b.base, b.tip);
+    let motion = if base.translation == Translation::Slide && tip.translation == Translation::Slide
+    {
+        Some((
+            "translation",
+            "both ends slide: the assembly may translate sideways as a whole (a free rigid motion); fix the translation of one end",
+        ))
+    } else if base.rotation == Rotation::Free
+        && tip.rotation == Rotation::Free
+        && base.translation != Translation::Slide
+        && tip.translation != Translation::Slide
+        && (geometry.helices == 1 || !b.joints)
+    {
+        Some((
+            "rotation",
+            "both ends are spherical hinges (rotation = \"free\"): each rod may turn about its chord, the line from base to tip (a free rigid motion); clamp or pin one end",
+        ))
+    } else {
+        None
+    };
+    match motion {
+        None => Ok(()),
+        Some((half, message)) => {
+            let at = ck.line_of_key("tip");
+            Err(CaseError::Invalid {
+                file: ck.file.to_string(),
+                line: at,
+                key: format!("boundary.tip.{half}"),
+                message: message.to_string(),
+            })
+        }
     }
 }
 
@@ -484,6 +520,11 @@ pub const MAX_JOINTS: usize = 1_000_000;
 /// `|P/Pcrit|` of a load-control target.
 pub const MAX_LOAD: f64 = 100.0;
 
+/// "from lo to hi", the bounds as [`num`] writes them.
+fn range((lo, hi): (f64, f64)) -> String {
+    format!("from {} to {}", num(lo), num(hi))
+}
+
 /// `lo ≤ v ≤ hi` (false for NaN).
 fn in_range(v: f64, (lo, hi): (f64, f64)) -> bool {
     v >= lo && v <= hi
@@ -511,6 +552,19 @@ pub(super) struct Checker<'a> {
 }
 
 impl Checker<'_> {
+    /// The line of the first key `name = …` of the text (1 when there is none).
+    fn line_of_key(&self, name: &str) -> usize {
+        self.text
+            .lines()
+            .position(|l| {
+                let l = l.trim_start();
+                l.strip_prefix(name)
+                    .is_some_and(|r| r.trim_start().starts_with('=') || r.starts_with('.'))
+                    || l.starts_with(&format!("[boundary.{name}]"))
+            })
+            .map_or(1, |i| i + 1)
+    }
+
     /// A value out of range, at `span` in the text.
     fn invalid(&self, key: &str, span: Range<usize>, message: impl fmt::Display) -> CaseError {
         CaseError::Invalid {

@@ -122,6 +122,15 @@ pub fn choose_mesh(
     let mut failures = Vec::new();
     for &order in orders {
         let n1 = problem.coarsest(order);
+        if n1.saturating_mul(2) > MAX_ELEMENTS {
+            failures.push(format!(
+                "{}: the pilot meshes would have {} and {} elements per rod, more than {MAX_ELEMENTS}",
+                order.name(),
+                n1,
+                n1.saturating_mul(2)
+            ));
+            continue;
+        }
         let probes = problem.vertices(n1);
         let solve = |n: usize| {
             let t = Instant::now();
