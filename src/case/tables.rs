@@ -27,7 +27,7 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         0.06,
         |a| a == 0.0 || in_range(a, LENGTH_RANGE),
         &format!(
-            "a radius in m {} (0 for a straight rod)",
+            "a positive radius in m {} (0 for a straight rod)",
             range(LENGTH_RANGE)
         ),
     )?;
@@ -43,7 +43,7 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         &g.pitch,
         0.025,
         |b| in_range(b, LENGTH_RANGE),
-        &format!("a pitch parameter b in m {}", range(LENGTH_RANGE)),
+        &format!("a positive pitch parameter b in m {}", range(LENGTH_RANGE)),
     )?;
     if radius > 0.0 && !in_range(pitch / radius, PITCH_RATIO) {
         let (key, at) = if g.pitch.is_some() {
@@ -189,7 +189,7 @@ fn rod_length(g: &RawGeometry, c: f64, ck: &Checker) -> Result<f64, CaseError> {
             &g.length,
             0.0,
             |l| in_range(l, LENGTH_RANGE),
-            &format!("a rod length in m {}", range(LENGTH_RANGE)),
+            &format!("a positive rod length in m {}", range(LENGTH_RANGE)),
         ),
         (turns, None) => {
             let turns = ck.number(
@@ -214,7 +214,10 @@ pub(super) fn stiffness(
     geometry: &Geometry,
     ck: &Checker,
 ) -> Result<Stiffness, CaseError> {
-    let bending = format!("a bending stiffness in N m² {}", range(STIFFNESS_RANGE));
+    let bending = format!(
+        "a positive bending stiffness in N m² {}",
+        range(STIFFNESS_RANGE)
+    );
     let ok = |b: f64| in_range(b, STIFFNESS_RANGE);
     let stiffness = Stiffness {
         b1: ck.number("stiffness.b1", &s.b1, 1.0, ok, &bending)?,
@@ -224,7 +227,10 @@ pub(super) fn stiffness(
             &s.b3,
             2.0,
             ok,
-            &format!("a torsional stiffness in N m² {}", range(STIFFNESS_RANGE)),
+            &format!(
+                "a positive torsional stiffness in N m² {}",
+                range(STIFFNESS_RANGE)
+            ),
         )?,
     };
     for (key, value, given) in [

@@ -150,6 +150,13 @@ fn short(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }
+    if !(1e-4..1e6).contains(&x.abs()) {
+        // no 309-digit numbers: 6 significant figures in scientific notation
+        let s = format!("{x:.5e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
+    }
     let decimals = (5 - x.abs().log10().floor() as i32).max(0) as usize;
     let s = format!("{x:.decimals$}");
     let s = if s.contains('.') {
