@@ -169,6 +169,7 @@ impl CaseError {
                 };
             }
         }
+        let message = shorten_quoted(&message, &value);
         if message.starts_with("invalid value: integer") {
             return CaseError::WrongType {
                 file,
@@ -207,6 +208,41 @@ impl CaseError {
             message,
         }
     }
+}
+
+/// Control characters as escapes (`\n`), the rest as it is.
+trait EscapeControls {
+    fn escape_default_controls(self) -> std::vec::IntoIter<char>;
+}
+
+impl EscapeControls for char {
+    fn escape_default_controls(self) -> std::vec::IntoIter<char> {
+        if self.is_control() {
+            self.escape_default().collect::<Vec<_>>().into_iter()
+        } else {
+            vec![self].into_iter()
+        }
+    }
+}
+
+/// serde quotes a value as it printed it (`1e103` with 103 zeros): the first quoted
+/// value of `message`, when long, is replaced by the text of the file.
+fn shorten_quoted(message: &str, value: &str) -> String {
+    let Some(start) = message.find('`') else {
+        return message.to_string();
+    };
+    let Some(len) = message[start + 1..].find('`') else {
+        return message.to_string();
+    };
+    if len <= 16 || value.is_empty() {
+        return message.to_string();
+    }
+    format!(
+        "{}`{}`{}",
+        &message[..start],
+        value,
+        &message[start + 1 + len + 1..]
+    )
 }
 
 /// The names a key that takes a name allows, quoted, for messages.
@@ -291,6 +327,11 @@ pub(super) fn line_of(text: &str, offset: usize) -> usize {
 /// serde names Rust types in its messages; a case file has numbers, whole numbers, arrays
 /// and tables.
 fn plain_types(message: &str) -> String {
+    // one line: a quoted value's line breaks written as escapes
+    let message: String = message
+        .chars()
+        .flat_map(char::escape_default_controls)
+        .collect();
     let mut m = message
         .replace("expected i64", "expected a whole number")
         .replace("expected f64", "expected a number")

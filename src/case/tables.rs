@@ -450,17 +450,21 @@ fn symmetric(d: &RawDiscretisation, helices: usize, ck: &Checker) -> Result<bool
 /// settings a case file cannot give keep their defaults.
 pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings, CaseError> {
     let d = ContinuationSettings::default();
-    let step = "a positive step in ε";
+    let step = &format!(
+        "a positive step in the load parameter {}",
+        range(STEP_RANGE)
+    );
+    let ok = |h: f64| in_range(h, STEP_RANGE);
     let mut solver = ContinuationSettings {
         initial_step: ck.number(
             "solver.initial_step",
             &s.initial_step,
             d.initial_step,
-            positive,
+            ok,
             step,
         )?,
-        max_step: ck.number("solver.max_step", &s.max_step, d.max_step, positive, step)?,
-        min_step: ck.number("solver.min_step", &s.min_step, d.min_step, positive, step)?,
+        max_step: ck.number("solver.max_step", &s.max_step, d.max_step, ok, step)?,
+        min_step: ck.number("solver.min_step", &s.min_step, d.min_step, ok, step)?,
         ..d
     };
     solver.newton.tolerance = ck.number(
@@ -492,7 +496,8 @@ pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings
             span,
             format!(
                 "expected min_step ≤ max_step, found min_step = {} and max_step = {}",
-                solver.min_step, solver.max_step
+                num(solver.min_step),
+                num(solver.max_step)
             ),
         ));
     }
@@ -521,6 +526,8 @@ pub const MAX_ELEMENTS_PER_TURN: f64 = 1e4;
 /// `solver.tolerance`: below round-off Newton never converges, above it accepts states
 /// that are not equilibria (the natural state as the answer of the first step).
 pub const TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-6);
+/// `solver.initial_step`, `max_step`, `min_step`, in the load parameter.
+pub const STEP_RANGE: (f64, f64) = (1e-12, 100.0);
 /// Pin joints of an assembly.
 pub const MAX_JOINTS: usize = 1_000_000;
 /// `|P/Pcrit|` of a load-control target.
