@@ -228,7 +228,7 @@ fn check_accepted(case: &Case) -> Result<(), TestCaseError> {
     prop_assert!(case.loading.target.is_finite());
     prop_assert!(case.check_target(case.loading.target).is_ok());
     let tol = case.solver.newton.tolerance;
-    prop_assert!(tol <= 1e-6 && tol >= 1e-14);
+    prop_assert!((1e-14..=1e-6).contains(&tol));
     Ok(())
 }
 

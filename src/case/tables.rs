@@ -504,10 +504,6 @@ pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings
     Ok(solver)
 }
 
-fn positive(v: f64) -> bool {
-    v > 0.0
-}
-
 /// Lengths (radius when not 0, pitch parameter, rod length), m.
 pub const LENGTH_RANGE: (f64, f64) = (1e-6, 1e6);
 /// Pitch over radius `b/a` of a helix: flatter or steeper helices make the KKT matrix

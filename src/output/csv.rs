@@ -385,7 +385,7 @@ pub fn check_finite(csv: &str) -> Result<(), NonFinite> {
     let mut reader = ::csv::ReaderBuilder::new()
         .flexible(true)
         .from_reader(body.as_bytes());
-    let header = reader.headers().map(|h| h.clone()).unwrap_or_default();
+    let header = reader.headers().cloned().unwrap_or_default();
     for (k, record) in reader.records().enumerate() {
         let Ok(record) = record else { continue };
         for (i, cell) in record.iter().enumerate() {
