@@ -9,6 +9,7 @@
 //! physical and numerical ranges and fills in the defaults.
 
 mod error;
+mod limits;
 mod raw;
 mod settings;
 mod size;
@@ -16,16 +17,13 @@ mod tables;
 mod target;
 
 pub use error::CaseError;
+pub use limits::{
+    LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS, MIN_ELEMENTS_PER_TURN,
+    PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
+};
 pub use settings::{Accuracy, Discretisation, Geometry, Loading};
 pub use size::{available_memory, SizeEstimate, TooLarge};
-pub use tables::{
-    LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MIN_ELEMENTS_PER_TURN, PITCH_RATIO,
-    STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
-};
 pub use target::TargetError;
-
-/// The most output steps a case (`loading.steps`) or the command line (`--steps`) may ask.
-pub const MAX_STEPS: usize = 100_000;
 
 use crate::discretisation::model::DiscreteModel;
 use crate::model::assembly::Assembly;
@@ -126,7 +124,7 @@ impl Case {
 
     /// The size of the case's problem, estimated from its mesh without building it.
     pub fn size_estimate(&self) -> SizeEstimate {
-        SizeEstimate::of(self)
+        SizeEstimate::of(&self.geometry, &self.discretisation)
     }
 
     /// The discrete model of the case.

@@ -2,8 +2,8 @@
 //! unknowns of the KKT system, the nonzeros of its matrix and the memory of its
 //! factorisations, against the memory of the machine.
 
-use super::tables::{estimated_joints, num};
-use super::Case;
+use super::limits::{estimated_joints, num};
+use super::settings::{Discretisation, Geometry};
 use crate::discretisation::shape::Order;
 use std::fmt;
 
@@ -32,8 +32,7 @@ pub struct SizeEstimate {
 
 impl SizeEstimate {
     /// The estimate for `case` (floating point throughout, so that it cannot overflow).
-    pub fn of(case: &Case) -> SizeEstimate {
-        let g = &case.geometry;
+    pub fn of(g: &Geometry, discretisation: &Discretisation) -> SizeEstimate {
         let n = g.helices as f64;
         let joints_all = estimated_joints(g);
         let joints_per_rod = if g.helices >= 2 {
@@ -41,17 +40,13 @@ impl SizeEstimate {
         } else {
             0.0
         };
-        let rods = if case.discretisation.symmetric {
-            2.0
-        } else {
-            n
-        };
+        let rods = if discretisation.symmetric { 2.0 } else { n };
         let joints = joints_all * rods / n;
         // every interval between joints gets at least one element, and the `elements`
         // are shared out over the intervals (rounded up)
-        let asked = case.discretisation.elements as f64;
+        let asked = discretisation.elements as f64;
         let elements = asked.max(joints_per_rod) + 0.5 * asked.min(joints_per_rod) + 1.0;
-        let p = match case.discretisation.order {
+        let p = match discretisation.order {
             Order::Linear => 1.0,
             Order::Quadratic => 2.0,
         };
@@ -68,7 +63,7 @@ impl SizeEstimate {
         // 46, 122 and 675 MB for 7652, 15976 and 63312 unknowns, within a factor 2.2 above)
         let front = per_element * (8.0 + if g.helices >= 2 { 0.5 * rods } else { 0.0 });
         let factor_entries = unknowns * front;
-        let key = if g.helices >= 16 && joints_per_rod > case.discretisation.elements as f64 {
+        let key = if g.helices >= 16 && joints_per_rod > discretisation.elements as f64 {
             "geometry.helices"
         } else {
             "discretisation.elements"

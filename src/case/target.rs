@@ -5,8 +5,8 @@
 //! of the rod pulled straight (`h < L`, `ε > 1 − L/h0`); both limits are singular states.
 //! Under load control the target `P / Pcrit` only has to be a finite number.
 
+use super::limits::{num, MAX_LOAD};
 use super::settings::Geometry;
-use super::tables::num;
 use crate::model::loading::Control;
 use std::fmt;
 
@@ -15,7 +15,7 @@ use std::fmt;
 pub enum TargetError {
     /// Load control: `P / Pcrit` is NaN or infinite.
     LoadNotFinite { load: f64 },
-    /// Load control: `|P / Pcrit|` beyond [`super::MAX_LOAD`] (a path of more than
+    /// Load control: `|P / Pcrit|` beyond [`MAX_LOAD`] (a path of more than
     /// `MAX_LOAD / max_step` steps, far past every critical load of a rod).
     LoadOutOfRange { load: f64 },
     /// Displacement control: `ε` is NaN or infinite. `min_eps = 1 − L/h0` is the lower
@@ -41,11 +41,11 @@ impl fmt::Display for TargetError {
                 write!(f, "expected a finite load P/Pcrit, found {load}")
             }
             TargetError::LoadOutOfRange { load } => {
-                let max = super::MAX_LOAD;
+                let max = MAX_LOAD;
                 write!(
                     f,
                     "expected a load P/Pcrit from -{max} to {max}, found {}",
-                    super::tables::num(load)
+                    num(load)
                 )
             }
             TargetError::RatioNotFinite { eps, min_eps } => {
@@ -112,7 +112,7 @@ pub(super) fn check_target(
     if control == Control::Force {
         return if !target.is_finite() {
             Err(TargetError::LoadNotFinite { load: target })
-        } else if target.abs() > super::MAX_LOAD {
+        } else if target.abs() > MAX_LOAD {
             Err(TargetError::LoadOutOfRange { load: target })
         } else {
             Ok(())

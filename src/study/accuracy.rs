@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 /// side.
 pub const SAFETY: f64 = 0.5;
 /// Largest mesh considered (elements per rod).
-pub const MAX_ELEMENTS: usize = 8192;
+pub use super::problem::MAX_ELEMENTS;
 /// Smallest relative accuracy that can be asked for: Newton stops at a residual of 1e-9
 /// (N, N m), and on Love's helix the reactions stop converging at about 5e-10 relative, so
 /// a smaller target could be neither met nor checked.
