@@ -32,14 +32,18 @@ enum Command {
         /// Case file (TOML).
         case: PathBuf,
         /// Target compression ratio (default: the case's loading.target).
-        #[arg(long = "to", allow_negative_numbers = true)]
+        #[arg(long = "to", allow_hyphen_values = true, value_name = "X")]
         to: Option<f64>,
-        /// Number of equally spaced output steps in (0, target] (default: the case's).
+        /// Number of equally spaced output steps in (0, target] (default: the case's;
+        /// 1 to 100000).
         #[arg(long)]
-        steps: Option<usize>,
+        steps: Option<u64>,
         /// Output folder.
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// Solve even a case whose size estimate exceeds the memory available.
+        #[arg(long)]
+        force: bool,
     },
     /// Open the terminal explorer on a case (default: the built-in thesis n = 8 case).
     Tui {
@@ -58,9 +62,12 @@ enum Command {
         /// Output folder.
         #[arg(long, default_value = "out")]
         out: PathBuf,
-        /// Timed runs per mesh after one warm-up run (the best is kept).
+        /// Timed runs per mesh after one warm-up run (the best is kept; at most 1000).
         #[arg(long, default_value_t = 3)]
-        repeats: usize,
+        repeats: u64,
+        /// Study even a case whose size estimate exceeds the memory available.
+        #[arg(long)]
+        force: bool,
     },
     /// Replay a session saved in the explorer (key `s`) headless and write the CSVs the
     /// explorer's export (`e`) would have written at its end.
@@ -75,9 +82,9 @@ enum Command {
     Bench {
         /// Case file (TOML).
         case: Option<PathBuf>,
-        /// Timed repetitions after one warm-up run.
+        /// Timed repetitions after one warm-up run (at most 1000).
         #[arg(long, default_value_t = 5)]
-        repeats: usize,
+        repeats: u64,
         /// Measure the explorer instead: key press to redrawn frame while a step solves.
         #[arg(long)]
         tui: bool,
@@ -129,21 +136,26 @@ fn main() {
             to,
             steps,
             out,
-        }) => run(&case, to, steps, &out),
+            force,
+        }) => run(&case, to, steps, &out, force),
         Some(Command::Bench {
             case,
             repeats,
             tui: true,
             ..
-        }) => load_case(case.as_deref()).and_then(|c| {
-            for (w, h) in [(80, 24), (160, 48)] {
-                let r = spira::tui::measure_responsiveness(c.clone(), repeats.max(1), w, h)?;
-                println!("{r}");
-            }
-            Ok(())
+        }) => repeats_flag(repeats).and_then(|repeats| {
+            load_case(case.as_deref()).and_then(|c| {
+                for (w, h) in [(80, 24), (160, 48)] {
+                    let r = spira::tui::measure_responsiveness(c.clone(), repeats.max(1), w, h)?;
+                    println!("{r}");
+                }
+                Ok(())
+            })
         }),
         Some(Command::Bench { sweep: true, .. }) => bench_sweep(),
-        Some(Command::Bench { case, repeats, .. }) => bench(case.as_deref(), repeats),
+        Some(Command::Bench { case, repeats, .. }) => {
+            repeats_flag(repeats).and_then(|r| bench(case.as_deref(), r))
+        }
         Some(Command::Sweep {
             sweep,
             out,
@@ -159,7 +171,12 @@ fn main() {
                 merge_cmd(&merge, out)
             }
         }
-        Some(Command::Precision { case, out, repeats }) => precision(&case, &out, repeats),
+        Some(Command::Precision {
+            case,
+            out,
+            repeats,
+            force,
+        }) => repeats_flag(repeats).and_then(|r| precision(&case, &out, r, force)),
     };
     if let Err(e) = result {
         eprintln!("spira: error: {e:#}");
@@ -167,15 +184,60 @@ fn main() {
     }
 }
 
-fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result<()> {
-    let (case, choice) = resolve(Case::from_file(path)?)?;
-    let target = to.unwrap_or(case.loading.target);
-    if let Err(msg) = case.check_target(target) {
-        bail!("--to: {msg}");
+/// The most timed repetitions `--repeats` asks for.
+const MAX_REPEATS: u64 = 1000;
+
+/// `--repeats`, bounded so that a study or a benchmark ends.
+fn repeats_flag(repeats: u64) -> Result<usize> {
+    if repeats > MAX_REPEATS {
+        bail!(
+            "--repeats: expected a number of timed runs from 0 to {MAX_REPEATS}, found {repeats}"
+        );
     }
-    let steps = steps.unwrap_or(case.loading.steps);
+    Ok(repeats as usize)
+}
+
+/// `--steps` (or the case's `loading.steps`), within the range of `loading.steps`.
+fn steps_flag(steps: Option<u64>, case: &Case) -> Result<usize> {
+    let Some(steps) = steps else {
+        return Ok(case.loading.steps);
+    };
+    let max = spira::case::MAX_STEPS as u64;
     if steps == 0 {
-        bail!("--steps: expected at least 1 output step, found 0");
+        bail!("--steps: expected at least 1 output step (at most {max}), found 0");
+    }
+    if steps > max {
+        bail!("--steps: expected a number of output steps from 1 to {max}, found {steps}");
+    }
+    Ok(steps as usize)
+}
+
+/// The size of the case's problem, said when it is large, and refused when it would not fit
+/// in memory (unless `force`).
+fn check_size(case: &Case, force: bool) -> Result<()> {
+    let estimate = case.size_estimate();
+    match estimate.check_fits(spira::case::available_memory()) {
+        Err(e) if !force => bail!("{e}; --force solves it anyway"),
+        Err(e) => println!("warning: {e}; solving anyway (--force)"),
+        Ok(()) if estimate.is_large() => println!("size estimate: {estimate}"),
+        Ok(()) => {}
+    }
+    Ok(())
+}
+
+fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool) -> Result<()> {
+    let case = Case::from_file(path)?;
+    let target = to.unwrap_or(case.loading.target);
+    if to.is_some() {
+        if let Err(msg) = case.check_target(target) {
+            bail!("--to: {msg}");
+        }
+    }
+    let steps = steps_flag(steps, &case)?;
+    check_size(&case, force)?;
+    let (case, choice) = resolve(case)?;
+    if choice.is_some() {
+        check_size(&case, force)?;
     }
     let n = case.geometry.helices;
     println!(
@@ -287,7 +349,7 @@ fn run(path: &Path, to: Option<f64>, steps: Option<usize>, out: &Path) -> Result
     if let Some(err) = outcome.error {
         bail!(
             "{err}; the converged steps up to eps = {:.6} were written",
-            err.reached
+            err.eps
         );
     }
     Ok(())
@@ -451,8 +513,9 @@ fn response(case: &Case, point: &spira::results::LoadPoint) -> f64 {
     }
 }
 
-fn precision(path: &Path, out: &Path, repeats: usize) -> Result<()> {
+fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result<()> {
     let case = Case::from_file(path)?;
+    check_size(&case, force)?;
     let problem = Problem::Path(Box::new(case.clone()));
     let ladder = Ladder::standard(&problem);
     println!(
@@ -508,13 +571,14 @@ fn precision(path: &Path, out: &Path, repeats: usize) -> Result<()> {
             ),
         }
     }
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let csv = out.join("precision.csv");
     let svg = out.join("precision.svg");
-    spira::output::write_atomic(&csv, &study.csv())
-        .with_context(|| format!("writing {}", csv.display()))?;
-    spira::output::write_atomic(&svg, &study.svg())
-        .with_context(|| format!("writing {}", svg.display()))?;
+    let files = [
+        ("precision.csv".to_string(), study.csv()),
+        ("precision.svg".to_string(), study.svg()),
+    ];
+    spira::output::files::write_folder(out, &files, spira::output::files::is_precision_file)
+        .with_context(|| format!("writing results into {}", out.display()))?;
     println!(
         "wrote {}, {} in {:.1} s",
         csv.display(),

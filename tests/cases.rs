@@ -99,6 +99,22 @@ const FIXTURES: &[&str] = &[
     "zero-helices",
     "zero-pitch",
     "zero-steps",
+    "date-for-number",
+    "denormal-b1",
+    "duplicate-key",
+    "few-elements-per-turn",
+    "flat-helix",
+    "free-rotation-both-ends",
+    "huge-helices",
+    "huge-load-target",
+    "huge-radius",
+    "huge-turns",
+    "loose-tolerance",
+    "number-for-name",
+    "sliding-both-ends",
+    "stiffness-ratio",
+    "tiny-turns",
+    "too-many-joints",
 ];
 
 #[test]
@@ -114,7 +130,212 @@ fn every_invalid_fixture_is_listed_and_rejected() {
     listed.sort();
     assert_eq!(found, listed, "tests/invalid_cases and FIXTURES differ");
     for name in FIXTURES {
-        rejected(name);
+        let text = rejected(name).to_string();
+        // numbers in messages are short (no 309-digit 1e308)
+        let longest = text
+            .split(|c: char| !c.is_ascii_digit())
+            .map(str::len)
+            .max()
+            .unwrap_or(0);
+        assert!(longest <= 20, "{name}: a long number in: {text}");
+    }
+}
+
+// ---- ranges of derived quantities, bounded work, messages in the user's terms (issue 12) ----
+
+#[test]
+fn a_radius_that_makes_the_length_infinite_is_refused() {
+    let e = rejected("huge-radius");
+    assert!(is_invalid(&e));
+    check(
+        &e,
+        4,
+        "geometry.radius",
+        &["from 1e-6 to 1e6", "found 1e308"],
+    );
+}
+
+#[test]
+fn turns_that_overflow_the_mesh_or_vanish_are_refused() {
+    check(
+        &rejected("huge-turns"),
+        3,
+        "geometry.turns",
+        &["from 0.01 to 1000", "found 1e308"],
+    );
+    check(
+        &rejected("tiny-turns"),
+        3,
+        "geometry.turns",
+        &["from 0.01 to 1000", "found 1e-300"],
+    );
+}
+
+#[test]
+fn millions_of_joints_are_refused_before_any_is_built() {
+    let t = std::time::Instant::now();
+    check(
+        &rejected("too-many-joints"),
+        3,
+        "geometry.helices",
+        &["1024 helices", "pin joints", "at most 1000000"],
+    );
+    assert!(t.elapsed().as_secs_f64() < 1.0);
+}
+
+#[test]
+fn a_subnormal_stiffness_is_refused() {
+    check(
+        &rejected("denormal-b1"),
+        3,
+        "stiffness.b1",
+        &["from 1e-12 to 1e12", "found 5e-324"],
+    );
+}
+
+#[test]
+fn stiffness_and_pitch_ratios_are_bounded() {
+    check(
+        &rejected("stiffness-ratio"),
+        4,
+        "stiffness.b3",
+        &["B3/B1 from 0.0001 to 10000", "found 1e6"],
+    );
+    check(
+        &rejected("flat-helix"),
+        4,
+        "geometry.pitch",
+        &["pitch/radius ratio b/a from 0.001 to 1000", "found 0.0001"],
+    );
+}
+
+#[test]
+fn too_few_elements_per_turn_are_refused() {
+    check(
+        &rejected("few-elements-per-turn"),
+        5,
+        "discretisation.elements",
+        &["elements per turn", "found 0.1"],
+    );
+}
+
+#[test]
+fn a_tolerance_that_accepts_the_initial_guess_is_refused() {
+    check(
+        &rejected("loose-tolerance"),
+        3,
+        "solver.tolerance",
+        &["from 1e-14 to 1e-6", "not equilibria", "found 1"],
+    );
+}
+
+#[test]
+fn a_load_control_target_is_bounded() {
+    check(
+        &rejected("huge-load-target"),
+        4,
+        "loading.target",
+        &["P/Pcrit from -100 to 100", "found 1e9"],
+    );
+}
+
+#[test]
+fn a_whole_number_beyond_64_bits_is_out_of_range_not_a_fraction() {
+    let e = rejected("huge-helices");
+    check(
+        &e,
+        3,
+        "geometry.helices",
+        &["9223372036854775808", "out of range"],
+    );
+    assert!(!e.to_string().contains("expected a whole number"), "{e}");
+}
+
+#[test]
+fn a_date_for_a_number_says_date() {
+    let e = rejected("date-for-number");
+    assert!(is_wrong_type(&e));
+    check(
+        &e,
+        3,
+        "geometry.radius",
+        &["expected a number", "TOML date", "1979-05-27"],
+    );
+    assert!(!e.to_string().contains("$__"), "{e}");
+}
+
+#[test]
+fn a_duplicate_key_is_named() {
+    let e = rejected("duplicate-key");
+    assert_eq!(e.line(), Some(4));
+    assert!(e.to_string().contains("duplicate key `radius`"), "{e}");
+}
+
+#[test]
+fn a_number_for_a_name_lists_the_names() {
+    let e = rejected("number-for-name");
+    assert!(is_wrong_type(&e));
+    check(
+        &e,
+        3,
+        "loading.control",
+        &["expected one of \"displacement\", \"force\"", "found `3`"],
+    );
+}
+
+#[test]
+fn free_rigid_motions_are_refused_naming_them() {
+    let e = rejected("free-rotation-both-ends");
+    check(
+        &e,
+        4,
+        "boundary.tip.rotation",
+        &[
+            "spherical hinges",
+            "turn about its chord",
+            "free rigid motion",
+        ],
+    );
+    let e = rejected("sliding-both-ends");
+    check(
+        &e,
+        4,
+        "boundary.tip.translation",
+        &["both ends slide", "translate sideways", "free rigid motion"],
+    );
+    // joints tie the rods of an assembly: its hinged ends leave no rod free to turn
+    let text = "[geometry]\nhelices = 2\n[boundary]\nbase = { rotation = \"free\" }\ntip = { rotation = \"free\" }\n";
+    Case::parse(text, "hinged.toml", "hinged").unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn accepted_cases_have_finite_bounded_derived_quantities_and_a_size() {
+    for name in [
+        "thesis-n1",
+        "thesis-n2",
+        "thesis-n4",
+        "thesis-n8",
+        "euler-clamped",
+        "euler-pinned",
+        "elastica",
+    ] {
+        let case = Case::from_file(&manifest_dir().join("cases").join(format!("{name}.toml")))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let g = case.geometry;
+        assert!(g.length.is_finite() && g.height0().is_finite() && g.height0() > 0.0);
+        let pcrit = case.stiffness.euler_load(g.length);
+        assert!(pcrit.is_finite() && pcrit > 0.0);
+        let size = case.size_estimate();
+        assert!(size.unknowns.is_finite() && size.memory_bytes().is_finite());
+        // the estimate is an upper bound of the unknowns within a factor 2
+        let exact = spira::run::run_path(&case, &[], |_, _| {})
+            .map(|o| o.unknowns as f64)
+            .unwrap_or(size.unknowns);
+        assert!(
+            size.unknowns >= exact && size.unknowns <= 2.0 * exact,
+            "{name}: estimated {} unknowns, exactly {exact}",
+            size.unknowns
+        );
     }
 }
 

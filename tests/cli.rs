@@ -481,8 +481,8 @@ fn solver_failure_writes_what_was_reached_and_says_where_and_why() {
 }
 
 /// Issue 9: Ctrl-C (SIGINT) stops `spira run` at its last converged state and the files
-/// are written as after a failure. The case (ends free to slide and rotate, symmetric pair)
-/// makes slow headway, so the signal arrives mid-path.
+/// are written as after a failure. The case (8 helices in steps of 0.001) takes tens of
+/// seconds, so the signal arrives mid-path.
 #[cfg(unix)]
 #[test]
 fn ctrl_c_stops_run_keeping_what_was_reached() {
@@ -491,10 +491,8 @@ fn ctrl_c_stops_run_keeping_what_was_reached() {
     let case = dir.path("free.toml");
     std::fs::write(
         &case,
-        "name = \"free\"\n[geometry]\nhelices = 8\n[boundary]\n\
-         base = { translation = \"slide\", rotation = \"free\" }\n\
-         tip = { translation = \"slide\", rotation = \"free\" }\n\
-         [discretisation]\nsymmetric = true\n",
+        "name = \"slow\"\n[geometry]\nhelices = 8\n[loading]\nsteps = 500\n\
+         [solver]\ninitial_step = 0.001\nmax_step = 0.001\n",
     )
     .unwrap();
     let out = dir.path("out");
@@ -523,4 +521,214 @@ fn ctrl_c_stops_run_keeping_what_was_reached() {
     for f in OUTPUTS {
         assert!(out.join(f).exists(), "{f} written");
     }
+}
+
+// ---- bad input, bounded work (issue 12) ----
+
+#[test]
+fn steps_on_the_command_line_are_bounded_like_the_case_files() {
+    let dir = Scratch::new("steps-bound");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let out_dir = dir.path("out");
+    for steps in ["18446744073709551615", "1000000000", "100001"] {
+        let out = spira_run(&dir, &case, &out_dir, &["--steps", steps]);
+        assert_ne!(out.status.code(), Some(101), "--steps {steps} panicked");
+        let err = assert_failure(&out);
+        assert!(err.contains("--steps"), "{err}");
+        assert!(err.contains("from 1 to 100000"), "{err}");
+        assert_no_outputs(&out_dir);
+    }
+    // beyond 64 bits: clap's own refusal, naming the flag, still no panic
+    let out = spira_run(
+        &dir,
+        &case,
+        &out_dir,
+        &["--steps", "99999999999999999999999"],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--steps"), "{}", stderr(&out));
+}
+
+#[test]
+fn a_non_finite_to_is_refused_naming_the_flag() {
+    let dir = Scratch::new("to-inf");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let out_dir = dir.path("out");
+    for to in ["-inf", "inf", "NaN", "1e308"] {
+        let out = spira_run(&dir, &case, &out_dir, &["--to", to]);
+        let err = assert_failure(&out);
+        assert!(err.contains("--to: "), "--to {to}: {err}");
+        assert!(err.contains("compression ratio"), "--to {to}: {err}");
+        assert!(!err.contains("unexpected argument"), "--to {to}: {err}");
+        assert!(err.len() < 400, "--to {to}: a long message: {err}");
+        assert_no_outputs(&out_dir);
+    }
+    // under load control the target is bounded too
+    let force = dir.write(
+        "force.toml",
+        "[geometry]\nradius = 0.0\npitch = 1.0\nlength = 1.0\n[loading]\ncontrol = \"force\"\n",
+    );
+    let out = spira_run(&dir, &force, &out_dir, &["--to", "1e9"]);
+    let err = assert_failure(&out);
+    assert!(
+        err.contains("--to: expected a load P/Pcrit from -100 to 100"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_bad_target_in_the_case_does_not_blame_to() {
+    let dir = Scratch::new("no-to");
+    let case = dir.write("t.toml", "[loading]\ntarget = 2.0\n");
+    let err = assert_failure(&spira_run(&dir, &case, &dir.path("out"), &[]));
+    assert!(!err.contains("--to"), "{err}");
+    assert!(err.contains("key `loading.target`"), "{err}");
+}
+
+#[test]
+fn repeats_are_bounded() {
+    let dir = Scratch::new("repeats");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let c = case.to_str().unwrap();
+    for args in [
+        ["precision", c, "--repeats", "18446744073709551615"],
+        ["bench", c, "--repeats", "1000001"],
+    ] {
+        let err = assert_failure(&spira(&dir.0, &args));
+        assert!(err.contains("--repeats: expected"), "{err}");
+    }
+}
+
+#[test]
+fn a_case_far_beyond_memory_is_refused_at_once_with_its_estimate() {
+    let dir = Scratch::new("too-big");
+    let case = dir.write("huge.toml", "[geometry]\nhelices = 512\nturns = 1.5\n");
+    let t = std::time::Instant::now();
+    let err = assert_failure(&spira_run(&dir, &case, &dir.path("out"), &[]));
+    assert!(t.elapsed().as_secs_f64() < 1.0);
+    for fragment in [
+        "memory",
+        "unknowns",
+        "nonzeros",
+        "per factorisation",
+        "`geometry.helices`",
+        "--force",
+    ] {
+        assert!(err.contains(fragment), "`{fragment}` missing: {err}");
+    }
+    assert_no_outputs(&dir.path("out"));
+}
+
+#[test]
+fn a_long_case_prints_its_size_before_solving() {
+    use std::io::{BufRead as _, BufReader};
+    let dir = Scratch::new("long");
+    let case = dir.write("n64.toml", "[geometry]\nhelices = 64\nturns = 10\n");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
+        .args([
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            dir.path("out").to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run spira");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .expect("a line");
+    let _ = child.kill();
+    let _ = child.wait();
+    // either the estimate, or on a small machine the refusal with it
+    if first.is_empty() {
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert!(err.contains("would need about"), "{err}");
+    } else {
+        assert!(first.starts_with("size estimate: 64 rods"), "{first}");
+        assert!(
+            first.contains("unknowns") && first.contains("memory about"),
+            "{first}"
+        );
+    }
+}
+
+#[test]
+fn a_name_with_line_breaks_stays_in_its_comment_lines() {
+    let dir = Scratch::new("name");
+    let case = dir.write(
+        "named.toml",
+        &TINY_CASE.replace("name = \"tiny\"", "name = \"x\\n1,2,3\\r4\""),
+    );
+    let out_dir = dir.path("out");
+    assert_success(&spira_run(&dir, &case, &out_dir, &[]));
+    for name in OUTPUTS {
+        let text = std::fs::read_to_string(out_dir.join(name)).unwrap();
+        let mut lines = text.lines().skip_while(|l| l.starts_with('#'));
+        let header = lines.next().unwrap();
+        assert!(
+            header.starts_with("step,") || header.starts_with("rod,"),
+            "{name}: {header}"
+        );
+        assert!(!text.contains('\r'), "{name}: a raw carriage return");
+        assert!(text.contains("x 1,2,3 4"), "{name}: the name is not kept");
+    }
+}
+
+#[test]
+fn a_run_replaces_the_previous_runs_files_and_leaves_nothing_temporary() {
+    let dir = Scratch::new("replace");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let out_dir = dir.path("out");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    for old in [
+        "critical.csv",
+        "mode-0.csv",
+        "mode-7.csv",
+        "load.csv.partial",
+    ] {
+        std::fs::write(out_dir.join(old), "old run").unwrap();
+    }
+    std::fs::write(out_dir.join("notes.txt"), "mine").unwrap();
+    assert_success(&spira_run(&dir, &case, &out_dir, &[]));
+    let mut names: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    // the user's files stay; a stale .partial of an older spira is not of our making now
+    assert_eq!(
+        names,
+        [
+            "load.csv",
+            "load.csv.partial",
+            "notes.txt",
+            "reactions.csv",
+            "state.csv"
+        ]
+    );
+    let beside: Vec<String> = std::fs::read_dir(&dir.0)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(beside.is_empty(), "temporary folders left: {beside:?}");
+}
+
+#[test]
+fn a_folder_in_the_way_fails_the_write_and_keeps_the_old_files() {
+    let dir = Scratch::new("in-the-way");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let out_dir = dir.path("out");
+    std::fs::create_dir_all(out_dir.join("state.csv")).unwrap();
+    std::fs::write(out_dir.join("load.csv"), "old run").unwrap();
+    let err = assert_failure(&spira_run(&dir, &case, &out_dir, &[]));
+    assert!(err.contains("state.csv"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(out_dir.join("load.csv")).unwrap(),
+        "old run"
+    );
+    assert!(!out_dir.join("reactions.csv").exists());
 }

@@ -94,10 +94,26 @@ impl CaseError {
 
     /// A grammar error of the TOML text (reported before any key is looked at).
     pub(super) fn syntax(e: &toml::de::Error, text: &str, file: &str) -> CaseError {
+        let span = e.span().unwrap_or(0..0);
+        let mut message = plain_types(e.message().trim());
+        if message.starts_with("duplicate key") && !message.contains('`') {
+            // name the key: the text of the line up to its `=`
+            let key = line_at(text, &span)
+                .split('=')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string();
+            if !key.is_empty() && !key.starts_with('[') {
+                message = format!("duplicate key `{key}` (each key may be given once)");
+            } else {
+                message = format!("{message} (each key and table may be given once)");
+            }
+        }
         CaseError::Syntax {
             file: file.to_string(),
-            line: line_of(text, e.span().unwrap_or(0..0).start),
-            message: plain_types(e.message().trim()),
+            line: line_of(text, span.start),
+            message,
         }
     }
 
@@ -122,6 +138,48 @@ impl CaseError {
             };
         }
         let key = keys.join(".");
+        let value = text
+            .get(span.clone())
+            .unwrap_or("")
+            .trim()
+            .chars()
+            .take(40)
+            .collect::<String>();
+        if message.contains("$__toml_private_datetime")
+            || (message.starts_with("invalid type: table")
+                && value.starts_with(|c: char| c.is_ascii_digit()))
+        {
+            let expected = message
+                .split_once("expected ")
+                .map_or("another value".to_string(), |(_, e)| e.to_string());
+            return CaseError::WrongType {
+                file,
+                line,
+                key,
+                message: format!("expected {expected}, found a TOML date or time `{value}`"),
+            };
+        }
+        if let Some(allowed) = allowed_names(&key) {
+            if message.contains("wanted string or table") || message.starts_with("invalid type") {
+                return CaseError::WrongType {
+                    file,
+                    line,
+                    key,
+                    message: format!("expected one of {allowed}, found `{value}`"),
+                };
+            }
+        }
+        let message = shorten_quoted(&message, &value);
+        if message.starts_with("invalid value: integer") {
+            return CaseError::WrongType {
+                file,
+                line,
+                key,
+                message: format!(
+                    "the whole number `{value}` is out of range (beyond 64 bits); see the key's range in the README"
+                ),
+            };
+        }
         if message.starts_with("unknown field") {
             let message = if line_at(text, &span).starts_with('[') {
                 unknown_table(&message, &key)
@@ -150,6 +208,54 @@ impl CaseError {
             message,
         }
     }
+}
+
+/// Control characters as escapes (`\n`), the rest as it is.
+trait EscapeControls {
+    fn escape_default_controls(self) -> std::vec::IntoIter<char>;
+}
+
+impl EscapeControls for char {
+    fn escape_default_controls(self) -> std::vec::IntoIter<char> {
+        if self.is_control() {
+            self.escape_default().collect::<Vec<_>>().into_iter()
+        } else {
+            vec![self].into_iter()
+        }
+    }
+}
+
+/// serde quotes a value as it printed it (`1e103` with 103 zeros): the first quoted
+/// value of `message`, when long, is replaced by the text of the file.
+fn shorten_quoted(message: &str, value: &str) -> String {
+    let Some(start) = message.find('`') else {
+        return message.to_string();
+    };
+    let Some(len) = message[start + 1..].find('`') else {
+        return message.to_string();
+    };
+    if len <= 16 || value.is_empty() {
+        return message.to_string();
+    }
+    format!(
+        "{}`{}`{}",
+        &message[..start],
+        value,
+        &message[start + 1 + len + 1..]
+    )
+}
+
+/// The names a key that takes a name allows, quoted, for messages.
+fn allowed_names(key: &str) -> Option<&'static str> {
+    let last = key.rsplit('.').next().unwrap_or(key);
+    Some(match last {
+        "control" => "\"displacement\", \"force\"",
+        "branch" => "\"fundamental\", \"switch\", \"switch-negative\"",
+        "order" => "\"quadratic\", \"linear\"",
+        "translation" => "\"fixed\", \"slide\", \"radial\"",
+        "rotation" => "\"clamped\", \"free\", \"pinned\"",
+        _ => return None,
+    })
 }
 
 /// serde's "unknown field `material`" said of a key on a header line (`[material]`): the
@@ -221,6 +327,11 @@ pub(super) fn line_of(text: &str, offset: usize) -> usize {
 /// serde names Rust types in its messages; a case file has numbers, whole numbers, arrays
 /// and tables.
 fn plain_types(message: &str) -> String {
+    // one line: a quoted value's line breaks written as escapes
+    let message: String = message
+        .chars()
+        .flat_map(char::escape_default_controls)
+        .collect();
     let mut m = message
         .replace("expected i64", "expected a whole number")
         .replace("expected f64", "expected a number")

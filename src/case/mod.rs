@@ -9,13 +9,20 @@
 //! physical and numerical ranges and fills in the defaults.
 
 mod error;
+mod limits;
 mod raw;
 mod settings;
+mod size;
 mod tables;
 mod target;
 
 pub use error::CaseError;
+pub use limits::{
+    LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS, MIN_ELEMENTS_PER_TURN,
+    PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
+};
 pub use settings::{Accuracy, Discretisation, Geometry, Loading};
+pub use size::{available_memory, SizeEstimate, TooLarge};
 pub use target::TargetError;
 
 use crate::discretisation::model::DiscreteModel;
@@ -75,11 +82,14 @@ impl Case {
         let raw = RawCase::from_text(text, file)?;
         let ck = Checker { file, text };
         let geometry = tables::geometry(&raw.geometry, &ck)?;
-        let stiffness = tables::stiffness(&raw.stiffness, &ck)?;
+        let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
         let boundary = tables::boundary(&raw.boundary);
+        tables::free_motion(&boundary, &geometry, &ck)?;
         let loading = tables::loading(&raw.loading, &geometry, &ck)?;
-        let discretisation = tables::discretisation(&raw.discretisation, geometry.helices, &ck)?;
-        let solver = tables::solver(&raw.solver, &ck)?;
+        let discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
+        let mut solver = tables::solver(&raw.solver, &ck)?;
+        // Newton's balance rows in units of the stiffness (scale-free convergence)
+        solver.newton.force_scale = stiffness.b1;
         Ok(Case {
             name: raw.name.unwrap_or_else(|| stem.to_string()),
             geometry,
@@ -110,6 +120,11 @@ impl Case {
         c.discretisation.symmetric |= n >= 4 && n % 2 == 0;
         c.solver.lowest_eigenvalue = false;
         c
+    }
+
+    /// The size of the case's problem, estimated from its mesh without building it.
+    pub fn size_estimate(&self) -> SizeEstimate {
+        SizeEstimate::of(&self.geometry, &self.discretisation)
     }
 
     /// The discrete model of the case.

@@ -2,6 +2,7 @@
 //! case (§4.1) filling in what is not given. One function per table.
 
 use super::error::{line_of, CaseError};
+use super::limits::*;
 use super::raw::{
     RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawSolver, RawStiffness,
 };
@@ -25,8 +26,11 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         "geometry.radius",
         &g.radius,
         0.06,
-        |a| a >= 0.0,
-        "a positive radius in m (0 for a straight rod)",
+        |a| a == 0.0 || in_range(a, LENGTH_RANGE),
+        &format!(
+            "a positive radius in m {} (0 for a straight rod)",
+            range(LENGTH_RANGE)
+        ),
     )?;
     if radius == 0.0 && helices > 1 {
         return Err(ck.invalid(
@@ -39,16 +43,108 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
         "geometry.pitch",
         &g.pitch,
         0.025,
-        positive,
-        "a positive pitch parameter b in m",
+        |b| in_range(b, LENGTH_RANGE),
+        &format!("a positive pitch parameter b in m {}", range(LENGTH_RANGE)),
     )?;
+    if radius > 0.0 && !in_range(pitch / radius, PITCH_RATIO) {
+        let (key, at) = if g.pitch.is_some() {
+            ("geometry.pitch", span(&g.pitch))
+        } else {
+            ("geometry.radius", span(&g.radius))
+        };
+        return Err(ck.invalid(
+            key,
+            at,
+            format!(
+                "expected a pitch/radius ratio b/a from {} to {}, found {} (b = {} m, a = {} m)",
+                PITCH_RATIO.0,
+                PITCH_RATIO.1,
+                num(pitch / radius),
+                num(pitch),
+                num(radius)
+            ),
+        ));
+    }
     let length = rod_length(g, radius.hypot(pitch), ck)?;
-    Ok(Geometry {
+    let geometry = Geometry {
         helices,
         radius,
         pitch,
         length,
-    })
+    };
+    derived_geometry(g, &geometry, ck)?;
+    Ok(geometry)
+}
+
+/// The quantities derived from the geometry: the rod length `L` within
+/// [`LENGTH_RANGE`], the number of turns within [`TURNS_RANGE`] (a helix), the initial
+/// height `h0` finite and positive, and the number of joints at most [`MAX_JOINTS`].
+fn derived_geometry(g: &RawGeometry, geometry: &Geometry, ck: &Checker) -> Result<(), CaseError> {
+    // the key the length comes from
+    let (key, at) = if g.length.is_some() {
+        ("geometry.length", span(&g.length))
+    } else if g.turns.is_some() {
+        ("geometry.turns", span(&g.turns))
+    } else if g.radius.is_some() {
+        ("geometry.radius", span(&g.radius))
+    } else {
+        ("geometry.pitch", span(&g.pitch))
+    };
+    let length = geometry.length;
+    if !in_range(length, LENGTH_RANGE) {
+        return Err(ck.invalid(
+            key,
+            at,
+            format!(
+                "the rod length L would be {} m; expected L {} m",
+                num(length),
+                range(LENGTH_RANGE)
+            ),
+        ));
+    }
+    if geometry.radius > 0.0 {
+        let turns = geometry.turns();
+        if !in_range(turns, TURNS_RANGE) {
+            return Err(ck.invalid(
+                key,
+                at,
+                format!(
+                    "the helices would have {} turns (L = {} m); expected from {} to {} turns",
+                    num(turns),
+                    num(length),
+                    TURNS_RANGE.0,
+                    TURNS_RANGE.1
+                ),
+            ));
+        }
+    }
+    let h0 = geometry.height0();
+    if !(h0.is_finite() && h0 > 0.0) {
+        return Err(ck.invalid(
+            key,
+            at,
+            format!("the initial height h0 = b L / c would be {}", num(h0)),
+        ));
+    }
+    let joints = estimated_joints(geometry);
+    if joints > MAX_JOINTS as f64 {
+        let (key, at) = if g.helices.is_some() {
+            ("geometry.helices", span(&g.helices))
+        } else {
+            (key, at)
+        };
+        return Err(ck.invalid(
+            key,
+            at,
+            format!(
+                "{} helices of {} turns would have about {} pin joints; expected at most {MAX_JOINTS} (fewer helices or turns)",
+                geometry.helices,
+                num(geometry.turns()),
+                num(joints.round())
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `geometry.helices`: 1, or an even number (as many right- as left-handed helices).
@@ -83,16 +179,19 @@ fn rod_length(g: &RawGeometry, c: f64, ck: &Checker) -> Result<f64, CaseError> {
             "geometry.length",
             &g.length,
             0.0,
-            positive,
-            "a positive rod length in m",
+            |l| in_range(l, LENGTH_RANGE),
+            &format!("a positive rod length in m {}", range(LENGTH_RANGE)),
         ),
         (turns, None) => {
             let turns = ck.number(
                 "geometry.turns",
                 turns,
                 3.5,
-                positive,
-                "a positive number of turns",
+                |t| in_range(t, TURNS_RANGE),
+                &format!(
+                    "a number of turns from {} to {}",
+                    TURNS_RANGE.0, TURNS_RANGE.1
+                ),
             )?;
             Ok(2.0 * PI * c * turns)
         }
@@ -101,19 +200,67 @@ fn rod_length(g: &RawGeometry, c: f64, ck: &Checker) -> Result<f64, CaseError> {
 
 /// `[stiffness]`: bending stiffnesses `B1`, `B2` about `d1`, `d2` and torsional stiffness
 /// `B3` (N m²); the thesis's 1, 1, 2.
-pub(super) fn stiffness(s: &RawStiffness, ck: &Checker) -> Result<Stiffness, CaseError> {
-    let bending = "a positive bending stiffness in N m²";
-    Ok(Stiffness {
-        b1: ck.number("stiffness.b1", &s.b1, 1.0, positive, bending)?,
-        b2: ck.number("stiffness.b2", &s.b2, 1.0, positive, bending)?,
+pub(super) fn stiffness(
+    s: &RawStiffness,
+    geometry: &Geometry,
+    ck: &Checker,
+) -> Result<Stiffness, CaseError> {
+    let bending = format!(
+        "a positive bending stiffness in N m² {}",
+        range(STIFFNESS_RANGE)
+    );
+    let ok = |b: f64| in_range(b, STIFFNESS_RANGE);
+    let stiffness = Stiffness {
+        b1: ck.number("stiffness.b1", &s.b1, 1.0, ok, &bending)?,
+        b2: ck.number("stiffness.b2", &s.b2, 1.0, ok, &bending)?,
         b3: ck.number(
             "stiffness.b3",
             &s.b3,
             2.0,
-            positive,
-            "a positive torsional stiffness in N m²",
+            ok,
+            &format!(
+                "a positive torsional stiffness in N m² {}",
+                range(STIFFNESS_RANGE)
+            ),
         )?,
-    })
+    };
+    for (key, value, given) in [
+        ("stiffness.b2", stiffness.b2, &s.b2),
+        ("stiffness.b3", stiffness.b3, &s.b3),
+    ] {
+        let ratio = value / stiffness.b1;
+        if !in_range(ratio, STIFFNESS_RATIO) {
+            let (key, at) = if given.is_some() {
+                (key, span(given))
+            } else {
+                ("stiffness.b1", span(&s.b1))
+            };
+            return Err(ck.invalid(
+                key,
+                at,
+                format!(
+                    "expected {}/B1 from {} to {}, found {} (B1 = {} N m²)",
+                    key.trim_start_matches("stiffness.").to_uppercase(),
+                    STIFFNESS_RATIO.0,
+                    STIFFNESS_RATIO.1,
+                    num(ratio),
+                    num(stiffness.b1)
+                ),
+            ));
+        }
+    }
+    let pcrit = stiffness.euler_load(geometry.length);
+    if !(pcrit.is_finite() && pcrit > 0.0 && pcrit.is_normal()) {
+        return Err(ck.invalid(
+            "stiffness.b1",
+            span(&s.b1),
+            format!(
+                "the reference load Pcrit = B1 (2π/L)² would be {} N",
+                num(pcrit)
+            ),
+        ));
+    }
+    Ok(stiffness)
 }
 
 /// `[boundary]`: the supports of the base and the tip, and the joints at the crossings.
@@ -124,6 +271,50 @@ pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
         base: end_condition(&b.base, thesis.base),
         tip: end_condition(&b.tip, thesis.tip),
         joints: b.joints.unwrap_or(thesis.joints),
+    }
+}
+
+/// Refuses supports that leave a rigid motion of the assembly free (a zero-energy mode the
+/// solver would see as a singular matrix, or the stability count as a neutral direction
+/// flipping at every step): both ends sliding (a sideways translation), or both ends
+/// spherical hinges on a rod no joint ties to others (its rotation about its chord).
+pub(super) fn free_motion(
+    b: &BoundaryConditions,
+    geometry: &Geometry,
+    ck: &Checker,
+) -> Result<(), CaseError> {
+    use crate::model::boundary::{Rotation, Translation};
+    let (base, tip) = (b.base, b.tip);
+    let motion = if base.translation == Translation::Slide && tip.translation == Translation::Slide
+    {
+        Some((
+            "translation",
+            "both ends slide: the assembly may translate sideways as a whole (a free rigid motion); fix the translation of one end",
+        ))
+    } else if base.rotation == Rotation::Free
+        && tip.rotation == Rotation::Free
+        && base.translation != Translation::Slide
+        && tip.translation != Translation::Slide
+        && (geometry.helices == 1 || !b.joints)
+    {
+        Some((
+            "rotation",
+            "both ends are spherical hinges (rotation = \"free\"): each rod may turn about its chord, the line from base to tip (a free rigid motion); clamp or pin one end",
+        ))
+    } else {
+        None
+    };
+    match motion {
+        None => Ok(()),
+        Some((half, message)) => {
+            let at = ck.line_of_key("tip");
+            Err(CaseError::Invalid {
+                file: ck.file.to_string(),
+                line: at,
+                key: format!("boundary.tip.{half}"),
+                message: message.to_string(),
+            })
+        }
     }
 }
 
@@ -159,7 +350,7 @@ pub(super) fn loading(
         "loading.steps",
         &l.steps,
         10,
-        (1, 100_000),
+        (1, MAX_STEPS as i64),
         "a number of output steps",
     )?;
     Ok(Loading {
@@ -174,9 +365,10 @@ pub(super) fn loading(
 /// whether the symmetric reduction is used; it needs the number of helices.
 pub(super) fn discretisation(
     d: &RawDiscretisation,
-    helices: usize,
+    geometry: &Geometry,
     ck: &Checker,
 ) -> Result<Discretisation, CaseError> {
+    let helices = geometry.helices;
     let accuracy = accuracy(d, ck)?;
     let elements = ck.integer(
         "discretisation.elements",
@@ -185,6 +377,22 @@ pub(super) fn discretisation(
         (1, 100_000),
         "a number of elements per rod",
     )?;
+    if geometry.radius > 0.0 && accuracy.is_none() {
+        // the mesh a rod gets: at least `elements`, and a vertex at every joint
+        let per_rod = elements as f64 + estimated_joints(geometry) / (helices / 2).max(1) as f64;
+        let per_turn = per_rod / geometry.turns();
+        if !(MIN_ELEMENTS_PER_TURN..=MAX_ELEMENTS_PER_TURN).contains(&per_turn) {
+            return Err(ck.invalid(
+                "discretisation.elements",
+                span(&d.elements),
+                format!(
+                    "expected from {MIN_ELEMENTS_PER_TURN} to {MAX_ELEMENTS_PER_TURN} elements per turn of helix, found {} ({elements} elements per rod over {} turns)",
+                    num(per_turn),
+                    num(geometry.turns())
+                ),
+            ));
+        }
+    }
     Ok(Discretisation {
         elements,
         order: d.order.unwrap_or(Order::Quadratic),
@@ -233,25 +441,32 @@ fn symmetric(d: &RawDiscretisation, helices: usize, ck: &Checker) -> Result<bool
 /// settings a case file cannot give keep their defaults.
 pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings, CaseError> {
     let d = ContinuationSettings::default();
-    let step = "a positive step in ε";
+    let step = &format!(
+        "a positive step in the load parameter {}",
+        range(STEP_RANGE)
+    );
+    let ok = |h: f64| in_range(h, STEP_RANGE);
     let mut solver = ContinuationSettings {
         initial_step: ck.number(
             "solver.initial_step",
             &s.initial_step,
             d.initial_step,
-            positive,
+            ok,
             step,
         )?,
-        max_step: ck.number("solver.max_step", &s.max_step, d.max_step, positive, step)?,
-        min_step: ck.number("solver.min_step", &s.min_step, d.min_step, positive, step)?,
+        max_step: ck.number("solver.max_step", &s.max_step, d.max_step, ok, step)?,
+        min_step: ck.number("solver.min_step", &s.min_step, d.min_step, ok, step)?,
         ..d
     };
     solver.newton.tolerance = ck.number(
         "solver.tolerance",
         &s.tolerance,
         d.newton.tolerance,
-        positive,
-        "a positive residual tolerance",
+        |t| in_range(t, TOLERANCE_RANGE),
+        &format!(
+            "a residual tolerance from {:e} to {:e} (relative to the stiffness B1: a looser one accepts states that are not equilibria)",
+            TOLERANCE_RANGE.0, TOLERANCE_RANGE.1
+        ),
     )?;
     solver.newton.max_iterations = ck.integer(
         "solver.max_iterations",
@@ -272,15 +487,12 @@ pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings
             span,
             format!(
                 "expected min_step ≤ max_step, found min_step = {} and max_step = {}",
-                solver.min_step, solver.max_step
+                num(solver.min_step),
+                num(solver.max_step)
             ),
         ));
     }
     Ok(solver)
-}
-
-fn positive(v: f64) -> bool {
-    v > 0.0
 }
 
 /// Where a value given in the file is (the start of the text when it is not given).
@@ -295,6 +507,19 @@ pub(super) struct Checker<'a> {
 }
 
 impl Checker<'_> {
+    /// The line of the first key `name = …` of the text (1 when there is none).
+    fn line_of_key(&self, name: &str) -> usize {
+        self.text
+            .lines()
+            .position(|l| {
+                let l = l.trim_start();
+                l.strip_prefix(name)
+                    .is_some_and(|r| r.trim_start().starts_with('=') || r.starts_with('.'))
+                    || l.starts_with(&format!("[boundary.{name}]"))
+            })
+            .map_or(1, |i| i + 1)
+    }
+
     /// A value out of range, at `span` in the text.
     fn invalid(&self, key: &str, span: Range<usize>, message: impl fmt::Display) -> CaseError {
         CaseError::Invalid {
@@ -320,7 +545,7 @@ impl Checker<'_> {
             Some(v) => Err(self.invalid(
                 key,
                 v.span(),
-                format!("expected {expected}, found {}", v.get_ref()),
+                format!("expected {expected}, found {}", num(*v.get_ref())),
             )),
         }
     }

@@ -5,6 +5,7 @@
 //! of the rod pulled straight (`h < L`, `ε > 1 − L/h0`); both limits are singular states.
 //! Under load control the target `P / Pcrit` only has to be a finite number.
 
+use super::limits::{num, MAX_LOAD};
 use super::settings::Geometry;
 use crate::model::loading::Control;
 use std::fmt;
@@ -14,6 +15,9 @@ use std::fmt;
 pub enum TargetError {
     /// Load control: `P / Pcrit` is NaN or infinite.
     LoadNotFinite { load: f64 },
+    /// Load control: `|P / Pcrit|` beyond [`MAX_LOAD`] (a path of more than
+    /// `MAX_LOAD / max_step` steps, far past every critical load of a rod).
+    LoadOutOfRange { load: f64 },
     /// Displacement control: `ε` is NaN or infinite. `min_eps = 1 − L/h0` is the lower
     /// limit of the admissible `ε`.
     RatioNotFinite { eps: f64, min_eps: f64 },
@@ -36,8 +40,16 @@ impl fmt::Display for TargetError {
             TargetError::LoadNotFinite { load } => {
                 write!(f, "expected a finite load P/Pcrit, found {load}")
             }
+            TargetError::LoadOutOfRange { load } => {
+                let max = MAX_LOAD;
+                write!(
+                    f,
+                    "expected a load P/Pcrit from -{max} to {max}, found {}",
+                    num(load)
+                )
+            }
             TargetError::RatioNotFinite { eps, min_eps } => {
-                write!(f, "{}, found {eps}", admissible_ratios(min_eps))
+                write!(f, "{}, found {}", admissible_ratios(min_eps), num(eps))
             }
             TargetError::TipOnOrBelowBase {
                 eps,
@@ -47,8 +59,9 @@ impl fmt::Display for TargetError {
                 let place = if eps == 1.0 { "on" } else { "below" };
                 write!(
                     f,
-                    "{}, found {eps}: {}, {place} the base",
+                    "{}, found {}: {}, {place} the base",
                     admissible_ratios(min_eps),
+                    num(eps),
                     tip_height(height)
                 )
             }
@@ -62,8 +75,9 @@ impl fmt::Display for TargetError {
                 let place = if eps == min_eps { "equal to" } else { "beyond" };
                 write!(
                     f,
-                    "{}, found {eps}: {}, {place} the rod length L = {} m (the rod pulled straight; h0 = {} m)",
+                    "{}, found {}: {}, {place} the rod length L = {} m (the rod pulled straight; h0 = {} m)",
                     admissible_ratios(min_eps),
+                    num(eps),
                     tip_height(height),
                     short(length),
                     short(height0)
@@ -96,10 +110,12 @@ pub(super) fn check_target(
     target: f64,
 ) -> Result<(), TargetError> {
     if control == Control::Force {
-        return if target.is_finite() {
-            Ok(())
-        } else {
+        return if !target.is_finite() {
             Err(TargetError::LoadNotFinite { load: target })
+        } else if target.abs() > MAX_LOAD {
+            Err(TargetError::LoadOutOfRange { load: target })
+        } else {
+            Ok(())
         };
     }
     let eps = target;
@@ -133,6 +149,13 @@ pub(super) fn check_target(
 fn short(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
+    }
+    if !(1e-4..1e6).contains(&x.abs()) {
+        // no 309-digit numbers: 6 significant figures in scientific notation
+        let s = format!("{x:.5e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
     }
     let decimals = (5 - x.abs().log10().floor() as i32).max(0) as usize;
     let s = format!("{x:.decimals$}");

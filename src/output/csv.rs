@@ -61,7 +61,7 @@ pub fn table<R: Serialize + Default>(
     let mut text = Vec::new();
     for c in comments {
         text.extend_from_slice(b"# ");
-        text.extend_from_slice(c.as_bytes());
+        text.extend_from_slice(comment_safe(c).as_bytes());
         text.push(b'\n');
     }
     let start = text.len();
@@ -356,10 +356,59 @@ pub fn state_csv(case: &str, snapshot: &Snapshot) -> String {
     table(&comments, rows)
 }
 
+/// `text` made safe for one `#` comment line: line breaks and other control characters
+/// (a case name may hold them) become spaces.
+pub fn comment_safe(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
+/// A cell of a table that holds no finite number.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("refusing to write a non-finite value ({value}) in column `{column}`, row {row}")]
+pub struct NonFinite {
+    pub column: String,
+    /// Data row, 1-based (the header not counted).
+    pub row: usize,
+    pub value: String,
+}
+
+/// Checks that no cell of `csv` (a table of this module) is `NaN`, `inf` or `-inf`, and
+/// says the first column that holds one.
+pub fn check_finite(csv: &str) -> Result<(), NonFinite> {
+    let body: String = csv
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .flat_map(|l| [l, "\n"])
+        .collect();
+    let mut reader = ::csv::ReaderBuilder::new()
+        .flexible(true)
+        .from_reader(body.as_bytes());
+    let header = reader.headers().cloned().unwrap_or_default();
+    for (k, record) in reader.records().enumerate() {
+        let Ok(record) = record else { continue };
+        for (i, cell) in record.iter().enumerate() {
+            let t = cell.trim().to_ascii_lowercase();
+            if matches!(
+                t.as_str(),
+                "nan" | "inf" | "-inf" | "+inf" | "infinity" | "-infinity"
+            ) {
+                return Err(NonFinite {
+                    column: header.get(i).unwrap_or("?").to_string(),
+                    row: k + 1,
+                    value: cell.to_string(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
 /// `csv` (a table of this module) with `note` as one more `#` line after its first line,
 /// e.g. the mesh an accuracy target chose and its estimated error.
 pub fn with_note(csv: &str, note: &str) -> String {
-    let note = note.replace(['\n', '\r'], " ");
+    let note = comment_safe(note);
     match csv.split_once('\n') {
         Some((first, rest)) => format!("{first}\n# {note}\n{rest}"),
         None => format!("{csv}\n# {note}\n"),

@@ -1,8 +1,12 @@
 //! Files on disk: every file is written to a temporary file in its folder and renamed over
 //! its name, so a reader never sees it half-written and a failed write leaves nothing
-//! behind.
+//! behind. The files of a run are written together: into a temporary folder beside the
+//! output folder, then moved in, after the files of the same kind a previous run left
+//! there are moved out (and put back if the move fails).
 
-use super::csv::{critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note};
+use super::csv::{
+    check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
+};
 use crate::discretisation::model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, Snapshot};
 use std::io::{self, Write as _};
@@ -65,22 +69,164 @@ pub fn write_run_noted(
             files.push((format!("mode-{i}.csv"), mode_csv(case, model, i, c)));
         }
     }
-    let mut out = Vec::new();
-    for (name, text) in files {
-        let text = match note {
-            Some(n) => with_note(&text, n),
-            None => text,
-        };
-        let p = dir.join(name);
-        write_atomic(&p, &text)?;
-        out.push(p);
+    let files: Vec<(String, String)> = files
+        .into_iter()
+        .map(|(name, text)| match note {
+            Some(n) => (name, with_note(&text, n)),
+            None => (name, text),
+        })
+        .collect();
+    for (name, text) in &files {
+        check_finite(text)
+            .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, format!("{name}: {e}")))?;
     }
-    Ok(out)
+    write_folder(dir, &files, is_run_file)
+}
+
+/// Whether `name` is a file a run writes: `load.csv`, `reactions.csv`, `state.csv`,
+/// `critical.csv` or `mode-<k>.csv`.
+pub fn is_run_file(name: &str) -> bool {
+    matches!(
+        name,
+        "load.csv" | "reactions.csv" | "state.csv" | "critical.csv"
+    ) || name
+        .strip_prefix("mode-")
+        .and_then(|r| r.strip_suffix(".csv"))
+        .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Whether `name` is a file a precision study writes.
+pub fn is_precision_file(name: &str) -> bool {
+    matches!(name, "precision.csv" | "precision.svg")
+}
+
+/// Writes `files` (name, contents) into `dir` (created if needed) as one set: into a
+/// temporary folder beside `dir`, then, once all are written, the files of `dir` that
+/// `own` says are of the same kind are moved out and the new ones moved in. If any move
+/// fails the new files are taken out again and the old ones put back, so `dir` holds either
+/// the old set or the new one; nothing temporary is left in `dir`. Returns the paths.
+pub fn write_folder(
+    dir: &Path,
+    files: &[(String, String)],
+    own: fn(&str) -> bool,
+) -> io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    for (name, _) in files {
+        let p = dir.join(name);
+        if std::fs::symlink_metadata(&p).is_ok_and(|m| m.is_dir()) {
+            return Err(io::Error::other(format!(
+                "{} is a folder, not a file that can be replaced",
+                p.display()
+            )));
+        }
+    }
+    let parent = match dir.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let stage = tempfile::Builder::new()
+        .prefix(".spira-staging-")
+        .tempdir_in(&parent)
+        .or_else(|_| {
+            tempfile::Builder::new()
+                .prefix(".spira-staging-")
+                .tempdir_in(dir)
+        })?;
+    let new_dir = stage.path().join("new");
+    let old_dir = stage.path().join("old");
+    std::fs::create_dir(&new_dir)?;
+    std::fs::create_dir(&old_dir)?;
+    for (name, text) in files {
+        let mut f = std::fs::File::create(new_dir.join(name))?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+    }
+    // the previous run's files of this kind, out of the way
+    let mut moved_out = Vec::new();
+    let mut result = Ok(());
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if own(&name) && !entry.file_type()?.is_dir() {
+            if let Err(e) = std::fs::rename(entry.path(), old_dir.join(&name)) {
+                result = Err(e);
+                break;
+            }
+            moved_out.push(name);
+        }
+    }
+    let mut moved_in = Vec::new();
+    if result.is_ok() {
+        for (name, _) in files {
+            if let Err(e) = std::fs::rename(new_dir.join(name), dir.join(name)) {
+                result = Err(e);
+                break;
+            }
+            moved_in.push(name.clone());
+        }
+    }
+    if let Err(e) = result {
+        // put the folder back as it was
+        for name in &moved_in {
+            let _ = std::fs::remove_file(dir.join(name));
+        }
+        for name in &moved_out {
+            let _ = std::fs::rename(old_dir.join(name), dir.join(name));
+        }
+        return Err(e);
+    }
+    Ok(files.iter().map(|(name, _)| dir.join(name)).collect())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_folder_write_replaces_the_files_of_its_kind_and_keeps_others() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let out = dir.path().join("out");
+        std::fs::create_dir(&out).expect("folder");
+        for name in [
+            "mode-0.csv",
+            "mode-12.csv",
+            "critical.csv",
+            "notes.txt",
+            "mode-x.csv",
+        ] {
+            std::fs::write(out.join(name), "old").expect("write");
+        }
+        let files = vec![
+            ("load.csv".to_string(), "a\n1\n".to_string()),
+            ("state.csv".to_string(), "b\n2\n".to_string()),
+        ];
+        write_folder(&out, &files, is_run_file).expect("write");
+        assert_eq!(
+            listing(&out),
+            ["load.csv", "mode-x.csv", "notes.txt", "state.csv"]
+        );
+        // nothing left beside the folder but the folder
+        assert_eq!(listing(dir.path()), ["out"]);
+    }
+
+    #[test]
+    fn a_failed_folder_write_leaves_the_previous_files() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let out = dir.path().join("out");
+        std::fs::create_dir_all(out.join("state.csv")).expect("a folder named state.csv");
+        std::fs::write(out.join("load.csv"), "old").expect("write");
+        let files = vec![
+            ("load.csv".to_string(), "new".to_string()),
+            ("state.csv".to_string(), "new".to_string()),
+        ];
+        assert!(write_folder(&out, &files, is_run_file).is_err());
+        assert_eq!(listing(&out), ["load.csv", "state.csv"]);
+        assert_eq!(
+            std::fs::read_to_string(out.join("load.csv")).unwrap(),
+            "old"
+        );
+        assert_eq!(listing(dir.path()), ["out"]);
+    }
 
     fn listing(dir: &Path) -> Vec<String> {
         let mut names: Vec<String> = std::fs::read_dir(dir)

@@ -7,5 +7,8 @@ pub mod csv;
 pub mod files;
 pub mod precision;
 
-pub use self::csv::{critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note};
+pub use self::csv::{
+    check_finite, comment_safe, critical_csv, load_csv, mode_csv, reactions_csv, state_csv,
+    with_note, NonFinite,
+};
 pub use self::files::{write_atomic, write_run, write_run_noted};

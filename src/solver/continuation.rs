@@ -67,7 +67,14 @@ pub enum StopReason {
     NoCriticalPoint { index: usize },
     #[error("the solve was interrupted: {0}")]
     Interrupted(Interruption),
+    /// The count of unstable directions changed more often than a path has critical
+    /// points: a neutral mode flipping it (see [`MAX_CRITICAL_POINTS`]).
+    #[error("the count of unstable directions changed at more than {max} points: a neutral mode (a zero-energy motion the supports leave free, or a buckled isotropic rod turning about its axis) flips it at every step")]
+    TooManyCritical { max: usize },
 }
+
+/// Critical points located on one path before it stops (bounds the critical-point search).
+pub const MAX_CRITICAL_POINTS: usize = 16;
 
 /// The continuation could not go on; the last converged state is kept.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
@@ -406,6 +413,15 @@ impl<P: Problem> Continuation<P> {
                     }
                     if let (Some(b), Some(a)) = (stability_before, self.state.stability) {
                         if a.unstable_directions != b.unstable_directions {
+                            if self.critical.len() >= MAX_CRITICAL_POINTS {
+                                return Err(self.error(
+                                    target,
+                                    h,
+                                    StopReason::TooManyCritical {
+                                        max: MAX_CRITICAL_POINTS,
+                                    },
+                                ));
+                            }
                             self.locate_critical(&x_before, l_before, was_arclength, b, a);
                         }
                     }

@@ -9,9 +9,14 @@ use faer::sparse::SparseColMatRef;
 /// Newton settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonSettings {
-    /// Converged when `‖R‖∞` falls below this (N, N m and m mixed: the residual of the
-    /// balance equations and of the constraints).
+    /// Converged when the scaled residual falls below this: the balance equations' rows
+    /// (the primal unknowns') over [`NewtonSettings::force_scale`], the constraints' rows
+    /// as they are (m, and dimensionless for unit norms).
     pub tolerance: f64,
+    /// The problem's stiffness scale the balance rows are measured in (`B1` in N m² for
+    /// the rods, so that multiplying every stiffness by a factor changes nothing but the
+    /// units of the forces); 1 by default.
+    pub force_scale: f64,
     /// Iterations before giving up.
     pub max_iterations: usize,
     /// A linear solve whose relative residual exceeds this marks the matrix singular.
@@ -22,6 +27,7 @@ impl Default for NewtonSettings {
     fn default() -> Self {
         NewtonSettings {
             tolerance: 1e-9,
+            force_scale: 1.0,
             max_iterations: 12,
             singular_threshold: 1e-6,
         }
@@ -35,6 +41,13 @@ pub enum NewtonError {
     NotConverged { iterations: usize, residual: f64 },
     #[error("Newton diverged at iteration {iteration} (residual {residual:.2e})")]
     Diverged { iteration: usize, residual: f64 },
+    /// A state whose residual is small but whose energy or unknowns are not finite
+    /// numbers: rejected like a failed iteration.
+    #[error("Newton reached a state with a non-finite {what} at iteration {iteration}")]
+    NonFinite {
+        iteration: usize,
+        what: &'static str,
+    },
     #[error("interrupted at Newton iteration {iteration}: {why}")]
     Interrupted { iteration: usize, why: Interruption },
     #[error("at Newton iteration {iteration}: {source}")]
@@ -313,16 +326,31 @@ impl Newton {
                 return Err(NewtonError::Interrupted { iteration: it, why });
             }
             let energy = problem.residual(x, *lambda, &mut self.residual);
-            let r = norm_inf(&self.residual);
+            let reported = norm_inf(&self.residual);
+            // the convergence test, free of the stiffness scale
+            let r = scaled_norm(&self.residual, np, settings.force_scale);
             if it == 0 {
                 first = r;
             }
-            last = r;
+            last = reported;
             let step_eq = step.residual(&x[..np], *lambda);
             if r <= settings.tolerance && step_eq.abs() <= 1e-10 * (1.0 + step.ds.abs()) {
+                let what = if !energy.is_finite() {
+                    Some("energy")
+                } else if !lambda.is_finite() || x.iter().any(|v| !v.is_finite()) {
+                    Some("unknown")
+                } else {
+                    None
+                };
+                if let Some(what) = what {
+                    return Err(NewtonError::NonFinite {
+                        iteration: it,
+                        what,
+                    });
+                }
                 return Ok(NewtonReport {
                     iterations: it,
-                    residual: r,
+                    residual: reported,
                     energy,
                 });
             }
@@ -330,7 +358,7 @@ impl Newton {
             if diverging && (!stale || !r.is_finite()) {
                 return Err(NewtonError::Diverged {
                     iteration: it,
-                    residual: r,
+                    residual: reported,
                 });
             }
             if it == settings.max_iterations {
@@ -387,6 +415,23 @@ impl Newton {
             iterations: settings.max_iterations,
             residual: last,
         })
+    }
+}
+
+/// `max(‖R[..np]‖∞ / scale, ‖R[np..]‖∞)`: the balance rows in units of the stiffness
+/// scale, the constraint rows as they are. With `scale = 1` it is `‖R‖∞`.
+fn scaled_norm(r: &[f64], np: usize, scale: f64) -> f64 {
+    let np = np.min(r.len());
+    let balance = norm_inf(&r[..np]);
+    let constraints = norm_inf(&r[np..]);
+    if scale == 1.0 {
+        return norm_inf(r);
+    }
+    let b = balance / scale;
+    if b.is_nan() || constraints.is_nan() {
+        f64::NAN
+    } else {
+        b.max(constraints)
     }
 }
 

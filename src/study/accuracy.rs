@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 /// side.
 pub const SAFETY: f64 = 0.5;
 /// Largest mesh considered (elements per rod).
-pub const MAX_ELEMENTS: usize = 8192;
+pub use super::problem::MAX_ELEMENTS;
 /// Smallest relative accuracy that can be asked for: Newton stops at a residual of 1e-9
 /// (N, N m), and on Love's helix the reactions stop converging at about 5e-10 relative, so
 /// a smaller target could be neither met nor checked.
@@ -122,6 +122,15 @@ pub fn choose_mesh(
     let mut failures = Vec::new();
     for &order in orders {
         let n1 = problem.coarsest(order);
+        if n1.saturating_mul(2) > MAX_ELEMENTS {
+            failures.push(format!(
+                "{}: the pilot meshes would have {} and {} elements per rod, more than {MAX_ELEMENTS}",
+                order.name(),
+                n1,
+                n1.saturating_mul(2)
+            ));
+            continue;
+        }
         let probes = problem.vertices(n1);
         let solve = |n: usize| {
             let t = Instant::now();

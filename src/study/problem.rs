@@ -14,6 +14,9 @@ use crate::run::run_path;
 use crate::simulation::{Simulation, SolveError};
 use crate::solver::continuation::ContinuationSettings;
 
+/// Largest mesh a study considers (elements per rod).
+pub const MAX_ELEMENTS: usize = 8192;
+
 /// Element orders compared, coarse to fine in accuracy per element.
 pub const ORDERS: [Order; 2] = [Order::Linear, Order::Quadratic];
 
@@ -220,12 +223,16 @@ impl Problem {
 
     /// Coarsest mesh of a ladder for `order`: the smallest `joint_intervals · 2^j` with at
     /// least [`elements_per_turn`] elements per turn.
+    /// The doubling stops at [`MAX_ELEMENTS`] (and cannot overflow): a
+    /// case of more turns than that allows gets a coarsest mesh beyond it, which the
+    /// caller refuses.
     pub fn coarsest(&self, order: Order) -> usize {
         let m = self.joint_intervals().max(1);
-        let min = (elements_per_turn(order) * self.turns()).ceil().max(2.0) as usize;
+        let min = (elements_per_turn(order) * self.turns()).ceil().max(2.0);
+        let cap = MAX_ELEMENTS.max(m);
         let mut n = m;
-        while n < min {
-            n *= 2;
+        while (n as f64) < min && n <= cap {
+            n = n.saturating_mul(2);
         }
         n
     }
