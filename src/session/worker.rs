@@ -329,14 +329,7 @@ fn run_precision(request: Request, ctx: &Context<Request, WorkerEvent>) {
 /// Runs `jobs` in order on this thread with the solver thread's code (no time budget, no
 /// cancellation, no coalescing) and returns its answers: a replay of a session.
 pub fn run_jobs(jobs: Vec<Job>) -> Vec<WorkerEvent> {
-    let mut solver = Solver {
-        sim: None,
-        interrupt: None,
-        progress: None,
-        generation: 0,
-        points: 0,
-        critical: 0,
-    };
+    let mut solver = Solver::new();
     let mut events = Vec::new();
     for (k, job) in jobs.into_iter().enumerate() {
         let generation = if matches!(job, Job::Start(_)) {
@@ -372,14 +365,7 @@ fn serve(
     cancel: Arc<Mutex<Cancel>>,
     budget: Duration,
 ) {
-    let mut solver = Solver {
-        sim: None,
-        interrupt: None,
-        progress: None,
-        generation: 0,
-        points: 0,
-        critical: 0,
-    };
+    let mut solver = Solver::new();
     let mut queue = VecDeque::new();
     loop {
         if queue.is_empty() {
@@ -467,6 +453,18 @@ fn serve(
 }
 
 impl Solver {
+    /// No simulation yet.
+    fn new() -> Solver {
+        Solver {
+            sim: None,
+            interrupt: None,
+            progress: None,
+            generation: 0,
+            points: 0,
+            critical: 0,
+        }
+    }
+
     /// Hands the simulation the interrupt of this job and an observer that reports the
     /// accepted internal steps as [`WorkerEvent::Progress`] (at most every
     /// [`PROGRESS_INTERVAL`]). A `Start` sets them on its new simulation in [`Solver::run`].

@@ -118,24 +118,7 @@ fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
             c.unstable_after
         )));
     }
-    let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3).min(area.width);
-    let height = (lines.len() as u16 + 2).min(area.height);
-    let rect = Rect {
-        x: area.x + (area.width - width) / 2,
-        y: area.y + (area.height - height) / 2,
-        width,
-        height,
-    };
-    frame.render_widget(Clear, rect);
-    frame.render_widget(
-        Paragraph::new(lines).block(
-            Block::new()
-                .borders(Borders::ALL)
-                .title(" critical points ")
-                .title_bottom(Line::from(" x closes ").alignment(Alignment::Right)),
-        ),
-        rect,
-    );
+    draw_overlay(frame, area, lines, " critical points ", " x closes ");
 }
 
 /// The message for a terminal below [`MIN_WIDTH`] x [`MIN_HEIGHT`].
@@ -1303,6 +1286,11 @@ fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
         },
         Style::new().fg(DIM),
     )));
+    draw_overlay(frame, area, lines, " keys ", " any key closes ");
+}
+
+/// A box of `lines` centred over the screen, titled, with how to close it at the bottom.
+fn draw_overlay(frame: &mut Frame, area: Rect, lines: Vec<Line>, title: &str, close: &str) {
     let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3).min(area.width);
     let height = (lines.len() as u16 + 2).min(area.height);
     let rect = Rect {
@@ -1316,8 +1304,8 @@ fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
         Paragraph::new(lines).block(
             Block::new()
                 .borders(Borders::ALL)
-                .title(" keys ")
-                .title_bottom(Line::from(" any key closes ").alignment(Alignment::Right)),
+                .title(title.to_string())
+                .title_bottom(Line::from(close.to_string()).alignment(Alignment::Right)),
         ),
         rect,
     );
