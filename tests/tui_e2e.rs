@@ -173,10 +173,28 @@ impl Explorer {
         self.screen.lock().unwrap().len()
     }
 
+    /// After the child has exited: waits (at most 2 s) until the reader thread has taken
+    /// what the child wrote last, i.e. until the output stops growing for 100 ms.
+    fn drain(&self) {
+        let t0 = Instant::now();
+        let mut seen = self.len();
+        let mut quiet = Instant::now();
+        while t0.elapsed() < Duration::from_secs(2) && quiet.elapsed() < Duration::from_millis(100)
+        {
+            std::thread::sleep(Duration::from_millis(10));
+            let now = self.len();
+            if now != seen {
+                seen = now;
+                quiet = Instant::now();
+            }
+        }
+    }
+
     fn wait(&mut self) -> ExitStatus {
         let t0 = Instant::now();
         loop {
             if let Some(status) = self.child.try_wait().expect("wait") {
+                self.drain();
                 return status;
             }
             assert!(t0.elapsed() < TIMEOUT, "spira tui did not quit");
