@@ -439,7 +439,7 @@ fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
             println!(
                 "symmetric pair ({} unknowns{}): best {:.1} ms per path, {:.2} ms per output step, speed-up {:.1}x; largest tip-force difference to the full model {:.1e} (relative)",
                 po.unknowns,
-                if track { ", stability on the full model" } else { ", no stability" },
+                if track { ", stability by Bloch blocks" } else { ", no stability" },
                 pb * 1e3,
                 pb * 1e3 / eps.len() as f64,
                 reference / pb,

@@ -112,8 +112,8 @@ impl Case {
 
     /// The case as the explorer solves it interactively (issue 5, "a model no bigger than
     /// the scene"): one symmetric pair standing for the assembly when it has the symmetry,
-    /// and stability as the count of unstable directions only (on the full model), without
-    /// the lowest eigenvalue. Everything shown is still of the whole assembly.
+    /// and stability as the count of unstable directions only (by the pair's Bloch blocks),
+    /// without the lowest eigenvalue. Everything shown is still of the whole assembly.
     pub fn for_explorer(&self) -> Case {
         let mut c = self.clone();
         let n = c.geometry.helices;
