@@ -87,6 +87,9 @@ pub struct Stability {
     /// Lowest eigenvalue of that Hessian in the metric of nodal rotations weighted by
     /// arc length (J/m; negative when unstable), where computed.
     pub lowest_eigenvalue: Option<f64>,
+    /// Circumferential wavenumber of the lowest eigenvalue's mode, for an assembly judged
+    /// by its Bloch blocks (DESIGN.md §7); `None` otherwise.
+    pub lowest_wavenumber: Option<usize>,
 }
 
 impl Stability {

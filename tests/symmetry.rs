@@ -117,8 +117,11 @@ fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
     let full_system = System::new(&full, case.boundary, &xf[..full.n_primal], tip);
     let mut blocks = RodProblem::new(pair.clone(), pair_system, case.loading.control);
     let mut whole = RodProblem::new(full, full_system, case.loading.control);
-    let per_block = blocks.unstable_directions_per_block(x).unwrap();
-    let counted: usize = per_block.iter().map(|(_, k, c)| k * c).sum();
+    let per_block = blocks.block_stability(x, false).unwrap();
+    let counted: usize = per_block
+        .iter()
+        .map(|b| b.multiplicity * b.unstable_directions)
+        .sum();
     let (lowest, _) = blocks.lowest_eigenvalue_with_wavenumber(x).unwrap();
     let full_count = whole.unstable_directions(&xf, 0.0).unwrap();
     let full_lowest = whole.lowest_eigenvalue(&xf, 0.0).unwrap();

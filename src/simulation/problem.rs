@@ -11,6 +11,7 @@ use crate::discretisation::model::{DiscreteModel, End};
 use crate::discretisation::symmetry::BlochBlocks;
 use crate::discretisation::system::System;
 use crate::model::loading::{Control, TipLoad};
+use crate::results::Stability;
 use crate::solver::problem::Problem;
 use crate::solver::stability::{InertiaError, KktStability, WarmStart};
 use faer::sparse::SymbolicSparseColMat;
@@ -37,23 +38,42 @@ enum Judge {
     Blocks(Box<Blocks>),
 }
 
-/// The Bloch blocks of a symmetric pair, one per wavenumber (DESIGN.md §7).
+/// The Bloch blocks of a symmetric pair, one per wavenumber (DESIGN.md §7), judged on two
+/// threads (the blocks are independent).
 struct Blocks {
     bloch: BlochBlocks,
-    /// The real blocks `p = 0` and `p = m/2`, in the pair's pattern.
-    zero: KktStability,
-    half: KktStability,
-    /// The complex blocks, written as real ones; one factorisation pattern for all, with a
-    /// warm start of inverse iteration for each wavenumber.
-    complex: KktStability,
+    /// One workspace per thread.
+    workers: [Worker; 2],
+    /// The warm start of inverse iteration of each wavenumber `0 ..= m/2`.
     warm: Vec<WarmStart>,
     residual: Vec<f64>,
-    /// The pair's KKT values, and a block's.
+    /// The pair's KKT values.
     pair: Vec<f64>,
-    real: Vec<f64>,
-    realified: Vec<f64>,
     /// The wavenumber of the lowest eigenvalue found last.
     lowest_wavenumber: usize,
+    /// The wavenumber a critical-point search looks at, when one is under way.
+    focus: Option<usize>,
+}
+
+/// What one thread needs to judge a block: the stability of the real blocks (the pair's
+/// pattern) and of the complex ones (the realified pattern), each built on first use, and
+/// the block's values.
+struct Worker {
+    real: KktStability,
+    complex: KktStability,
+    values: Vec<f64>,
+}
+
+/// The stability of one Bloch block of a state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlockStability {
+    pub wavenumber: usize,
+    /// How many wavenumbers the block stands for (`p` and `m − p`).
+    pub multiplicity: usize,
+    pub unstable_directions: usize,
+    /// The block's lowest eigenvalue (J/m), when it was computed: the lowest of the state's
+    /// blocks always is, a block known to have none below it is not.
+    pub lowest_eigenvalue: Option<f64>,
 }
 
 /// Tributary arc length of every primal unknown: the metric of the eigenproblem
@@ -103,18 +123,20 @@ impl RodProblem {
         let judge = match BlochBlocks::new(&model, &system) {
             Some(bloch) => {
                 let metric = metric(&model);
-                let warm = vec![WarmStart::default(); bloch.m / 2 + 1];
+                let realified_metric = bloch.realified_metric(&metric);
+                let worker = || Worker {
+                    real: KktStability::new(metric.clone()),
+                    complex: KktStability::with_copies(realified_metric.clone(), 2),
+                    values: Vec::new(),
+                };
                 Judge::Blocks(Box::new(Blocks {
-                    complex: KktStability::with_copies(bloch.realified_metric(&metric), 2),
-                    realified: vec![0.0; bloch.realified_pattern().row_idx().len()],
-                    zero: KktStability::new(metric.clone()),
-                    half: KktStability::new(metric),
+                    workers: [worker(), worker()],
+                    warm: vec![WarmStart::default(); bloch.m / 2 + 1],
                     bloch,
-                    warm,
                     residual: vec![0.0; system.n],
                     pair: system.new_values(),
-                    real: system.new_values(),
                     lowest_wavenumber: 0,
+                    focus: None,
                 }))
             }
             None => Judge::Own {
@@ -142,113 +164,262 @@ impl RodProblem {
         matches!(self.judge, Judge::Blocks(_))
     }
 
-    /// `f` applied to the stability of every block at state `x` (the KKT values do not
-    /// depend on the load parameter: it enters the residual only): of the model itself,
-    /// or of each wavenumber `p` of a symmetric pair, with the number of wavenumbers the
-    /// block stands for.
-    fn each_block<T>(
+    /// The stability of every distinct block at `x` (the KKT values do not depend on the
+    /// load parameter: it enters the residual only), with the lowest eigenvalue over the
+    /// blocks when `eigenvalue` is asked for; one block of wavenumber 0 for a model without
+    /// the symmetry.
+    ///
+    /// For the lowest eigenvalue, only the block that had it last time is iterated on; every
+    /// other block is asked, by one inertia count at that eigenvalue, whether it has one
+    /// below (and the same factorisation counts its unstable directions when it has none).
+    pub fn block_stability(
         &mut self,
         x: &[f64],
-        mut f: impl FnMut(&SymbolicSparseColMat<usize>, &[f64], &mut KktStability) -> T,
-    ) -> Vec<(usize, usize, T)> {
-        match &mut self.judge {
+        eigenvalue: bool,
+    ) -> Result<Vec<BlockStability>, InertiaError> {
+        let b = match &mut self.judge {
             Judge::Own {
                 stability,
                 residual,
                 values,
             } => {
                 self.system.evaluate(&self.model, x, residual, values);
-                vec![(0, 1, f(self.system.pattern(), values, stability))]
-            }
-            Judge::Blocks(b) => {
-                let b = b.as_mut();
-                self.system
-                    .evaluate(&self.model, x, &mut b.residual, &mut b.pair);
                 let pattern = self.system.pattern();
-                let mut out = Vec::new();
-                for p in b.bloch.wavenumbers() {
-                    let value = b.block(pattern, p, &mut f);
-                    out.push((p, b.bloch.multiplicity(p), value));
-                }
-                out
-            }
-        }
-    }
-
-    /// Unstable directions of every distinct block at `x`: `(wavenumber, multiplicity,
-    /// count)`; one block of wavenumber 0 for a model without the symmetry.
-    pub fn unstable_directions_per_block(
-        &mut self,
-        x: &[f64],
-    ) -> Result<Vec<(usize, usize, usize)>, InertiaError> {
-        self.each_block(x, |pattern, values, s| {
-            s.unstable_directions(pattern, values)
-        })
-        .into_iter()
-        .map(|(p, k, c)| c.map(|c| (p, k, c)))
-        .collect()
-    }
-
-    /// The lowest eigenvalue over the blocks at `x` and its wavenumber. Only the block that
-    /// had the lowest eigenvalue last time is iterated on for sure; every other block is
-    /// first asked, by one inertia count, whether it has an eigenvalue below that one.
-    pub fn lowest_eigenvalue_with_wavenumber(&mut self, x: &[f64]) -> Option<(f64, usize)> {
-        let b = match &mut self.judge {
-            Judge::Own { .. } => {
-                let all = self.each_block(x, |pat, v, s| s.lowest_eigenvalue(pat, v));
-                return all
-                    .into_iter()
-                    .next()
-                    .and_then(|(p, _, l)| l.map(|l| (l, p)));
+                let unstable_directions = stability.unstable_directions(pattern, values)?;
+                let lowest_eigenvalue = if eigenvalue {
+                    stability.lowest_eigenvalue(pattern, values)
+                } else {
+                    None
+                };
+                return Ok(vec![BlockStability {
+                    wavenumber: 0,
+                    multiplicity: 1,
+                    unstable_directions,
+                    lowest_eigenvalue,
+                }]);
             }
             Judge::Blocks(b) => b.as_mut(),
         };
         self.system
             .evaluate(&self.model, x, &mut b.residual, &mut b.pair);
         let pattern = self.system.pattern();
+        let all: Vec<usize> = b.bloch.wavenumbers().collect();
+        if !eigenvalue {
+            return b
+                .run(pattern, &all, |_, pat, v, s| {
+                    s.unstable_directions(pat, v).map(|c| (c, None))
+                })
+                .into_iter()
+                .map(|(p, r)| r.map(|(c, l)| b.stability_of(p, c, l)))
+                .collect();
+        }
         let first = b.lowest_wavenumber;
-        let mut best = (
-            b.block(pattern, first, |pat, v, s| s.lowest_eigenvalue(pat, v))?,
-            first,
-        );
-        for p in b.bloch.wavenumbers().filter(|&p| p != first) {
-            let below = b.block(pattern, p, |pat, v, s| s.count_below(pat, v, best.0));
-            if below.ok()? > 0 {
-                let l = b.block(pattern, p, |pat, v, s| s.lowest_eigenvalue(pat, v))?;
-                if l < best.0 {
-                    best = (l, p);
-                }
+        let [(_, head)] = b
+            .run(pattern, &[first], |_, pat, v, s| {
+                let lowest = s.lowest_eigenvalue(pat, v);
+                let clearly_stable = match lowest {
+                    Some(l) => l > s.rounding_band(pat, v)?,
+                    None => false,
+                };
+                let count = if clearly_stable {
+                    0
+                } else {
+                    s.unstable_directions(pat, v)?
+                };
+                Ok((count, lowest))
+            })
+            .try_into()
+            .expect("one block asked, one answered");
+        let (count, lowest) = head?;
+        let mut out = vec![b.stability_of(first, count, lowest)];
+        let others: Vec<usize> = all.into_iter().filter(|&p| p != first).collect();
+        let Some(best) = lowest else {
+            for (p, r) in b.run(pattern, &others, |_, pat, v, s| {
+                s.unstable_directions(pat, v).map(|c| (c, None))
+            }) {
+                let (c, l) = r?;
+                out.push(b.stability_of(p, c, l));
+            }
+            return Ok(out);
+        };
+        for (p, r) in b.run(pattern, &others, |_, pat, v, s| {
+            let (count, below) = s.unstable_and_below(pat, v, best)?;
+            let lowest = if below > 0 {
+                s.lowest_eigenvalue(pat, v)
+            } else {
+                None
+            };
+            Ok((count, lowest))
+        }) {
+            let (c, l) = r?;
+            out.push(b.stability_of(p, c, l));
+        }
+        let lowest = out
+            .iter()
+            .filter_map(|s| s.lowest_eigenvalue.map(|l| (l, s.wavenumber)))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((_, p)) = lowest {
+            b.lowest_wavenumber = p;
+        }
+        out.sort_by_key(|s| s.wavenumber);
+        Ok(out)
+    }
+
+    /// The lowest eigenvalue over the blocks at `x` and its wavenumber.
+    pub fn lowest_eigenvalue_with_wavenumber(&mut self, x: &[f64]) -> Option<(f64, usize)> {
+        lowest_of(&self.block_stability(x, true).ok()?)
+    }
+
+    /// The eigenvalue nearest zero at `x` of the block a critical-point search focuses on,
+    /// or over every block, with its wavenumber and the block's mode (primal unknowns of
+    /// the block: the pair's, or real then imaginary parts for a complex block).
+    pub fn nearest_zero_with_mode(&mut self, x: &[f64]) -> Option<(f64, usize, Vec<f64>)> {
+        let b = match &mut self.judge {
+            Judge::Own {
+                stability,
+                residual,
+                values,
+            } => {
+                self.system.evaluate(&self.model, x, residual, values);
+                let mu = stability.eigenvalue_nearest_zero(self.system.pattern(), values)?;
+                return Some((mu, 0, stability.nearest_zero_mode().to_vec()));
+            }
+            Judge::Blocks(b) => b.as_mut(),
+        };
+        self.system
+            .evaluate(&self.model, x, &mut b.residual, &mut b.pair);
+        let pattern = self.system.pattern();
+        let ps: Vec<usize> = match b.focus {
+            Some(p) => vec![p],
+            None => b.bloch.wavenumbers().collect(),
+        };
+        let found = b.run(pattern, &ps, |_, pat, v, s| {
+            Ok(s.eigenvalue_nearest_zero(pat, v)
+                .map(|mu| (mu, s.nearest_zero_mode().to_vec())))
+        });
+        let mut nearest: Option<(f64, usize, Vec<f64>)> = None;
+        for (p, r) in found {
+            let (mu, mode) = r.ok()??;
+            if nearest.as_ref().is_none_or(|n| mu.abs() < n.0.abs()) {
+                nearest = Some((mu, p, mode));
             }
         }
-        b.lowest_wavenumber = best.1;
-        Some(best)
+        nearest
+    }
+
+    /// Per block, the unstable directions at `x` (for the wavenumber whose count changes).
+    fn counts(&mut self, x: &[f64]) -> Option<Vec<usize>> {
+        self.block_stability(x, false)
+            .ok()
+            .map(|v| v.iter().map(|s| s.unstable_directions).collect())
+    }
+
+    /// The Bloch blocks' bookkeeping (`None` for a model without the symmetry).
+    pub fn bloch(&self) -> Option<&BlochBlocks> {
+        match &self.judge {
+            Judge::Blocks(b) => Some(&b.bloch),
+            Judge::Own { .. } => None,
+        }
     }
 }
 
+/// The lowest computed eigenvalue over `blocks`, with its wavenumber.
+fn lowest_of(blocks: &[BlockStability]) -> Option<(f64, usize)> {
+    blocks
+        .iter()
+        .filter_map(|s| s.lowest_eigenvalue.map(|l| (l, s.wavenumber)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// A task on one block: the wavenumber, the block's pattern and values, its stability.
+type BlockTask<'a, T> = dyn Fn(usize, &SymbolicSparseColMat<usize>, &[f64], &mut KktStability) -> Result<T, InertiaError>
+    + Sync
+    + 'a;
+
 impl Blocks {
-    /// `f` on block `p` at the pair's KKT values in `self.pair`.
-    fn block<T>(
+    fn stability_of(&self, p: usize, count: usize, lowest: Option<f64>) -> BlockStability {
+        BlockStability {
+            wavenumber: p,
+            multiplicity: self.bloch.multiplicity(p),
+            unstable_directions: count,
+            lowest_eigenvalue: lowest,
+        }
+    }
+
+    /// `task` on the blocks of wavenumbers `ps` at the pair's KKT values in `self.pair`,
+    /// shared out between the two workers (the second on a thread of its own); results in
+    /// the order of `ps`.
+    fn run<T: Send>(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        p: usize,
-        f: impl FnOnce(&SymbolicSparseColMat<usize>, &[f64], &mut KktStability) -> T,
-    ) -> T {
-        if p == 0 {
-            f(pattern, &self.pair, &mut self.zero)
-        } else if self.bloch.is_real(p) {
-            self.bloch.real_block(p, &self.pair, &mut self.real);
-            f(pattern, &self.real, &mut self.half)
-        } else {
-            self.bloch.complex_block(p, &self.pair, &mut self.realified);
-            self.complex.swap_warm_start(&mut self.warm[p]);
-            let v = f(
-                self.bloch.realified_pattern(),
-                &self.realified,
-                &mut self.complex,
-            );
-            self.complex.swap_warm_start(&mut self.warm[p]);
-            v
+        ps: &[usize],
+        task: impl Fn(
+                usize,
+                &SymbolicSparseColMat<usize>,
+                &[f64],
+                &mut KktStability,
+            ) -> Result<T, InertiaError>
+            + Sync,
+    ) -> Vec<(usize, Result<T, InertiaError>)> {
+        let task: &BlockTask<T> = &task;
+        let mut jobs: [Vec<(usize, WarmStart)>; 2] = [Vec::new(), Vec::new()];
+        for (i, &p) in ps.iter().enumerate() {
+            jobs[i % 2].push((p, std::mem::take(&mut self.warm[p])));
         }
+        let (bloch, pair) = (&self.bloch, &self.pair);
+        let [w0, w1] = &mut self.workers;
+        let [j0, j1] = jobs;
+        let (mut r0, r1) = if j1.is_empty() {
+            (w0.run(bloch, pattern, pair, j0, task), Vec::new())
+        } else {
+            std::thread::scope(|scope| {
+                let other = scope.spawn(|| w1.run(bloch, pattern, pair, j1, task));
+                let mine = w0.run(bloch, pattern, pair, j0, task);
+                (mine, other.join().expect("a block's thread does not panic"))
+            })
+        };
+        r0.extend(r1);
+        let mut out = Vec::with_capacity(ps.len());
+        for (p, warm, result) in r0 {
+            self.warm[p] = warm;
+            out.push((p, result));
+        }
+        out.sort_by_key(|(p, _)| ps.iter().position(|q| q == p));
+        out
+    }
+}
+
+impl Worker {
+    /// `task` on each block of `jobs` (wavenumber and warm start), the warm start put in
+    /// place for the task and taken back after it.
+    fn run<T>(
+        &mut self,
+        bloch: &BlochBlocks,
+        pattern: &SymbolicSparseColMat<usize>,
+        pair: &[f64],
+        jobs: Vec<(usize, WarmStart)>,
+        task: &BlockTask<T>,
+    ) -> Vec<(usize, WarmStart, Result<T, InertiaError>)> {
+        jobs.into_iter()
+            .map(|(p, mut warm)| {
+                let (pat, values, stability) = if p == 0 {
+                    (pattern, pair, &mut self.real)
+                } else if bloch.is_real(p) {
+                    self.values.resize(pair.len(), 0.0);
+                    bloch.real_block(p, pair, &mut self.values);
+                    (pattern, &self.values[..], &mut self.real)
+                } else {
+                    let realified = bloch.realified_pattern();
+                    self.values.resize(realified.row_idx().len(), 0.0);
+                    bloch.complex_block(p, pair, &mut self.values);
+                    (realified, &self.values[..], &mut self.complex)
+                };
+                stability.swap_warm_start(&mut warm);
+                let result = task(p, pat, values, stability);
+                stability.swap_warm_start(&mut warm);
+                (p, warm, result)
+            })
+            .collect()
     }
 }
 
@@ -303,9 +474,9 @@ impl Problem for RodProblem {
 
     fn unstable_directions(&mut self, x: &[f64], _lambda: f64) -> Result<usize, InertiaError> {
         Ok(self
-            .unstable_directions_per_block(x)?
+            .block_stability(x, false)?
             .iter()
-            .map(|(_, k, c)| k * c)
+            .map(|s| s.multiplicity * s.unstable_directions)
             .sum())
     }
 
@@ -313,19 +484,46 @@ impl Problem for RodProblem {
         self.lowest_eigenvalue_with_wavenumber(x).map(|(l, _)| l)
     }
 
-    /// Over the blocks, the eigenvalue nearest zero.
+    fn stability(
+        &mut self,
+        x: &[f64],
+        _lambda: f64,
+        eigenvalue: bool,
+    ) -> Result<Stability, InertiaError> {
+        let blocks = self.block_stability(x, eigenvalue)?;
+        let lowest = lowest_of(&blocks);
+        Ok(Stability {
+            unstable_directions: blocks
+                .iter()
+                .map(|s| s.multiplicity * s.unstable_directions)
+                .sum(),
+            lowest_eigenvalue: lowest.map(|(l, _)| l),
+            lowest_wavenumber: lowest.filter(|_| self.is_symmetric_pair()).map(|(_, p)| p),
+        })
+    }
+
+    /// The eigenvalue nearest zero of the focused block, or over the blocks.
     fn eigenvalue_nearest_zero(&mut self, x: &[f64], _lambda: f64) -> Option<f64> {
-        let all = self.each_block(x, |pattern, values, s| {
-            s.eigenvalue_nearest_zero(pattern, values)
-        });
-        let mut nearest: Option<f64> = None;
-        for (_, _, mu) in all {
-            let mu = mu?;
-            if nearest.is_none_or(|best| mu.abs() < best.abs()) {
-                nearest = Some(mu);
-            }
+        self.nearest_zero_with_mode(x).map(|(mu, _, _)| mu)
+    }
+
+    /// The first wavenumber whose count differs between `x0` and `x1`.
+    fn focus_on_crossing(&mut self, x0: &[f64], x1: &[f64]) -> usize {
+        let (Some(a), Some(b)) = (self.counts(x0), self.counts(x1)) else {
+            return 0;
+        };
+        let Judge::Blocks(blocks) = &mut self.judge else {
+            return 0;
+        };
+        let p = a.iter().zip(&b).position(|(u, v)| u != v).unwrap_or(0);
+        blocks.focus = Some(p);
+        p
+    }
+
+    fn clear_focus(&mut self) {
+        if let Judge::Blocks(b) = &mut self.judge {
+            b.focus = None;
         }
-        nearest
     }
 
     /// The system keeps the tip load of the converged point (reactions are read from it).

@@ -12,7 +12,7 @@ use super::newton::{Newton, NewtonError, NewtonReport, NewtonSettings, StepEquat
 use super::path_state::PathState;
 use super::problem::Problem;
 use super::stats::Statistics;
-use crate::results::{CriticalKind, Stability};
+use crate::results::CriticalKind;
 use std::time::Instant;
 
 /// Step-length control of the continuation.
@@ -91,6 +91,9 @@ pub struct ContinuationError {
 /// A critical point of the path as the engine finds it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Critical {
+    /// The block of the problem's stability whose count changed (see
+    /// [`Problem::focus_on_crossing`]; 0 for a problem of one block).
+    pub block: usize,
     pub kind: CriticalKind,
     /// Load parameter at the critical point.
     pub parameter: f64,
@@ -472,16 +475,8 @@ impl<P: Problem> Continuation<P> {
             return;
         }
         let (x, lambda) = (&self.state.x, self.state.lambda);
-        let count = self.problem.unstable_directions(x, lambda).ok();
         let lowest = eigenvalue && self.settings.lowest_eigenvalue;
-        self.state.stability = count.map(|c| Stability {
-            unstable_directions: c,
-            lowest_eigenvalue: if lowest {
-                self.problem.lowest_eigenvalue(x, lambda)
-            } else {
-                None
-            },
-        });
+        self.state.stability = self.problem.stability(x, lambda, lowest).ok();
     }
 
     /// Replaces the problem (e.g. other boundary conditions) and solves it from `(x, λ)`;

@@ -112,6 +112,7 @@ impl<P: Problem> Continuation<P> {
             singular_threshold: self.settings.newton.singular_threshold.max(1e-2),
             ..self.settings.newton
         };
+        let block = self.problem.focus_on_crossing(x0, &saved.x);
         let bracket = self.bracket_by_count(&segment, &probe_settings, before.unstable_directions);
         let mut best = bracket.best;
         if let Some(below) = bracket.below {
@@ -125,9 +126,11 @@ impl<P: Problem> Continuation<P> {
         self.problem.restore(&xc, lc);
         let mode = self.critical_mode(&xc, lc);
         let kind = self.classify(x0, l0, saved.tangent.clone(), &probe_settings);
+        self.problem.clear_focus();
         if let Some(mode) = mode {
             self.critical.push(Critical {
                 kind,
+                block,
                 parameter: lc,
                 unstable_before: before.unstable_directions,
                 unstable_after: after.unstable_directions,

@@ -6,6 +6,7 @@
 //! the engine is tested on by itself (a fold, a pitchfork, the Bratu problem: `tests/`).
 
 use super::stability::InertiaError;
+use crate::results::Stability;
 use faer::sparse::SymbolicSparseColMat;
 
 /// A system `R(x, λ) = 0` that a continuation follows in `λ`.
@@ -57,6 +58,38 @@ pub trait Problem {
     /// The eigenvalue of that constrained Hessian nearest zero: it crosses zero at a
     /// critical point, so a secant on it places the point.
     fn eigenvalue_nearest_zero(&mut self, x: &[f64], lambda: f64) -> Option<f64>;
+
+    /// The stability of the state `x`: its unstable directions, and its lowest eigenvalue
+    /// when `eigenvalue` is asked for. A problem that can answer both with less work than
+    /// the two questions apart overrides this.
+    fn stability(
+        &mut self,
+        x: &[f64],
+        lambda: f64,
+        eigenvalue: bool,
+    ) -> Result<Stability, InertiaError> {
+        let unstable_directions = self.unstable_directions(x, lambda)?;
+        Ok(Stability {
+            unstable_directions,
+            lowest_eigenvalue: if eigenvalue {
+                self.lowest_eigenvalue(x, lambda)
+            } else {
+                None
+            },
+            lowest_wavenumber: None,
+        })
+    }
+
+    /// Before a critical point crossed by the accepted step from `x0` to `x1` is located:
+    /// a problem whose stability is judged by independent blocks focuses its eigenvalue
+    /// nearest zero on the block whose count changed, and returns that block's index
+    /// (0 for a problem of one block).
+    fn focus_on_crossing(&mut self, _x0: &[f64], _x1: &[f64]) -> usize {
+        0
+    }
+
+    /// After the location: every block counts again.
+    fn clear_focus(&mut self) {}
 
     /// Back to the converged point `(x, λ)` after a trial step (accepted or rejected) or the
     /// probes of a critical-point search: whatever the problem keeps of its last evaluation

@@ -69,6 +69,8 @@ pub struct InertiaCounter {
     last_lowest: Option<f64>,
     /// The last mode nearest zero found (critical-point searches).
     nearest_zero_mode: Vec<f64>,
+    /// Whether the last inverse iteration met its tolerance.
+    converged: bool,
     /// Scratch of inverse iteration: right-hand side, solution and refinement residual (all
     /// unknowns), iterate and Hessian product (primal unknowns).
     rhs: Vec<f64>,
@@ -163,6 +165,7 @@ impl InertiaCounter {
             last_mode: Vec::new(),
             last_lowest: None,
             nearest_zero_mode: Vec::new(),
+            converged: false,
             rhs: vec![0.0; n],
             solution: vec![0.0; n],
             refinement: vec![0.0; n],
@@ -282,8 +285,9 @@ impl InertiaCounter {
     }
 
     /// Solves `K(σ) z = b` with the last factorisation, for `b` in `self.rhs` whose
-    /// constraint part is zero, into `self.solution`, refining [`REFINEMENTS`] times against the
-    /// unregularised `K_ρ0(σ)` (which has the same solution as `K(σ)` for such `b`).
+    /// constraint part is zero, into `self.solution`, refining up to `refinements` times
+    /// (until the correction is at rounding) against the unregularised `K_ρ0(σ)` (which has
+    /// the same solution as `K(σ)` for such `b`).
     fn solve_refined(&mut self, n_primal: usize, delta: f64, refinements: usize) {
         let n = self.rhs.len();
         let mut z = std::mem::take(&mut self.solution);
@@ -303,8 +307,16 @@ impl InertiaCounter {
                 r[i] -= delta * z[i];
             }
             self.ldlt_solve(&mut r);
+            let mut correction: f64 = 0.0;
+            let mut size: f64 = 0.0;
             for (zi, ri) in z.iter_mut().zip(&r) {
                 *zi += ri;
+                correction = correction.max(ri.abs());
+                size = size.max(zi.abs());
+            }
+            // converged to rounding: further steps change nothing
+            if correction <= 1e-15 * size {
+                break;
             }
         }
         self.solution = z;
@@ -322,70 +334,120 @@ impl InertiaCounter {
     }
 
     /// Lowest eigenvalue of the constrained pencil `(H, M)` (`M = diag(metric)` on the
-    /// primal unknowns), by inverse iteration with a shift placed below the spectrum by
-    /// inertia counts. `kkt` are the KKT values at the state.
+    /// primal unknowns), by shift-and-invert iteration whose shifts are kept below the
+    /// spectrum by inertia counts. `kkt` are the KKT values at the state.
+    ///
+    /// From a shift `lo` below the spectrum (just below the last lowest eigenvalue when the
+    /// count confirms it, otherwise 0, −1, −4, …) a few iterations give a Rayleigh quotient
+    /// `μ ≥ λ1`. If the count puts no eigenvalue below `σ = μ − 10⁻⁴|μ|`, the shift `σ`
+    /// lies within 10⁻⁴ of `λ1` and iteration from it converges in a few steps; otherwise an
+    /// eigenvalue below `σ` was missed (clustered eigenvalues, or a warm start without a
+    /// component along the lowest mode), and the bracket `[lo, σ]` is bisected by counts to
+    /// a new `lo` before iterating again. Clustered spectra thus cost a few factorisations
+    /// instead of hundreds of slowly converging iterations.
     pub fn lowest_eigenvalue(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
-        let first = self.lowest_from_below(kkt, metric)?;
-        let lowest = match self.refine_lowest(kkt, metric, first) {
-            Some(lowest) => lowest,
-            None => {
-                // not the lowest: the warm start had no component along the lowest mode
-                // (symmetric problems make that exact); start again from cold
-                self.last_mode.clear();
-                self.last_lowest = None;
-                let again = self.lowest_from_below(kkt, metric)?;
-                self.refine_lowest(kkt, metric, again)
-                    .unwrap_or(again.min(first))
+        let mut lo = self.shift_below_spectrum(kkt, metric)?;
+        let mut hi = f64::INFINITY;
+        let mut mu = self.inverse_iteration(kkt, metric, ROUGH)?;
+        // relative distance below `mu` of the next shift: closer once `mu` is accurate
+        let mut gap = 1e-4;
+        for _ in 0..64 {
+            let sigma = mu - gap * mu.abs().max(1e-12);
+            if sigma > lo && sigma < hi {
+                let below = self.count(kkt, sigma, metric)?;
+                if below == 0 {
+                    lo = sigma;
+                    let l = self.inverse_iteration(kkt, metric, LOWEST);
+                    let lowest = l.map_or(mu, |l| l.min(mu));
+                    if self.converged || gap <= 1e-8 {
+                        self.last_lowest = Some(lowest);
+                        return Some(lowest);
+                    }
+                    // still converging (the next eigenvalue is within the gap): shift closer
+                    mu = lowest;
+                    gap *= 1e-2;
+                    continue;
+                }
+                hi = sigma;
+            } else if sigma <= lo {
+                // the bracket is already tighter than the gap: iterate from `lo`
+                self.inertia(kkt, lo, metric).ok()?;
+                let lowest = self
+                    .inverse_iteration(kkt, metric, LOWEST)
+                    .map_or(mu, |l| l.min(mu));
+                self.last_lowest = Some(lowest);
+                return Some(lowest);
             }
-        };
-        self.last_lowest = Some(lowest);
-        Some(lowest)
+            // an eigenvalue below `hi` that the iteration has not reached: bisect the
+            // bracket by counts to a shift below the spectrum that is closer to it
+            loop {
+                let mid = 0.5 * (lo + hi);
+                if hi - lo <= 1e-12 * hi.abs().max(1e-12) {
+                    break;
+                }
+                if self.count(kkt, mid, metric)? == 0 {
+                    lo = mid;
+                    break;
+                }
+                hi = mid;
+            }
+            self.inertia(kkt, lo, metric).ok()?;
+            self.perturb_iterate(metric);
+            mu = self.inverse_iteration(kkt, metric, ROUGH)?.min(mu);
+        }
+        self.last_lowest = Some(mu);
+        Some(mu)
     }
 
-    /// Inverse iteration from a shift σ below the spectrum, which converges to the lowest
-    /// eigenvalue at the rate (λ1 − σ)/(λ2 − σ): just below the last one found when the
-    /// inertia count confirms that it is below the spectrum (along a path it moves little),
-    /// otherwise σ = 0 if nothing is below 0, else −1, −4, −16, …
-    fn lowest_from_below(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
+    /// Eigenvalues of the constrained pencil below `sigma` (factorises at `sigma`).
+    fn count(&mut self, kkt: &[f64], sigma: f64, metric: &[f64]) -> Option<isize> {
+        let inertia = self.inertia(kkt, sigma, metric).ok()?;
+        Some(self.unstable_directions(inertia).max(0))
+    }
+
+    /// A shift below the spectrum, factorised: just below the last lowest eigenvalue when
+    /// the inertia count confirms it (along a path it moves little), otherwise 0 if
+    /// nothing is below 0, else −1, −4, −16, …
+    fn shift_below_spectrum(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
         if let Some(last) = self.last_lowest {
             let sigma = last - 0.1 * last.abs().max(1e-12);
-            let inertia = self.inertia(kkt, sigma, metric).ok();
-            if inertia.is_some_and(|i| self.unstable_directions(i) <= 0) {
-                return self.inverse_iteration(kkt, metric, LOWEST);
+            if self.count(kkt, sigma, metric) == Some(0) {
+                return Some(sigma);
             }
         }
         let mut sigma = 0.0;
         let mut guess = 1.0;
-        loop {
-            let inertia = self.inertia(kkt, sigma, metric).ok()?;
-            if self.unstable_directions(inertia) <= 0 {
-                break;
-            }
+        while self.count(kkt, sigma, metric)? > 0 {
             if guess > 1e30 {
                 return None;
             }
             sigma = -guess;
             guess *= 4.0;
         }
-        self.inverse_iteration(kkt, metric, LOWEST)
+        Some(sigma)
     }
 
-    /// A Rayleigh quotient `mu` from a far shift is an upper bound of the lowest eigenvalue
-    /// that may have stopped short where eigenvalues cluster (the rate is then near 1);
-    /// iterating again from a shift just below it — confirmed below the spectrum by the
-    /// inertia count — converges in a few steps. `None` when no shift within 10 % below
-    /// `mu` is below the spectrum: `mu` is not the lowest eigenvalue.
-    fn refine_lowest(&mut self, kkt: &[f64], metric: &[f64], mu: f64) -> Option<f64> {
-        let scale = mu.abs().max(1e-12);
-        for gap in [1e-4, 1e-3, 1e-2, 1e-1] {
-            let sigma = mu - gap * scale;
-            let below = self.inertia(kkt, sigma, metric).ok();
-            if below.is_some_and(|i| self.unstable_directions(i) <= 0) {
-                let refined = self.inverse_iteration(kkt, metric, LOWEST);
-                return Some(refined.map_or(mu, |m| m.min(mu)));
-            }
+    /// Mixes a little of the cold start vector into the warm start, so that a start
+    /// without a component along the lowest mode (exact in symmetric problems) gains one.
+    fn perturb_iterate(&mut self, metric: &[f64]) {
+        let n = self.iterate.len();
+        if self.last_mode.len() != n {
+            return;
         }
-        None
+        let norm = (0..n)
+            .map(|i| metric[i] * self.last_mode[i].powi(2))
+            .sum::<f64>()
+            .sqrt()
+            .max(1e-300);
+        let cold = cold_start(metric);
+        let cold_norm = (0..n)
+            .map(|i| metric[i] * cold[i].powi(2))
+            .sum::<f64>()
+            .sqrt()
+            .max(1e-300);
+        for i in 0..n {
+            self.last_mode[i] = self.last_mode[i] / norm + 1e-2 * cold[i] / cold_norm;
+        }
     }
 
     /// The eigenvalue of the constrained pencil nearest zero (the one that crosses zero at
@@ -414,15 +476,14 @@ impl InertiaCounter {
         if self.last_mode.len() == n_primal {
             u.copy_from_slice(&self.last_mode);
         } else {
-            for (i, ui) in u.iter_mut().enumerate() {
-                *ui = metric[i] * (1.0 + (i % 7) as f64 * 0.1);
-            }
+            u.copy_from_slice(&cold_start(metric));
         }
         let mut estimate = f64::NAN;
+        self.converged = false;
         // the Hessian block of K for Rayleigh quotients
         let mut hv = std::mem::take(&mut self.product);
         let mut found = true;
-        for _ in 0..80 {
+        for _ in 0..accuracy.iterations {
             self.rhs.iter_mut().for_each(|b| *b = 0.0);
             for i in 0..n_primal {
                 self.rhs[i] = metric[i] * u[i];
@@ -451,6 +512,7 @@ impl InertiaCounter {
             let done = (rq - estimate).abs() <= accuracy.tolerance * rq.abs().max(1e-12);
             estimate = rq;
             if done {
+                self.converged = true;
                 break;
             }
         }
@@ -470,11 +532,22 @@ impl InertiaCounter {
     }
 }
 
+/// The start vector of inverse iteration without a warm start: the metric, varied so as
+/// not to be orthogonal to a symmetric mode.
+fn cold_start(metric: &[f64]) -> Vec<f64> {
+    metric
+        .iter()
+        .enumerate()
+        .map(|(i, m)| m * (1.0 + (i % 7) as f64 * 0.1))
+        .collect()
+}
+
 /// Where inverse iteration starts: the last mode found and the last lowest eigenvalue.
 #[derive(Clone, Debug, Default)]
 pub struct WarmStart {
     mode: Vec<f64>,
     lowest: Option<f64>,
+    nearest_zero: Vec<f64>,
 }
 
 /// How far inverse iteration goes: the relative change of the Rayleigh quotient at which
@@ -485,19 +558,30 @@ pub struct WarmStart {
 struct Accuracy {
     tolerance: f64,
     refinements: usize,
+    /// At most this many iterations.
+    iterations: usize,
 }
+
+/// A first estimate, an upper bound of the lowest eigenvalue that places the next shift.
+const ROUGH: Accuracy = Accuracy {
+    tolerance: 1e-4,
+    refinements: 1,
+    iterations: 8,
+};
 
 /// The lowest eigenvalue is reported (1e-8 relative agreement of the Bloch blocks and the
 /// full model needs the tighter setting where eigenvalues cluster).
 const LOWEST: Accuracy = Accuracy {
     tolerance: 1e-11,
-    refinements: 3,
+    refinements: 8,
+    iterations: 16,
 };
 
 /// The eigenvalue nearest zero only steers the secant that places a critical point.
 const NEAREST_ZERO: Accuracy = Accuracy {
     tolerance: 1e-9,
     refinements: 2,
+    iterations: 80,
 };
 
 /// The stability of the states of one KKT pattern: the inertia counter (built on first
@@ -543,6 +627,7 @@ impl KktStability {
         if let Some(c) = self.counter.as_mut() {
             std::mem::swap(&mut c.last_mode, &mut warm.mode);
             std::mem::swap(&mut c.last_lowest, &mut warm.lowest);
+            std::mem::swap(&mut c.nearest_zero_mode, &mut warm.nearest_zero);
         }
     }
 
@@ -579,6 +664,52 @@ impl KktStability {
         let counted = counted.map(|c| c.div_ceil(copies));
         self.metric = metric;
         counted
+    }
+
+    /// The unstable directions (as [`KktStability::unstable_directions`] counts them) and
+    /// the number of eigenvalues below `sigma`, by one factorisation where one answers
+    /// both: no eigenvalue below `σ ≥ −τ` means none below `−τ`, and none below `−τ ≥ σ`
+    /// none below `σ`.
+    pub fn unstable_and_below(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+        sigma: f64,
+    ) -> Result<(usize, usize), InertiaError> {
+        let tau = self.rounding_band(pattern, kkt)?;
+        if sigma >= -tau {
+            let below = self.count_below(pattern, kkt, sigma)?;
+            if below == 0 {
+                return Ok((0, 0));
+            }
+            Ok((self.unstable_directions(pattern, kkt)?, below))
+        } else {
+            let unstable = self.unstable_directions(pattern, kkt)?;
+            if unstable == 0 {
+                return Ok((0, 0));
+            }
+            Ok((unstable, self.count_below(pattern, kkt, sigma)?))
+        }
+    }
+
+    /// `τ = 1e-9 ρ / m̄`: the rounding band of the count (see
+    /// [`KktStability::unstable_directions`]) in eigenvalue units.
+    pub fn rounding_band(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+    ) -> Result<f64, InertiaError> {
+        let mean_metric = self.mean_metric;
+        let counter = self.counter(pattern)?;
+        Ok(1e-9 * counter.hessian_scale(kkt) / mean_metric)
+    }
+
+    /// The mode (primal unknowns, unit norm in the metric) of the last eigenvalue nearest
+    /// zero found; empty before one is found.
+    pub fn nearest_zero_mode(&self) -> &[f64] {
+        self.counter
+            .as_ref()
+            .map_or(&[], |c| c.nearest_zero_mode.as_slice())
     }
 
     /// Number of eigenvalues of the constrained Hessian below `sigma`.
