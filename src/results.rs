@@ -129,9 +129,19 @@ pub struct CriticalPoint {
     pub load: [f64; 3],
     pub unstable_before: usize,
     pub unstable_after: usize,
-    /// State at the critical point (all unknowns).
+    /// Circumferential wavenumber `p` of the critical mode, for an assembly judged by its
+    /// Bloch blocks (DESIGN.md §7): the mode repeats with phase `2πp/m` from one sector to
+    /// the next (`p = 0`: the mode keeps the symmetry). `None` for the full model.
+    pub wavenumber: Option<usize>,
+    /// How many independent modes cross zero together: 2 for `0 < p < m/2` (the modes of
+    /// `p` and `m − p`), 1 otherwise.
+    pub multiplicity: usize,
+    /// State at the critical point (all unknowns of the model solved).
     pub state: Vec<f64>,
-    /// Critical mode: the near-null vector of the KKT matrix there (all unknowns), scaled
-    /// to unit norm over the primal unknowns.
+    /// Critical mode: the near-null vector of the KKT matrix there (all unknowns of the
+    /// model solved), scaled to unit norm over the primal unknowns.
     pub mode: Vec<f64>,
+    /// For a symmetric pair: the critical mode on the whole assembly (the primal unknowns of
+    /// the full model, unit norm), rebuilt from its Bloch block's eigenvector.
+    pub assembly_mode: Option<Vec<f64>>,
 }

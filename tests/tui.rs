@@ -1299,8 +1299,11 @@ fn critical_point() -> spira::results::CriticalPoint {
         load: [0.0, 0.0, -1.25],
         unstable_before: 0,
         unstable_after: 1,
+        wavenumber: None,
+        multiplicity: 1,
         state: vec![],
         mode: vec![],
+        assembly_mode: None,
     }
 }
 

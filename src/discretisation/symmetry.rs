@@ -4,6 +4,7 @@
 use super::constraints::Role;
 use super::model::DiscreteModel;
 use super::system::System;
+use crate::model::quaternion::Quat;
 use crate::model::symmetry::TurnZ;
 use faer::sparse::{Pair, SymbolicSparseColMat};
 use std::f64::consts::PI;
@@ -238,5 +239,64 @@ impl BlochBlocks {
     pub fn realified_metric(&self, metric: &[f64]) -> Vec<f64> {
         debug_assert_eq!(metric.len(), self.n_primal);
         metric.iter().chain(metric).copied().collect()
+    }
+}
+
+impl BlochBlocks {
+    /// The real mode of the full assembly `full` (its primal unknowns) that an eigenvector
+    /// `v` of block `p` stands for: over the pair's primal unknowns for a real block, real
+    /// then imaginary parts for a complex one. In sector `r` (the rods turned by `2πr/m`
+    /// from the pair's) the mode is `Re(v e^{2πipr/m})` in the sector's rotated frame —
+    /// the Bloch form whose phases the blocks carry —, turned into the global frame; the
+    /// result has unit (Euclidean) norm, as the engine's critical modes.
+    pub fn assembly_mode(
+        &self,
+        pair: &DiscreteModel,
+        p: usize,
+        v: &[f64],
+        full: &DiscreteModel,
+    ) -> Vec<f64> {
+        let sym = pair
+            .assembly
+            .symmetry
+            .expect("an assembly mode needs a symmetric pair");
+        let np = self.n_primal;
+        let (re, im) = if v.len() >= 2 * np {
+            (&v[..np], &v[np..2 * np])
+        } else {
+            (&v[..np], &[][..])
+        };
+        let at = |i: usize, c: f64, s: f64| {
+            let imag = im.get(i).copied().unwrap_or(0.0);
+            re[i] * c - imag * s
+        };
+        let mut out = vec![0.0; full.n_primal];
+        for (k, rod) in full.rods.iter().enumerate() {
+            let (src, angle) = sym.image(k);
+            let from = &pair.rods[src];
+            let r = (angle * self.m as f64 / (2.0 * PI))
+                .round()
+                .rem_euclid(self.m as f64) as usize;
+            let (s, c) = self.angle(p, r).sin_cos();
+            let turn = TurnZ::new(angle);
+            for node in 0..rod.mesh.quaternion_nodes() {
+                let [a, b, cc, d] = [0, 1, 2, 3].map(|k| at(from.q_dof(node, k), c, s));
+                let dq = turn.rotate(&Quat::new(a, b, cc, d));
+                for k in 0..4 {
+                    out[rod.q_dof(node, k)] = dq[k];
+                }
+            }
+            for vtx in 0..=rod.mesh.elements() {
+                let dr = turn.apply([0, 1, 2].map(|k| at(from.r_dof(vtx, k), c, s)));
+                for k in 0..3 {
+                    out[rod.r_dof(vtx, k)] = dr[k];
+                }
+            }
+        }
+        let norm = out.iter().map(|u| u * u).sum::<f64>().sqrt();
+        if norm > 0.0 {
+            out.iter_mut().for_each(|u| *u /= norm);
+        }
+        out
     }
 }

@@ -168,13 +168,16 @@ struct CriticalRow {
     fz: f64,
     unstable_before: usize,
     unstable_after: usize,
+    /// Circumferential wavenumber of the mode (empty for the full model).
+    wavenumber: Option<usize>,
+    multiplicity: usize,
 }
 
 /// `critical.csv`: the critical points of a path.
 pub fn critical_csv(case: &str, critical: &[CriticalPoint]) -> String {
     let comments = [
         format!("spira critical points, case {case}"),
-        "kind: limit-point or bifurcation; parameter: load parameter (eps, or P/Pcrit under load control); fx,fy,fz: sum of tip reactions / (n Pcrit); unstable_before/after: unstable directions either side; mode shapes in mode-<index>.csv".to_string(),
+        "kind: limit-point or bifurcation; parameter: load parameter (eps, or P/Pcrit under load control); fx,fy,fz: sum of tip reactions / (n Pcrit); unstable_before/after: unstable directions either side (each mode of a multiple point counted); wavenumber: circumferential wavenumber p of the mode when the stability of a symmetric pair is judged by Bloch blocks (the mode repeats with phase 2 pi p/m from sector to sector; empty for the full model); multiplicity: modes crossing together (2 for 0 < p < m/2); mode shapes, on the whole assembly, in mode-<index>.csv".to_string(),
     ];
     let rows = critical.iter().enumerate().map(|(i, c)| CriticalRow {
         index: i,
@@ -187,6 +190,8 @@ pub fn critical_csv(case: &str, critical: &[CriticalPoint]) -> String {
         fz: c.load[2],
         unstable_before: c.unstable_before,
         unstable_after: c.unstable_after,
+        wavenumber: c.wavenumber,
+        multiplicity: c.multiplicity,
     });
     table(&comments, rows)
 }
@@ -226,6 +231,15 @@ pub fn mode_csv(
         "dx,dy,dz: mode displacement of the centreline at element vertices (m per unit mode)"
             .to_string(),
     ];
+    // a symmetric pair's mode is written on the whole assembly, where it was rebuilt
+    let full = critical
+        .assembly_mode
+        .as_ref()
+        .and_then(|m| Some((model.full_model()?, m)));
+    let (model, mode) = match &full {
+        Some((full, m)) => (full, m.as_slice()),
+        None => (model, critical.mode.as_slice()),
+    };
     let length = model.length();
     let rows = model.rods.iter().enumerate().flat_map(|(id, rod)| {
         rod.mesh
@@ -236,9 +250,9 @@ pub fn mode_csv(
                 rod: id,
                 s,
                 s_over_l: s / length,
-                dx: critical.mode[rod.r_dof(v, 0)],
-                dy: critical.mode[rod.r_dof(v, 1)],
-                dz: critical.mode[rod.r_dof(v, 2)],
+                dx: mode[rod.r_dof(v, 0)],
+                dy: mode[rod.r_dof(v, 1)],
+                dz: mode[rod.r_dof(v, 2)],
             })
     });
     table(&comments, rows)

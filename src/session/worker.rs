@@ -491,6 +491,7 @@ impl Solver {
             .map(|c| CriticalPoint {
                 state: Vec::new(),
                 mode: Vec::new(),
+                assembly_mode: None,
                 ..c.clone()
             })
             .collect();

@@ -8,6 +8,7 @@ pub mod problem;
 use crate::case::Case;
 use crate::discretisation::fields;
 use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::symmetry::expand_state;
 use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
@@ -232,6 +233,17 @@ impl Simulation {
             let reactions = fields::reactions(&rods.model, &rods.system, &c.state);
             let load = fields::normalised_load(&rods.model, &reactions);
             let eps = eps_of(&rods.model, &c.state);
+            let (wavenumber, multiplicity, assembly_mode) = match rods.bloch().cloned() {
+                Some(bloch) => {
+                    let p = c.block;
+                    let mode = rods.block_mode(&c.state, p).and_then(|v| {
+                        let full = rods.model.full_model()?;
+                        Some(bloch.assembly_mode(&rods.model, p, &v, &full))
+                    });
+                    (Some(p), bloch.multiplicity(p), mode)
+                }
+                None => (None, 1, None),
+            };
             self.critical.push(CriticalPoint {
                 kind: c.kind,
                 control,
@@ -240,8 +252,11 @@ impl Simulation {
                 load,
                 unstable_before: c.unstable_before,
                 unstable_after: c.unstable_after,
+                wavenumber,
+                multiplicity,
                 state: c.state,
                 mode: c.mode,
+                assembly_mode,
             });
         }
         let (x, lambda) = (self.path.state().x.clone(), self.path.state().lambda);
@@ -354,8 +369,31 @@ impl Simulation {
         fields::snapshot(self.model(), self.system(), self.state(), self.eps())
     }
 
-    /// Shape of a critical mode: the state displaced by `amplitude` times the mode.
+    /// Shape of a critical mode: the state displaced by `amplitude` times the mode (for a
+    /// symmetric pair, the whole assembly displaced by the mode rebuilt on it).
     pub fn mode_snapshot(&self, critical: &CriticalPoint, amplitude: f64) -> Snapshot {
+        if let (Some(mode), Some(full)) = (&critical.assembly_mode, self.model().full_model()) {
+            let system = self.system();
+            let full_system = System::new(
+                &full,
+                system.bc,
+                &full.natural_state(),
+                TipLoad::Height(full.height0()),
+            );
+            let mut x = vec![0.0; full_system.n];
+            expand_state(
+                self.model(),
+                system,
+                &critical.state,
+                &full,
+                &full_system,
+                &mut x,
+            );
+            for (xi, mi) in x.iter_mut().zip(mode) {
+                *xi += amplitude * mi;
+            }
+            return fields::snapshot(&full, &full_system, &x, critical.eps);
+        }
         let x: Vec<f64> = critical
             .state
             .iter()

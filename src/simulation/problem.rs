@@ -307,6 +307,17 @@ impl RodProblem {
         nearest
     }
 
+    /// The eigenvector (primal unknowns of the block) of the eigenvalue nearest zero of
+    /// block `p` at `x`: a critical mode of wavenumber `p`.
+    pub fn block_mode(&mut self, x: &[f64], p: usize) -> Option<Vec<f64>> {
+        if let Judge::Blocks(b) = &mut self.judge {
+            b.focus = Some(p);
+        }
+        let found = self.nearest_zero_with_mode(x);
+        self.clear_focus();
+        found.map(|(_, _, mode)| mode)
+    }
+
     /// Per block, the unstable directions at `x` (for the wavenumber whose count changes).
     fn counts(&mut self, x: &[f64]) -> Option<Vec<usize>> {
         self.block_stability(x, false)
