@@ -5,8 +5,8 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use spira::case::Case;
 use spira::model::stiffness::euler_load;
+use spira::output::figures::{run_figures, Kinds, Rods, Steps};
 use spira::output::precision::{ChoiceReport, StudyReport};
-use spira::output::figures::{run_figures, Rods, Steps};
 use spira::output::read::RunTables;
 use spira::run::{run_path, run_path_recording};
 use spira::session::script::{replay_into, Script};
@@ -70,6 +70,9 @@ enum Command {
         /// Rod of the curvature profiles (from 0), or `all` to overlay every rod.
         #[arg(long, default_value = "0", allow_hyphen_values = true)]
         rod: String,
+        /// Only these figures: `load`, `curvature`, `views`, comma-separated.
+        #[arg(long, default_value = "load,curvature,views")]
+        only: String,
     },
     /// Open the terminal explorer on a case (default: the built-in thesis n = 8 case).
     Tui {
@@ -181,7 +184,8 @@ fn main() {
             out,
             eps,
             rod,
-        }) => plot(&dirs, out.as_deref(), &eps, &rod),
+            only,
+        }) => plot(&dirs, out.as_deref(), &eps, &rod, &only),
         Some(Command::Bench {
             case,
             repeats,
@@ -359,21 +363,21 @@ fn run(
         Some(observer),
         extras.states,
         |p, dt| {
-        *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
-        let unstable = p
-            .stability
-            .map(|s| s.unstable_directions.to_string())
-            .unwrap_or_else(|| "-".into());
-        println!(
-            "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
-            p.step,
-            p.eps,
-            p.load[2],
-            p.iterations,
-            p.residual,
-            dt.as_secs_f64() * 1e3,
-            unstable
-        );
+            *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
+            let unstable = p
+                .stability
+                .map(|s| s.unstable_directions.to_string())
+                .unwrap_or_else(|| "-".into());
+            println!(
+                "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
+                p.step,
+                p.eps,
+                p.load[2],
+                p.iterations,
+                p.residual,
+                dt.as_secs_f64() * 1e3,
+                unstable
+            );
         },
     )
     .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
@@ -416,7 +420,13 @@ fn run(
             .map_or_else(|| case.name.clone(), |n| n.to_string_lossy().into_owned());
         let run = RunTables::from_files(&label, out, &tables)
             .context("reading back the tables of the run for its figures")?;
-        let figures = run_figures(&[run], &Steps::Last, Rods::One(0), &command_line())?;
+        let figures = run_figures(
+            &[run],
+            &Steps::Last,
+            Rods::One(0),
+            Kinds::ALL,
+            &command_line(),
+        )?;
         println!(
             "drew {} figures in {:.1} ms",
             figures.len(),
@@ -453,7 +463,20 @@ fn run(
 }
 
 /// `spira plot`: the figures of run folders `dirs` into `out` (default: the one run folder).
-fn plot(dirs: &[PathBuf], out: Option<&Path>, eps: &str, rod: &str) -> Result<()> {
+fn plot(dirs: &[PathBuf], out: Option<&Path>, eps: &str, rod: &str, only: &str) -> Result<()> {
+    let mut kinds = Kinds {
+        load: false,
+        curvature: false,
+        views: false,
+    };
+    for k in only.split(',') {
+        match k.trim() {
+            "load" => kinds.load = true,
+            "curvature" => kinds.curvature = true,
+            "views" => kinds.views = true,
+            other => bail!("--only: expected `load`, `curvature` or `views`, found `{other}`"),
+        }
+    }
     let steps = match eps.trim() {
         "last" => Steps::Last,
         "all" => Steps::All,
@@ -493,11 +516,12 @@ fn plot(dirs: &[PathBuf], out: Option<&Path>, eps: &str, rod: &str) -> Result<()
             w[0]
         );
     }
-    let files = run_figures(&runs, &steps, rods, &command_line())?;
+    let files = run_figures(&runs, &steps, rods, kinds, &command_line())?;
     let drawn = t.elapsed();
     let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
-    let paths = spira::output::files::write_folder(&out, &files, |name| names.iter().any(|n| n == name))
-        .with_context(|| format!("writing figures into {}", out.display()))?;
+    let paths =
+        spira::output::files::write_folder(&out, &files, |name| names.iter().any(|n| n == name))
+            .with_context(|| format!("writing figures into {}", out.display()))?;
     let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
     println!(
         "spira plot: {} run(s) read and drawn in {:.1} ms; wrote {}",

@@ -6,7 +6,7 @@
 //! an unstable stretch, a known state), so that what each figure must hold is known exactly.
 
 use spira::output::figures::{
-    curvature_figure, load_figure, run_figures, stretches, views_figure, Rods, Shade, Steps,
+    curvature_figure, load_figure, run_figures, stretches, views_figure, Kinds, Rods, Shade, Steps,
     K1_LEVELS,
 };
 use spira::output::read::{RunTables, TableError};
@@ -56,7 +56,9 @@ fn parse_xml(xml: &str) -> Vec<Element> {
             continue;
         }
         if let Some(name) = tag.strip_prefix('/') {
-            let top = open.pop().unwrap_or_else(|| panic!("</{name}> closes nothing"));
+            let top = open
+                .pop()
+                .unwrap_or_else(|| panic!("</{name}> closes nothing"));
             assert_eq!(out[top].name, name.trim(), "closing tag");
             continue;
         }
@@ -68,10 +70,15 @@ fn parse_xml(xml: &str) -> Vec<Element> {
         let mut attrs = BTreeMap::new();
         let mut a = body[name_end..].trim();
         while !a.is_empty() {
-            let eq = a.find('=').unwrap_or_else(|| panic!("attribute without value in <{tag}>"));
+            let eq = a
+                .find('=')
+                .unwrap_or_else(|| panic!("attribute without value in <{tag}>"));
             let key = a[..eq].trim().to_string();
             let after = a[eq + 1..].trim_start();
-            assert!(after.starts_with('"'), "unquoted attribute {key} in <{tag}>");
+            assert!(
+                after.starts_with('"'),
+                "unquoted attribute {key} in <{tag}>"
+            );
             let close = after[1..].find('"').expect("attribute value closed") + 1;
             let value = &after[1..close];
             assert!(!value.contains('<'), "< in an attribute of <{tag}>");
@@ -93,7 +100,11 @@ fn parse_xml(xml: &str) -> Vec<Element> {
     }
     assert!(rest.trim().is_empty(), "text after the root element");
     assert!(open.is_empty(), "unclosed elements");
-    assert_eq!(out.first().map(|e| e.name.as_str()), Some("svg"), "root is <svg>");
+    assert_eq!(
+        out.first().map(|e| e.name.as_str()),
+        Some("svg"),
+        "root is <svg>"
+    );
     for e in &out {
         for v in e.attrs.values() {
             assert!(!v.contains("NaN") && !v.contains("inf"), "{e:?}");
@@ -119,7 +130,9 @@ fn texts(doc: &[Element]) -> Vec<String> {
 /// The polylines of stroke colour `color` (`#RRGGBB`), as their points (px).
 fn polylines(doc: &[Element], color: &str) -> Vec<Vec<(f64, f64)>> {
     doc.iter()
-        .filter(|e| e.name == "polyline" && e.attrs.get("stroke").map(String::as_str) == Some(color))
+        .filter(|e| {
+            e.name == "polyline" && e.attrs.get("stroke").map(String::as_str) == Some(color)
+        })
         .map(|e| {
             e.attrs["points"]
                 .split_whitespace()
@@ -230,7 +243,11 @@ fn a_run_folder_reads_by_column_name_with_extra_columns() {
     assert_eq!(run.path.len(), 7);
     assert_eq!(run.path[4].stable, Some(false));
     assert!((run.path[6].load[2] + 6.0).abs() < 1e-12);
-    assert_eq!(run.critical.len(), 1, "critical.csv with wavenumber,multiplicity");
+    assert_eq!(
+        run.critical.len(),
+        1,
+        "critical.csv with wavenumber,multiplicity"
+    );
     assert_eq!(run.critical[0].kind, "bifurcation");
     assert_eq!(
         run.states.iter().map(|s| s.step).collect::<Vec<_>>(),
@@ -266,7 +283,10 @@ fn the_load_figure_has_solid_and_dashed_curves_per_run_marks_and_labelled_axes()
         p.stable = Some(true);
     }
     b.critical.clear();
-    let caption = ["case synthetic".to_string(), "command: spira plot a b".to_string()];
+    let caption = [
+        "case synthetic".to_string(),
+        "command: spira plot a b".to_string(),
+    ];
     let svg = load_figure(&[&a, &b], &caption).expect("drawn");
     let doc = parse_xml(&svg);
     let t = texts(&doc);
@@ -287,12 +307,20 @@ fn the_load_figure_has_solid_and_dashed_curves_per_run_marks_and_labelled_axes()
     let solid: Vec<_> = blue.iter().filter(|l| l.len() == 5).collect();
     assert_eq!(solid.len(), 3, "one stable stretch per panel");
     let dashes: Vec<_> = blue.iter().filter(|l| length(l) <= 8.5).collect();
-    assert!(dashes.len() >= 3 * 5, "dashes of the unstable stretch: {}", dashes.len());
+    assert!(
+        dashes.len() >= 3 * 5,
+        "dashes of the unstable stretch: {}",
+        dashes.len()
+    );
     // run b (red): stable throughout, one polyline of 7 vertices per panel and no dashes
     let red = polylines(&doc, RED);
     assert_eq!(red.iter().filter(|l| l.len() == 7).count(), 3);
     assert!(red.iter().all(|l| l.len() == 7 || l.len() == 2), "{red:?}");
-    assert_eq!(red.iter().filter(|l| l.len() == 2).count(), 3, "legend lines");
+    assert_eq!(
+        red.iter().filter(|l| l.len() == 2).count(),
+        3,
+        "legend lines"
+    );
     // the bifurcation: a ring of run a's colour in each panel
     let rings = doc
         .iter()
@@ -310,8 +338,14 @@ fn the_curvature_figure_has_three_panels_with_units_joints_and_shading() {
         to: 0.8,
         label: "bulk".to_string(),
     }];
-    let svg = curvature_figure(&run, state, Rods::One(1), &shade, &["case synthetic".into()])
-        .expect("drawn");
+    let svg = curvature_figure(
+        &run,
+        state,
+        Rods::One(1),
+        &shade,
+        &["case synthetic".into()],
+    )
+    .expect("drawn");
     let doc = parse_xml(&svg);
     let t = texts(&doc);
     for label in [
@@ -326,18 +360,38 @@ fn the_curvature_figure_has_three_panels_with_units_joints_and_shading() {
         assert!(t.iter().any(|x| x == label), "no text `{label}` in {t:?}");
     }
     // one curve of 11 nodes per panel
-    assert_eq!(polylines(&doc, BLUE).iter().filter(|l| l.len() == 11).count(), 3);
+    assert_eq!(
+        polylines(&doc, BLUE)
+            .iter()
+            .filter(|l| l.len() == 11)
+            .count(),
+        3
+    );
     // two joints per panel and a legend dot each
     let dots = doc
         .iter()
-        .filter(|e| e.name == "circle" && e.attrs.get("fill").map(String::as_str) == Some("#404040"))
+        .filter(|e| {
+            e.name == "circle" && e.attrs.get("fill").map(String::as_str) == Some("#404040")
+        })
         .count();
     assert_eq!(dots, 3 * 2 + 3);
     // all rods: one curve per rod per panel
     let svg = curvature_figure(&run, state, Rods::All, &[], &[]).expect("drawn");
     let doc = parse_xml(&svg);
-    assert_eq!(polylines(&doc, BLUE).iter().filter(|l| l.len() == 11).count(), 3);
-    assert_eq!(polylines(&doc, RED).iter().filter(|l| l.len() == 11).count(), 3);
+    assert_eq!(
+        polylines(&doc, BLUE)
+            .iter()
+            .filter(|l| l.len() == 11)
+            .count(),
+        3
+    );
+    assert_eq!(
+        polylines(&doc, RED)
+            .iter()
+            .filter(|l| l.len() == 11)
+            .count(),
+        3
+    );
     // a rod the state does not have
     let e = curvature_figure(&run, state, Rods::One(5), &[], &[]).expect_err("no rod 5");
     assert!(e.to_string().contains("no rod 5 (rods 0 to 1)"), "{e}");
@@ -355,7 +409,9 @@ fn the_views_figure_has_the_three_projections_at_one_scale_and_a_colour_bar() {
     // rods drawn in every view: each rod's 10 segments in runs of one colour, 3 views
     let rod_lines: Vec<&Element> = doc
         .iter()
-        .filter(|e| e.name == "polyline" && e.attrs.get("stroke-width").map(String::as_str) == Some("2"))
+        .filter(|e| {
+            e.name == "polyline" && e.attrs.get("stroke-width").map(String::as_str) == Some("2")
+        })
         .collect();
     let segments: usize = rod_lines
         .iter()
@@ -363,8 +419,10 @@ fn the_views_figure_has_the_three_projections_at_one_scale_and_a_colour_bar() {
         .sum();
     assert_eq!(segments, 3 * 2 * 10);
     // κ1 rises along the rods: several colours, and the colour bar's K1_LEVELS boxes
-    let colours: std::collections::BTreeSet<&str> =
-        rod_lines.iter().map(|e| e.attrs["stroke"].as_str()).collect();
+    let colours: std::collections::BTreeSet<&str> = rod_lines
+        .iter()
+        .map(|e| e.attrs["stroke"].as_str())
+        .collect();
     assert!(colours.len() >= 8, "{colours:?}");
     let boxes = doc
         .iter()
@@ -374,11 +432,25 @@ fn the_views_figure_has_the_three_projections_at_one_scale_and_a_colour_bar() {
     assert!(boxes >= K1_LEVELS, "colour bar boxes: {boxes}");
 }
 
+fn two_runs() -> Vec<RunTables> {
+    let mut a = synthetic();
+    a.label = "synthetic".to_string();
+    let mut b = a.clone();
+    b.label = "other".to_string();
+    vec![a, b]
+}
+
 #[test]
 fn run_figures_names_the_files_by_step_and_by_run_when_there_are_several() {
     let a = synthetic();
-    let one = run_figures(std::slice::from_ref(&a), &Steps::Near(vec![0.0, 0.31]), Rods::One(0), "spira plot x")
-        .expect("drawn");
+    let one = run_figures(
+        std::slice::from_ref(&a),
+        &Steps::Near(vec![0.0, 0.31]),
+        Rods::One(0),
+        Kinds::ALL,
+        "spira plot x",
+    )
+    .expect("drawn");
     let names: Vec<&str> = one.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(
         names,
@@ -392,10 +464,28 @@ fn run_figures_names_the_files_by_step_and_by_run_when_there_are_several() {
     );
     let mut b = a.clone();
     b.label = "other".to_string();
-    let two = run_figures(&[a, b], &Steps::Last, Rods::All, "spira plot x y").expect("drawn");
+    let two = run_figures(
+        &[a, b],
+        &Steps::Last,
+        Rods::All,
+        Kinds::ALL,
+        "spira plot x y",
+    )
+    .expect("drawn");
     let names: Vec<&str> = two.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names.len(), 5);
     assert!(names.contains(&"other-views-step6.svg"), "{names:?}");
+    let only = Kinds {
+        load: false,
+        curvature: true,
+        views: false,
+    };
+    let some = run_figures(&two_runs(), &Steps::Last, Rods::All, only, "x").expect("drawn");
+    let names: Vec<&str> = some.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        ["synthetic-curvature-step6.svg", "other-curvature-step6.svg"]
+    );
     for (_, svg) in &two {
         parse_xml(svg);
         assert!(svg.contains("command: spira plot x y"));
@@ -423,20 +513,36 @@ fn a_malformed_cell_or_row_is_refused_naming_file_line_and_column() {
     std::fs::write(dir.join("load.csv"), &bad).unwrap();
     let e = RunTables::read(&dir).expect_err("a bad cell");
     let msg = e.to_string();
-    assert!(msg.ends_with("load.csv:6: column `fz`: expected a finite number, found `-2e0x`"), "{msg}");
+    assert!(
+        msg.ends_with("load.csv:6: column `fz`: expected a finite number, found `-2e0x`"),
+        "{msg}"
+    );
     // a row with a field too few
     let short: String = load_csv()
         .lines()
         .enumerate()
-        .map(|(i, l)| if i == 4 { l.rsplit_once(',').unwrap().0.to_string() } else { l.to_string() })
+        .map(|(i, l)| {
+            if i == 4 {
+                l.rsplit_once(',').unwrap().0.to_string()
+            } else {
+                l.to_string()
+            }
+        })
         .flat_map(|l| [l, "\n".to_string()])
         .collect();
     std::fs::write(dir.join("load.csv"), short).unwrap();
     let msg = RunTables::read(&dir).expect_err("a short row").to_string();
-    assert!(msg.contains("load.csv:5: 12 fields where the header has 13"), "{msg}");
+    assert!(
+        msg.contains("load.csv:5: 12 fields where the header has 13"),
+        "{msg}"
+    );
     // a missing column in a state
     std::fs::write(dir.join("load.csv"), load_csv()).unwrap();
-    std::fs::write(dir.join("state-3.csv"), state_csv(0.3).replace(",omega", ",twist")).unwrap();
+    std::fs::write(
+        dir.join("state-3.csv"),
+        state_csv(0.3).replace(",omega", ",twist"),
+    )
+    .unwrap();
     let msg = RunTables::read(&dir).expect_err("no omega").to_string();
     assert!(msg.contains("state-3.csv: no column `omega`"), "{msg}");
 }
@@ -472,10 +578,19 @@ fn spira_plot_on_a_bad_folder_fails_and_writes_nothing() {
     )
     .unwrap();
     let out = dir.join("figs");
-    let o = spira(&["plot", good.to_str().unwrap(), bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = spira(&[
+        "plot",
+        good.to_str().unwrap(),
+        bad.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("critical.csv:4: column `eps`: expected a finite number, found `abc`"), "{err}");
+    assert!(
+        err.contains("critical.csv:4: column `eps`: expected a finite number, found `abc`"),
+        "{err}"
+    );
     assert!(listing(&out).is_empty(), "{:?}", listing(&out));
     let o = spira(&["plot", dir.join("missing").to_str().unwrap()]);
     assert!(!o.status.success());
@@ -486,6 +601,9 @@ fn spira_plot_on_a_bad_folder_fails_and_writes_nothing() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--eps: expected compression ratios"));
     let o = spira(&["plot", good.to_str().unwrap(), "--rod", "-1"]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("--rod: expected a rod number"));
+    let o = spira(&["plot", good.to_str().unwrap(), "--only", "load,pdf"]);
+    assert!(String::from_utf8_lossy(&o.stderr)
+        .contains("--only: expected `load`, `curvature` or `views`, found `pdf`"));
     assert!(!listing(&good).iter().any(|n| n.ends_with(".svg")));
 }
 
@@ -499,7 +617,13 @@ fn spira_run_figures_writes_states_joints_and_figures_and_spira_plot_redraws_the
     )
     .unwrap();
     let out = dir.join("run");
-    let o = spira(&["run", case.to_str().unwrap(), "--figures", "--out", out.to_str().unwrap()]);
+    let o = spira(&[
+        "run",
+        case.to_str().unwrap(),
+        "--figures",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let names = listing(&out);
     for f in [
@@ -517,10 +641,17 @@ fn spira_run_figures_writes_states_joints_and_figures_and_spira_plot_redraws_the
     }
     let load = std::fs::read_to_string(out.join("load.svg")).unwrap();
     parse_xml(&load);
-    assert!(load.contains("command: spira run"), "the caption names the command");
+    assert!(
+        load.contains("command: spira run"),
+        "the caption names the command"
+    );
     // the joints of a pair: every crossing ties rod 0 and rod 1, so both have rows
     let joints = std::fs::read_to_string(out.join("joints.csv")).unwrap();
-    let rows: Vec<&str> = joints.lines().filter(|l| !l.starts_with('#')).skip(1).collect();
+    let rows: Vec<&str> = joints
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .collect();
     assert!(!rows.is_empty() && rows.len() % 2 == 0, "{joints}");
     // the curvature figure marks them
     let curvature = std::fs::read_to_string(out.join("curvature-step2.svg")).unwrap();
@@ -551,8 +682,18 @@ fn spira_run_figures_writes_states_joints_and_figures_and_spira_plot_redraws_the
         ]
     );
     // a run without --figures into the same folder takes the stale figures away
-    let o = spira(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = spira(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success());
     let names = listing(&out);
-    assert!(!names.iter().any(|n| n.ends_with(".svg") || n.starts_with("state-")), "{names:?}");
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.ends_with(".svg") || n.starts_with("state-")),
+        "{names:?}"
+    );
 }

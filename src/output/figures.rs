@@ -152,18 +152,22 @@ const EPS_LABEL: &str = "compression ratio ε = (h0 − h)/h0 (–)";
 /// `n Pcrit` against `ε`, one colour per run, dashed where unstable, critical points as
 /// rings (bifurcations) and squares (limit points).
 pub fn load_figure(runs: &[&RunTables], caption: &Caption) -> Result<String, DrawError> {
-    let (w, h) = (1260u32, 440 + super::chart::CAPTION_LINE * caption.len() as u32);
+    let (w, h) = (
+        1260u32,
+        440 + super::chart::CAPTION_LINE * caption.len() as u32,
+    );
     draw_svg("load curves", (w, h), |root| {
-        let body = captioned(root, "averaged normalised tip loads against compression", caption)?;
+        let body = captioned(
+            root,
+            "averaged normalised tip loads against compression",
+            caption,
+        )?;
         let panels = body.split_evenly((1, 3));
         let curves: Vec<Vec<Stretch>> = runs
             .iter()
             .map(|r| stretches(&r.path, &r.critical))
             .collect();
-        let eps = range(
-            runs.iter().flat_map(|r| r.path.iter().map(|p| p.eps)),
-            0.05,
-        );
+        let eps = range(runs.iter().flat_map(|r| r.path.iter().map(|p| p.eps)), 0.05);
         for (k, area) in panels.iter().enumerate() {
             let values = runs.iter().flat_map(|r| {
                 r.path
@@ -218,9 +222,9 @@ fn load_panel(
             };
             if !labelled {
                 labelled = true;
-                annotation.label(run_legend(run)).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 22, y)], line)
-                });
+                annotation
+                    .label(run_legend(run))
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], line));
             }
         }
         for c in &run.critical {
@@ -238,7 +242,10 @@ fn load_panel(
             }
         }
     }
-    let any = |kind: &str| runs.iter().any(|r| r.critical.iter().any(|c| c.kind == kind));
+    let any = |kind: &str| {
+        runs.iter()
+            .any(|r| r.critical.iter().any(|c| c.kind == kind))
+    };
     let mark = MARK.stroke_width(2);
     if any("bifurcation") {
         chart
@@ -254,7 +261,10 @@ fn load_panel(
             .label("limit point")
             .legend(move |(x, y)| Rectangle::new([(x + 6, y - 5), (x + 16, y + 5)], mark));
     }
-    if runs.iter().any(|r| r.path.iter().any(|p| p.stable == Some(false))) {
+    if runs
+        .iter()
+        .any(|r| r.path.iter().any(|p| p.stable == Some(false)))
+    {
         chart
             .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
             .map_err(e)?
@@ -323,7 +333,10 @@ pub fn curvature_figure(
         "curvature profiles, {which}, step {} (ε = {:.4})",
         state.step, state.eps
     );
-    let (w, h) = (820u32, 3 * 250 + super::chart::CAPTION_LINE * caption.len() as u32);
+    let (w, h) = (
+        820u32,
+        3 * 250 + super::chart::CAPTION_LINE * caption.len() as u32,
+    );
     draw_svg("curvature profiles", (w, h), |root| {
         let body = captioned(root, &title, caption)?;
         let panels = body.split_evenly((3, 1));
@@ -342,7 +355,9 @@ fn curvature_panel(
     shaded: &[Shade],
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
-    let values = rods.iter().flat_map(|(_, n)| n.iter().map(|p| p.curvature[k]));
+    let values = rods
+        .iter()
+        .flat_map(|(_, n)| n.iter().map(|p| p.curvature[k]));
     let y = range(values, 0.5);
     let mut chart = ChartBuilder::on(area)
         .margin(10)
@@ -397,7 +412,10 @@ fn curvature_panel(
             )
             .map_err(e)?;
     }
-    if rods.iter().any(|(id, _)| run.joints.get(id).is_some_and(|j| !j.is_empty())) {
+    if rods
+        .iter()
+        .any(|(id, _)| run.joints.get(id).is_some_and(|j| !j.is_empty()))
+    {
         chart
             .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
             .map_err(e)?
@@ -652,19 +670,42 @@ pub enum Steps {
     Near(Vec<f64>),
 }
 
-/// The figures of `runs` as (file name, SVG): `load.svg` with every run's load curves, and
-/// for each run and chosen state `curvature-step<k>.svg` and `views-step<k>.svg`, the names
-/// prefixed by `<run label>-` when there are several runs. `command` (the command line
-/// that drew them) is in every caption.
+/// Which kinds of figure to draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Kinds {
+    pub load: bool,
+    pub curvature: bool,
+    pub views: bool,
+}
+
+impl Kinds {
+    pub const ALL: Kinds = Kinds {
+        load: true,
+        curvature: true,
+        views: true,
+    };
+}
+
+/// The figures of `runs` as (file name, SVG), of the `kinds` asked: `load.svg` with every
+/// run's load curves, and for each run and chosen state `curvature-step<k>.svg` and
+/// `views-step<k>.svg`, the names prefixed by `<run label>-` when there are several runs.
+/// `command` (the command line that drew them) is in every caption.
 pub fn run_figures(
     runs: &[RunTables],
     steps: &Steps,
     rods: Rods,
+    kinds: Kinds,
     command: &str,
 ) -> Result<Vec<(String, String)>, DrawError> {
     let cases: Vec<&str> = runs
         .iter()
-        .map(|r| if r.case.is_empty() { r.label.as_str() } else { r.case.as_str() })
+        .map(|r| {
+            if r.case.is_empty() {
+                r.label.as_str()
+            } else {
+                r.case.as_str()
+            }
+        })
         .collect();
     let command_line = format!("command: {command}");
     let load_caption = [
@@ -676,7 +717,10 @@ pub fn run_figures(
         command_line.clone(),
     ];
     let all: Vec<&RunTables> = runs.iter().collect();
-    let mut files = vec![("load.svg".to_string(), load_figure(&all, &load_caption)?)];
+    let mut files = Vec::new();
+    if kinds.load {
+        files.push(("load.svg".to_string(), load_figure(&all, &load_caption)?));
+    }
     for (run, case) in runs.iter().zip(&cases) {
         let prefix = if runs.len() > 1 {
             format!("{}-", run.label)
@@ -692,14 +736,18 @@ pub fn run_figures(
         chosen.dedup_by_key(|s| s.step);
         for state in chosen {
             let caption = [format!("case {case} ({})", run.label), command_line.clone()];
-            files.push((
-                format!("{prefix}curvature-step{}.svg", state.step),
-                curvature_figure(run, state, rods, &[], &caption)?,
-            ));
-            files.push((
-                format!("{prefix}views-step{}.svg", state.step),
-                views_figure(state, &caption)?,
-            ));
+            if kinds.curvature {
+                files.push((
+                    format!("{prefix}curvature-step{}.svg", state.step),
+                    curvature_figure(run, state, rods, &[], &caption)?,
+                ));
+            }
+            if kinds.views {
+                files.push((
+                    format!("{prefix}views-step{}.svg", state.step),
+                    views_figure(state, &caption)?,
+                ));
+            }
         }
     }
     Ok(files)

@@ -5,8 +5,7 @@
 //! there are moved out (and put back if the move fails).
 
 use super::csv::{
-    check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv, state_csv,
-    with_note,
+    check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
 };
 use crate::discretisation::model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, Snapshot};
