@@ -202,8 +202,9 @@ fn log_log_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(),
         .map_err(|e| e.to_string())?;
         return Ok(());
     };
-    let x = (10f64.powi(xd.0)..10f64.powi(xd.1)).log_scale();
-    let y = (10f64.powi(yd.0)..10f64.powi(yd.1)).log_scale();
+    // a little beyond the decades, so that both end decades get their tick label
+    let x = (0.8 * 10f64.powi(xd.0)..1.25 * 10f64.powi(xd.1)).log_scale();
+    let y = (0.8 * 10f64.powi(yd.0)..1.25 * 10f64.powi(yd.1)).log_scale();
     let mut chart = ChartBuilder::on(area)
         .margin(12)
         .caption(&p.title, (FONT, 13).into_font().style(FontStyle::Bold))

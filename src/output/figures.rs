@@ -67,11 +67,14 @@ fn range(values: impl Iterator<Item = f64>, min_span: f64) -> (f64, f64) {
     (lo, hi)
 }
 
-/// A stretch of a load curve drawn in one style: `(ε, loads)` vertices.
+/// A vertex of a load curve: `ε` and the three normalised loads.
+pub type Vertex = (f64, [f64; 3]);
+
+/// A stretch of a load curve drawn in one style.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stretch {
     pub unstable: bool,
-    pub vertices: Vec<(f64, [f64; 3])>,
+    pub vertices: Vec<Vertex>,
 }
 
 /// The load path as stretches of one stability each. A critical point located between two
@@ -81,7 +84,7 @@ pub struct Stretch {
 pub fn stretches(path: &[PathPoint], critical: &[CriticalMark]) -> Vec<Stretch> {
     let unstable = |p: &PathPoint| p.stable == Some(false);
     // segments: from, to, unstable
-    let mut segments: Vec<((f64, [f64; 3]), (f64, [f64; 3]), bool)> = Vec::new();
+    let mut segments: Vec<(Vertex, Vertex, bool)> = Vec::new();
     let mut used = vec![false; critical.len()];
     for w in path.windows(2) {
         let (a, b) = (&w[0], &w[1]);
