@@ -412,27 +412,38 @@ fn run(
         note.as_deref(),
         &outcome.states,
     ));
+    // a figure that cannot be drawn does not cost the tables: they are written, and the
+    // run fails afterwards saying why
+    let mut figure_error = None;
     if extras.figures {
         let t = Instant::now();
         let tables: std::collections::BTreeMap<String, String> = files.iter().cloned().collect();
         let label = out
             .file_name()
             .map_or_else(|| case.name.clone(), |n| n.to_string_lossy().into_owned());
-        let run = RunTables::from_files(&label, out, &tables)
-            .context("reading back the tables of the run for its figures")?;
-        let figures = run_figures(
-            &[run],
-            &Steps::Last,
-            Rods::One(0),
-            Kinds::ALL,
-            &command_line(),
-        )?;
-        println!(
-            "drew {} figures in {:.1} ms",
-            figures.len(),
-            t.elapsed().as_secs_f64() * 1e3
-        );
-        files.extend(figures);
+        let figures = RunTables::from_files(&label, out, &tables)
+            .context("reading back the tables of the run for its figures")
+            .and_then(|run| {
+                run_figures(
+                    &[run],
+                    &Steps::Last,
+                    Rods::One(0),
+                    Kinds::ALL,
+                    &command_line(),
+                )
+                .map_err(Into::into)
+            });
+        match figures {
+            Ok(figures) => {
+                println!(
+                    "drew {} figures in {:.1} ms",
+                    figures.len(),
+                    t.elapsed().as_secs_f64() * 1e3
+                );
+                files.extend(figures);
+            }
+            Err(e) => figure_error = Some(e),
+        }
     }
     let files = spira::output::write_run_files(out, &files)
         .with_context(|| format!("writing results into {}", out.display()))?;
@@ -458,6 +469,9 @@ fn run(
             "{err}; the converged steps up to eps = {:.6} were written",
             err.eps
         );
+    }
+    if let Some(e) = figure_error {
+        return Err(e.context("the tables were written, the figures not"));
     }
     Ok(())
 }

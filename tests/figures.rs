@@ -697,3 +697,60 @@ fn spira_run_figures_writes_states_joints_and_figures_and_spira_plot_redraws_the
         "{names:?}"
     );
 }
+
+#[test]
+fn a_generic_line_chart_draws_solid_and_dashed_curves_and_shaded_intervals() {
+    use spira::output::chart::{lines_svg, Curve, LinePanel};
+    // the shape of a finite-against-closed-form comparison (e.g. the bulk's force)
+    let finite: Vec<(f64, f64)> = (0..=10)
+        .map(|k| (0.05 * k as f64, -10.0 * 0.05 * k as f64))
+        .collect();
+    let closed: Vec<(f64, f64)> = finite.iter().map(|&(e, f)| (e, 1.1 * f)).collect();
+    let panel = LinePanel {
+        title: "axial force".to_string(),
+        x_label: "compression ratio ε (–)".to_string(),
+        y_label: "Fz (N)".to_string(),
+        curves: vec![
+            Curve {
+                label: "finite assembly".to_string(),
+                points: finite,
+                dashed: false,
+                color: 0,
+            },
+            Curve {
+                label: "closed form".to_string(),
+                points: closed,
+                dashed: true,
+                color: 1,
+            },
+        ],
+        shaded: vec![(0.1, 0.2, "bulk".to_string())],
+    };
+    let svg = lines_svg("comparison", &["command: test".to_string()], &[panel]).expect("drawn");
+    let doc = parse_xml(&svg);
+    let t = texts(&doc);
+    for label in [
+        "Fz (N)",
+        "compression ratio ε (–)",
+        "finite assembly",
+        "closed form",
+        "bulk",
+    ] {
+        assert!(t.iter().any(|x| x == label), "no `{label}` in {t:?}");
+    }
+    assert_eq!(
+        polylines(&doc, BLUE)
+            .iter()
+            .filter(|l| l.len() == 11)
+            .count(),
+        1
+    );
+    assert!(
+        polylines(&doc, RED)
+            .iter()
+            .filter(|l| length(l) <= 8.5)
+            .count()
+            > 10,
+        "dashes"
+    );
+}

@@ -1,5 +1,6 @@
 //! Charts drawn with `plotters` into SVG text: the pieces every figure shares (the caption
-//! lines, the palette, the drawing error) and the log-log work-precision chart of
+//! lines, the palette, the drawing error), a chart of curves on linear axes ([`lines_svg`],
+//! e.g. a finite assembly against a closed form) and the log-log work-precision chart of
 //! [`crate::output::precision`] — panels side by side, decades on both axes, one line with
 //! markers per series, a label beside each point, a legend.
 //!
@@ -284,4 +285,136 @@ fn marker_element<DB: DrawingBackend>(
             Rectangle::new([(at.0 - r, at.1 - r), (at.0 + r, at.1 + r)], style).into_dyn()
         }
     }
+}
+
+/// A curve of a [`LinePanel`]: points joined in the order given, in data units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curve {
+    /// Legend text (none when empty).
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    /// Drawn dashed (e.g. a reference or an unstable stretch) instead of solid.
+    pub dashed: bool,
+    /// Place in [`PALETTE`].
+    pub color: usize,
+}
+
+/// One plot on linear axes: axis labels with their units, curves, and intervals of x
+/// shaded behind them (with a legend text each).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinePanel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub curves: Vec<Curve>,
+    /// `(from, to, label)` in x.
+    pub shaded: Vec<(f64, f64, String)>,
+}
+
+/// An SVG document: a title, note lines under it (the case and the command), then the
+/// panels side by side on linear axes — for comparisons such as a finite assembly's force
+/// against a closed form. Points that are not finite are left out.
+pub fn lines_svg(title: &str, notes: &[String], panels: &[LinePanel]) -> Result<String, DrawError> {
+    let width = PANEL_W * panels.len().max(1) as u32;
+    let height = CAPTION_LINE * (1 + notes.len() as u32) + 8 + PANEL_H;
+    draw_svg(title, (width, height), |root| {
+        let body = captioned(root, title, notes)?;
+        let areas = body.split_evenly((1, panels.len().max(1)));
+        for (p, area) in panels.iter().zip(&areas) {
+            line_panel(area, p)?;
+        }
+        Ok(())
+    })
+}
+
+/// `[lo, hi]` of the finite values with 5 % head room (a unit wide around a single value).
+fn padded(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if lo > hi {
+        return (0.0, 1.0);
+    }
+    if hi - lo <= 1e-12 * (lo.abs() + hi.abs()) {
+        return (lo - 0.5, hi + 0.5);
+    }
+    let pad = 0.05 * (hi - lo);
+    (lo - pad, hi + pad)
+}
+
+fn line_panel(area: &DrawingArea<SVGBackend, Shift>, p: &LinePanel) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+    let finite = |q: &&(f64, f64)| q.0.is_finite() && q.1.is_finite();
+    let pts = || p.curves.iter().flat_map(|c| c.points.iter()).filter(finite);
+    let x = padded(pts().map(|q| q.0));
+    let y = padded(pts().map(|q| q.1));
+    let mut chart = ChartBuilder::on(area)
+        .margin(12)
+        .caption(&p.title, (FONT, 13).into_font().style(FontStyle::Bold))
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc(&p.x_label)
+        .y_desc(&p.y_label)
+        .axis_desc_style((FONT, 13))
+        .label_style((FONT, 11))
+        .light_line_style(RGBAColor(0xff, 0xff, 0xff, 0.0))
+        .bold_line_style(RGBColor(0xdd, 0xdd, 0xdd))
+        .draw()
+        .map_err(e)?;
+    let fill = RGBColor(0xff, 0xd7, 0x00).mix(0.25).filled();
+    for (from, to, label) in &p.shaded {
+        let a = chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(*from, y.0), (*to, y.1)],
+                fill,
+            )))
+            .map_err(e)?;
+        if !label.is_empty() {
+            a.label(label.clone())
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 22, y + 5)], fill));
+        }
+    }
+    for c in &p.curves {
+        let line = palette(c.color).stroke_width(2);
+        let points: Vec<(f64, f64)> = c.points.iter().filter(finite).copied().collect();
+        let a = if c.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(points, 7, 5, line))
+                .map_err(e)?
+        } else {
+            chart
+                .draw_series(LineSeries::new(points, line))
+                .map_err(e)?
+        };
+        if c.label.is_empty() {
+            continue;
+        }
+        let a = a.label(c.label.clone());
+        if c.dashed {
+            a.legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (8, 0)], line)
+                    + PathElement::new(vec![(14, 0), (22, 0)], line)
+            });
+        } else {
+            a.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], line));
+        }
+    }
+    if p.curves.iter().any(|c| !c.label.is_empty()) || p.shaded.iter().any(|s| !s.2.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(0x99, 0x99, 0x99))
+            .label_font((FONT, 11))
+            .draw()
+            .map_err(e)?;
+    }
+    Ok(())
 }
