@@ -358,7 +358,7 @@ fn the_chart_is_well_formed_svg_with_one_line_per_element_order_per_panel() {
     }
     // axes with quantities and units, on both panels; decades as ticks
     assert_eq!(svg.matches("wall time of the whole solve (s)").count(), 2);
-    assert_eq!(svg.matches(">\nrelative error\n<").count(), 2);
+    assert_eq!(svg.matches(">\nrelative error (–)\n<").count(), 2);
     assert!(svg.contains("1e-"), "decade ticks");
     assert_eq!(svg.matches(">\nlinear").count(), 2, "legend entries");
     assert_eq!(svg.matches(">\nquadratic").count(), 2, "legend entries");

@@ -233,7 +233,7 @@ impl StudyReport for Study {
                     Measure::Critical => "first critical load (relative error)".to_string(),
                 },
                 x_label: "wall time of the whole solve (s)".to_string(),
-                y_label: "relative error".to_string(),
+                y_label: "relative error (–)".to_string(),
                 series: ORDERS
                     .iter()
                     .map(|&o| Series {
