@@ -754,3 +754,28 @@ fn a_generic_line_chart_draws_solid_and_dashed_curves_and_shaded_intervals() {
         "dashes"
     );
 }
+
+#[test]
+fn the_files_of_a_run_include_its_states_joints_and_figures_but_not_a_study() {
+    use spira::output::files::{is_figure_file, is_run_file};
+    for name in [
+        "state-0.csv",
+        "state-12.csv",
+        "joints.csv",
+        "load.svg",
+        "curvature-step3.svg",
+        "views-step10.svg",
+    ] {
+        assert!(is_run_file(name), "{name}");
+    }
+    for name in [
+        "state-.csv",
+        "state-x.csv",
+        "precision.svg",
+        "notes.svg",
+        "views-step.svg",
+    ] {
+        assert!(!is_run_file(name), "{name}");
+    }
+    assert!(is_figure_file("curvature-step3.svg") && !is_figure_file("state-3.csv"));
+}
