@@ -5,8 +5,10 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use spira::case::Case;
 use spira::model::stiffness::euler_load;
+use spira::output::figures::{run_figures, Kinds, Rods, Steps};
 use spira::output::precision::{ChoiceReport, StudyReport};
-use spira::run::{run_path, run_path_with};
+use spira::output::read::RunTables;
+use spira::run::{run_path, run_path_recording};
 use spira::session::script::{replay_into, Script};
 use spira::solver::interrupt::Interrupt;
 use spira::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
@@ -44,6 +46,33 @@ enum Command {
         /// Solve even a case whose size estimate exceeds the memory available.
         #[arg(long)]
         force: bool,
+        /// Also write the state of every output step, state-<step>.csv.
+        #[arg(long)]
+        states: bool,
+        /// Also draw the figures (load.svg; curvature and views of the last state) and
+        /// write the state of every output step (as --states).
+        #[arg(long)]
+        figures: bool,
+    },
+    /// Draw the figures of `spira run` output folders: load.svg (the load curves of every
+    /// run), and per run and state curvature-step<k>.svg and views-step<k>.svg.
+    Plot {
+        /// Output folders of `spira run`.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Folder for the figures (default: the run folder when one is given).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// States to draw: compression ratios (the nearest output state of each run),
+        /// comma-separated, or `all`, or `last` (the default).
+        #[arg(long, default_value = "last", allow_hyphen_values = true)]
+        eps: String,
+        /// Rod of the curvature profiles (from 0), or `all` to overlay every rod.
+        #[arg(long, default_value = "0", allow_hyphen_values = true)]
+        rod: String,
+        /// Only these figures: `load`, `curvature`, `views`, comma-separated.
+        #[arg(long, default_value = "load,curvature,views")]
+        only: String,
     },
     /// Open the terminal explorer on a case (default: the built-in thesis n = 8 case).
     Tui {
@@ -137,7 +166,26 @@ fn main() {
             steps,
             out,
             force,
-        }) => run(&case, to, steps, &out, force),
+            states,
+            figures,
+        }) => run(
+            &case,
+            to,
+            steps,
+            &out,
+            force,
+            Extras {
+                states: states || figures,
+                figures,
+            },
+        ),
+        Some(Command::Plot {
+            dirs,
+            out,
+            eps,
+            rod,
+            only,
+        }) => plot(&dirs, out.as_deref(), &eps, &rod, &only),
         Some(Command::Bench {
             case,
             repeats,
@@ -225,7 +273,32 @@ fn check_size(case: &Case, force: bool) -> Result<()> {
     Ok(())
 }
 
-fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool) -> Result<()> {
+/// What `spira run` writes beside its tables.
+#[derive(Clone, Copy)]
+struct Extras {
+    /// `state-<step>.csv` of every output step.
+    states: bool,
+    /// The figures of the run.
+    figures: bool,
+}
+
+/// The command line as typed, the program named `spira`, for captions.
+fn command_line() -> String {
+    let mut args: Vec<String> = std::env::args().collect();
+    if let Some(first) = args.first_mut() {
+        *first = "spira".to_string();
+    }
+    args.join(" ")
+}
+
+fn run(
+    path: &Path,
+    to: Option<f64>,
+    steps: Option<u64>,
+    out: &Path,
+    force: bool,
+    extras: Extras,
+) -> Result<()> {
     let case = Case::from_file(path)?;
     let target = to.unwrap_or(case.loading.target);
     if to.is_some() {
@@ -283,23 +356,30 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
             );
         }
     });
-    let outcome = run_path_with(&case, &eps, Some(interrupt), Some(observer), |p, dt| {
-        *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
-        let unstable = p
-            .stability
-            .map(|s| s.unstable_directions.to_string())
-            .unwrap_or_else(|| "-".into());
-        println!(
-            "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
-            p.step,
-            p.eps,
-            p.load[2],
-            p.iterations,
-            p.residual,
-            dt.as_secs_f64() * 1e3,
-            unstable
-        );
-    })
+    let outcome = run_path_recording(
+        &case,
+        &eps,
+        Some(interrupt),
+        Some(observer),
+        extras.states,
+        |p, dt| {
+            *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
+            let unstable = p
+                .stability
+                .map(|s| s.unstable_directions.to_string())
+                .unwrap_or_else(|| "-".into());
+            println!(
+                "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
+                p.step,
+                p.eps,
+                p.load[2],
+                p.iterations,
+                p.residual,
+                dt.as_secs_f64() * 1e3,
+                unstable
+            );
+        },
+    )
     .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
     for (i, c) in outcome.critical.iter().enumerate() {
         println!(
@@ -319,16 +399,54 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
     let note = choice
         .as_ref()
         .map(|c| c.note(c.estimate_with(response(&case, last))));
-    let files = spira::output::write_run_noted(
-        out,
+    let mut files = spira::output::files::run_files(
         &case.name,
         note.as_deref(),
         &outcome.points,
         &outcome.snapshot,
         &outcome.critical,
         &outcome.model,
-    )
-    .with_context(|| format!("writing results into {}", out.display()))?;
+    );
+    files.extend(spira::output::files::state_files(
+        &case.name,
+        note.as_deref(),
+        &outcome.states,
+    ));
+    // a figure that cannot be drawn does not cost the tables: they are written, and the
+    // run fails afterwards saying why
+    let mut figure_error = None;
+    if extras.figures {
+        let t = Instant::now();
+        let tables: std::collections::BTreeMap<String, String> = files.iter().cloned().collect();
+        let label = out
+            .file_name()
+            .map_or_else(|| case.name.clone(), |n| n.to_string_lossy().into_owned());
+        let figures = RunTables::from_files(&label, out, &tables)
+            .context("reading back the tables of the run for its figures")
+            .and_then(|run| {
+                run_figures(
+                    &[run],
+                    &Steps::Last,
+                    Rods::One(0),
+                    Kinds::ALL,
+                    &command_line(),
+                )
+                .map_err(Into::into)
+            });
+        match figures {
+            Ok(figures) => {
+                println!(
+                    "drew {} figures in {:.1} ms",
+                    figures.len(),
+                    t.elapsed().as_secs_f64() * 1e3
+                );
+                files.extend(figures);
+            }
+            Err(e) => figure_error = Some(e),
+        }
+    }
+    let files = spira::output::write_run_files(out, &files)
+        .with_context(|| format!("writing results into {}", out.display()))?;
     println!(
         "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
         last.eps,
@@ -352,6 +470,79 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
             err.eps
         );
     }
+    if let Some(e) = figure_error {
+        return Err(e.context("the tables were written, the figures not"));
+    }
+    Ok(())
+}
+
+/// `spira plot`: the figures of run folders `dirs` into `out` (default: the one run folder).
+fn plot(dirs: &[PathBuf], out: Option<&Path>, eps: &str, rod: &str, only: &str) -> Result<()> {
+    let mut kinds = Kinds {
+        load: false,
+        curvature: false,
+        views: false,
+    };
+    for k in only.split(',') {
+        match k.trim() {
+            "load" => kinds.load = true,
+            "curvature" => kinds.curvature = true,
+            "views" => kinds.views = true,
+            other => bail!("--only: expected `load`, `curvature` or `views`, found `{other}`"),
+        }
+    }
+    let steps = match eps.trim() {
+        "last" => Steps::Last,
+        "all" => Steps::All,
+        list => Steps::Near(
+            list.split(',')
+                .map(|v| match v.trim().parse::<f64>() {
+                    Ok(x) if x.is_finite() => Ok(x),
+                    _ => bail!(
+                        "--eps: expected compression ratios separated by commas, `all` or `last`, found `{}`",
+                        v.trim()
+                    ),
+                })
+                .collect::<Result<_>>()?,
+        ),
+    };
+    let rods = match rod.trim() {
+        "all" => Rods::All,
+        k => Rods::One(k.parse::<usize>().map_err(|_| {
+            anyhow::anyhow!("--rod: expected a rod number (from 0) or `all`, found `{k}`")
+        })?),
+    };
+    let out = match (out, dirs) {
+        (Some(o), _) => o.to_path_buf(),
+        (None, [one]) => one.clone(),
+        (None, _) => bail!("--out DIR is needed for the figures of several runs"),
+    };
+    let t = Instant::now();
+    let runs = dirs
+        .iter()
+        .map(|d| RunTables::read(d))
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let mut labels: Vec<&str> = runs.iter().map(|r| r.label.as_str()).collect();
+    labels.sort_unstable();
+    if let Some(w) = labels.windows(2).find(|w| w[0] == w[1]) {
+        bail!(
+            "two run folders are named `{}`: the figures of each are named after its folder",
+            w[0]
+        );
+    }
+    let files = run_figures(&runs, &steps, rods, kinds, &command_line())?;
+    let drawn = t.elapsed();
+    let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+    let paths =
+        spira::output::files::write_folder(&out, &files, |name| names.iter().any(|n| n == name))
+            .with_context(|| format!("writing figures into {}", out.display()))?;
+    let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    println!(
+        "spira plot: {} run(s) read and drawn in {:.1} ms; wrote {}",
+        runs.len(),
+        drawn.as_secs_f64() * 1e3,
+        shown.join(", ")
+    );
     Ok(())
 }
 
@@ -575,7 +766,7 @@ fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result<()>
     let svg = out.join("precision.svg");
     let files = [
         ("precision.csv".to_string(), study.csv()),
-        ("precision.svg".to_string(), study.svg()),
+        ("precision.svg".to_string(), study.svg_for(&command_line())?),
     ];
     spira::output::files::write_folder(out, &files, spira::output::files::is_precision_file)
         .with_context(|| format!("writing results into {}", out.display()))?;

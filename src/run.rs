@@ -31,6 +31,9 @@ pub struct PathOutcome {
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
+    /// The state at every output point `(step, shape)`, step 0 included, when the path
+    /// was asked to record them ([`run_path_recording`]); else empty.
+    pub states: Vec<(usize, Snapshot)>,
 }
 
 /// Solves `case` from the natural state through the output values `targets` of its load
@@ -54,6 +57,19 @@ pub fn run_path_with(
     targets: &[f64],
     interrupt: Option<Interrupt>,
     observer: Option<Observer>,
+    on_step: impl FnMut(&LoadPoint, Duration),
+) -> Result<PathOutcome, SolveError> {
+    run_path_recording(case, targets, interrupt, observer, false, on_step)
+}
+
+/// As [`run_path_with`], keeping the shape of every output point in
+/// [`PathOutcome::states`] when `record_states` (for per-step state files and figures).
+pub fn run_path_recording(
+    case: &Case,
+    targets: &[f64],
+    interrupt: Option<Interrupt>,
+    observer: Option<Observer>,
+    record_states: bool,
     mut on_step: impl FnMut(&LoadPoint, Duration),
 ) -> Result<PathOutcome, SolveError> {
     let t0 = Instant::now();
@@ -62,6 +78,10 @@ pub fn run_path_with(
     sim.set_observer(observer);
     let first = sim.load_point(0);
     on_step(&first, t0.elapsed());
+    let mut states = Vec::new();
+    if record_states {
+        states.push((0, sim.snapshot()));
+    }
     let mut points = vec![first];
     let mut error = None;
     let mut switched_at = None;
@@ -92,6 +112,9 @@ pub fn run_path_with(
                 let p = sim.load_point(k + 1);
                 on_step(&p, t.elapsed());
                 points.push(p);
+                if record_states {
+                    states.push((k + 1, sim.snapshot()));
+                }
             }
             error = Some(err);
             break;
@@ -99,6 +122,9 @@ pub fn run_path_with(
         let p = sim.load_point(k + 1);
         on_step(&p, t.elapsed());
         points.push(p);
+        if record_states {
+            states.push((k + 1, sim.snapshot()));
+        }
     }
     Ok(PathOutcome {
         points,
@@ -109,5 +135,6 @@ pub fn run_path_with(
         model: sim.model().clone(),
         switched_at,
         error,
+        states,
     })
 }

@@ -326,33 +326,45 @@ fn assert_well_formed(svg: &str) {
     assert!(!svg.contains("NaN") && !svg.contains("inf"));
 }
 
+/// The polylines of stroke colour `color` (`#RRGGBB`) in `svg`, as their numbers of points.
+fn polylines(svg: &str, color: &str) -> Vec<usize> {
+    svg.split("<polyline")
+        .skip(1)
+        .map(|t| &t[..t.find("/>").expect("polyline closed")])
+        .filter(|t| t.contains(&format!("stroke=\"{color}\"")))
+        .map(|t| {
+            let pts = t.split("points=\"").nth(1).expect("points");
+            pts[..pts.find('"').expect("points closed")]
+                .split_whitespace()
+                .count()
+        })
+        .collect()
+}
+
 #[test]
 fn the_chart_is_well_formed_svg_with_one_line_per_element_order_per_panel() {
     let problem = Problem::Love(LoveHelix::thesis(0.0125));
     let s = study(&problem, &Ladder::doubling(&problem, 3, 3));
-    let svg = s.svg();
-    assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    let svg = s.svg_for("spira precision love.toml").expect("drawn");
+    assert!(svg.starts_with("<svg "));
     assert!(svg.trim_end().ends_with("</svg>"));
     assert_well_formed(&svg);
-    // two panels (Fz and curvature), each with a line for linear and one for quadratic
-    assert_eq!(svg.matches("class=\"panel\"").count(), 2);
-    assert_eq!(svg.matches("<polyline").count(), 4);
-    assert_eq!(svg.matches("data-label=\"linear").count(), 2);
-    assert_eq!(svg.matches("data-label=\"quadratic").count(), 2);
-    // each line has a point per mesh: 3 coordinate pairs
-    for line in svg.lines().filter(|l| l.starts_with("<polyline")) {
-        let pts = line.split('"').nth(1).unwrap();
-        assert_eq!(pts.split_whitespace().count(), 3, "{line}");
+    // two panels (Fz and curvature), each with a line of 3 points (one per mesh) for
+    // linear and for quadratic elements, and their legend lines (2 points)
+    for color in ["#1F77B4", "#D62728"] {
+        let mut lines = polylines(&svg, color);
+        lines.sort_unstable();
+        assert_eq!(lines, [2, 2, 3, 3], "{color}");
     }
-    // axes, decades and what the reference is
-    assert!(svg.contains("wall time of the whole solve (s)"));
-    assert!(svg.contains("relative error"));
-    assert!(svg.contains("10<tspan"));
-    assert!(
-        svg.contains("reference: closed form: Love&#39;s")
-            || svg.contains("reference: closed form: Love's")
-    );
+    // axes with quantities and units, on both panels; decades as ticks
+    assert_eq!(svg.matches("wall time of the whole solve (s)").count(), 2);
+    assert_eq!(svg.matches(">\nrelative error (–)\n<").count(), 2);
+    assert!(svg.contains("1e-"), "decade ticks");
+    assert_eq!(svg.matches(">\nlinear").count(), 2, "legend entries");
+    assert_eq!(svg.matches(">\nquadratic").count(), 2, "legend entries");
+    assert!(svg.contains("reference: closed form: Love&apos;s"));
     assert!(svg.contains("love-helix"));
+    assert!(svg.contains("command: spira precision love.toml"));
 }
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -406,7 +418,15 @@ fn spira_precision_prints_the_table_and_writes_csv_and_svg() {
     assert!(csv.starts_with("# work-precision study, case short"));
     let svg = std::fs::read_to_string(out.join("precision.svg")).expect("precision.svg");
     assert_well_formed(&svg);
-    assert_eq!(svg.matches("<polyline").count(), 4);
+    let lines = polylines(&svg, "#1F77B4")
+        .into_iter()
+        .chain(polylines(&svg, "#D62728"));
+    assert_eq!(
+        lines.filter(|&n| n > 2).count(),
+        4,
+        "a line per order per panel"
+    );
+    assert!(svg.contains("command: spira precision"));
 }
 
 #[test]

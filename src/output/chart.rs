@@ -1,8 +1,108 @@
-//! Hand-written SVG charts on log-log axes (the work-precision chart of
-//! [`crate::output::precision`]): panels side by side, decade ticks labelled `10^k` with minor ticks
-//! at 2..9, one polyline with markers per series, a legend, a title and notes.
+//! Charts drawn with `plotters` into SVG text: the pieces every figure shares (the caption
+//! lines, the palette, the drawing error), a chart of curves on linear axes ([`lines_svg`],
+//! e.g. a finite assembly against a closed form) and the log-log work-precision chart of
+//! [`crate::output::precision`] — panels side by side, decades on both axes, one line with
+//! markers per series, a label beside each point, a legend.
+//!
+//! SVG only: the text is set by whatever shows the file, so no font is bundled or needed.
 
-use std::fmt::Write as _;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// Font family of every text.
+pub const FONT: &str = "sans-serif";
+/// Height of one caption line (px).
+pub const CAPTION_LINE: u32 = 18;
+
+/// A figure that could not be drawn (a range plotters refuses, a drawing call failing).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("drawing {figure}: {reason}")]
+pub struct DrawError {
+    /// The figure, e.g. `load curves`.
+    pub figure: String,
+    pub reason: String,
+}
+
+/// An SVG document of `size` (px) on a white ground, drawn by `draw`; its failure is a
+/// [`DrawError`] of `figure`.
+pub fn draw_svg(
+    figure: &str,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<SVGBackend, Shift>) -> Result<(), String>,
+) -> Result<String, DrawError> {
+    let mut svg = String::new();
+    let result = (|| {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        draw(&root)?;
+        root.present().map_err(|e| e.to_string())
+    })();
+    result.map_err(|reason| DrawError {
+        figure: figure.to_string(),
+        reason,
+    })?;
+    Ok(svg)
+}
+
+/// Ten distinct colours (the "tab10" palette), for curves told apart by colour.
+pub const PALETTE: [RGBColor; 10] = [
+    RGBColor(0x1f, 0x77, 0xb4),
+    RGBColor(0xd6, 0x27, 0x28),
+    RGBColor(0x2c, 0xa0, 0x2c),
+    RGBColor(0xff, 0x7f, 0x0e),
+    RGBColor(0x94, 0x67, 0xbd),
+    RGBColor(0x8c, 0x56, 0x4b),
+    RGBColor(0xe3, 0x77, 0xc2),
+    RGBColor(0x7f, 0x7f, 0x7f),
+    RGBColor(0xbc, 0xbd, 0x22),
+    RGBColor(0x17, 0xbe, 0xcf),
+];
+
+/// The `k`-th colour of [`PALETTE`], cycling.
+pub fn palette(k: usize) -> RGBColor {
+    PALETTE[k % PALETTE.len()]
+}
+
+/// `#rrggbb` as a colour (black when it is not one).
+pub fn rgb(hex: &str) -> RGBColor {
+    let h = hex.trim_start_matches('#');
+    let byte = |i: usize| {
+        h.get(i..i + 2)
+            .and_then(|b| u8::from_str_radix(b, 16).ok())
+            .unwrap_or(0)
+    };
+    if h.len() == 6 {
+        RGBColor(byte(0), byte(2), byte(4))
+    } else {
+        BLACK
+    }
+}
+
+/// Draws `title` (bold) and `notes` as lines at the top of `root` and returns the area
+/// below them.
+pub fn captioned<'a>(
+    root: &DrawingArea<SVGBackend<'a>, Shift>,
+    title: &str,
+    notes: &[String],
+) -> Result<DrawingArea<SVGBackend<'a>, Shift>, String> {
+    let lines = 1 + notes.len() as u32;
+    let (top, rest) = root.split_vertically(CAPTION_LINE * lines + 8);
+    top.draw(&Text::new(
+        title.to_string(),
+        (10, 4),
+        (FONT, 15).into_font().style(FontStyle::Bold),
+    ))
+    .map_err(|e| e.to_string())?;
+    for (i, n) in notes.iter().enumerate() {
+        top.draw(&Text::new(
+            n.clone(),
+            (10, 4 + CAPTION_LINE as i32 * (i as i32 + 1)),
+            (FONT, 12).into_font().color(&RGBColor(0x44, 0x44, 0x44)),
+        ))
+        .map_err(|e| e.to_string())?;
+    }
+    Ok(rest)
+}
 
 /// Marker drawn at each point of a series.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -14,7 +114,7 @@ pub enum Marker {
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Style {
-    /// SVG colour, e.g. `#1f77b4`.
+    /// Colour as `#rrggbb`.
     pub color: &'static str,
     pub marker: Marker,
 }
@@ -47,22 +147,8 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
-const PANEL_W: f64 = 480.0;
-const PANEL_H: f64 = 380.0;
-/// Plot area inside a panel: margins left, right, top, bottom.
-const LEFT: f64 = 70.0;
-const RIGHT: f64 = 20.0;
-const TOP: f64 = 34.0;
-const BOTTOM: f64 = 52.0;
-const HEADER_LINE: f64 = 18.0;
-
-/// Escapes text for SVG.
-pub fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
+const PANEL_W: u32 = 480;
+const PANEL_H: u32 = 380;
 
 /// Whole decades `[lo, hi]` (exponents) covering the positive finite values.
 fn decades(values: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
@@ -81,308 +167,254 @@ fn decades(values: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
     Some((a, b))
 }
 
-/// `10^k` as SVG text content, the exponent raised.
-fn power_of_ten(k: i32) -> String {
-    let exp = if k < 0 {
-        format!("\u{2212}{}", -k)
-    } else {
-        k.to_string()
-    };
-    format!("10<tspan dy=\"-6\" font-size=\"9\">{exp}</tspan>")
+/// A tick label of a log axis: `1e-3`, `2e-3`, …
+fn log_tick(v: &f64) -> String {
+    format!("{v:.0e}")
 }
 
-/// An SVG document: a title, note lines under it, then the panels side by side.
-pub fn log_log_svg(title: &str, notes: &[String], panels: &[Panel]) -> String {
-    let header = HEADER_LINE * (1 + notes.len()) as f64 + 10.0;
-    let width = PANEL_W * panels.len().max(1) as f64;
-    let height = header + PANEL_H;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\" font-size=\"11\">"
-    );
-    let _ = writeln!(s, "<title>{}</title>", escape(title));
-    let _ = writeln!(
-        s,
-        "<rect x=\"0\" y=\"0\" width=\"{width}\" height=\"{height}\" fill=\"white\"/>"
-    );
-    let _ = writeln!(
-        s,
-        "<text class=\"title\" x=\"10\" y=\"{}\" font-size=\"14\" font-weight=\"bold\">{}</text>",
-        HEADER_LINE,
-        escape(title)
-    );
-    for (i, n) in notes.iter().enumerate() {
-        let _ = writeln!(
-            s,
-            "<text class=\"note\" x=\"10\" y=\"{}\" fill=\"#444\">{}</text>",
-            HEADER_LINE * (i + 2) as f64,
-            escape(n)
-        );
-    }
-    for (i, p) in panels.iter().enumerate() {
-        panel(&mut s, p, PANEL_W * i as f64, header);
-    }
-    s.push_str("</svg>\n");
-    s
+/// An SVG document: a title, note lines under it, then the panels side by side, each on
+/// log-log axes. Points that are not positive and finite are left out; a panel without any
+/// says "no data".
+pub fn log_log_svg(title: &str, notes: &[String], panels: &[Panel]) -> Result<String, DrawError> {
+    let width = PANEL_W * panels.len().max(1) as u32;
+    let height = CAPTION_LINE * (1 + notes.len() as u32) + 8 + PANEL_H;
+    draw_svg("work-precision chart", (width, height), |root| {
+        let body = captioned(root, title, notes)?;
+        let areas = body.split_evenly((1, panels.len().max(1)));
+        for (p, area) in panels.iter().zip(&areas) {
+            log_log_panel(area, p)?;
+        }
+        Ok(())
+    })
 }
 
-fn panel(s: &mut String, p: &Panel, x0: f64, y0: f64) {
-    let (px, py) = (x0 + LEFT, y0 + TOP);
-    let (pw, ph) = (PANEL_W - LEFT - RIGHT, PANEL_H - TOP - BOTTOM);
-    let _ = writeln!(s, "<g class=\"panel\">");
-    let _ = writeln!(
-        s,
-        "<text class=\"panel-title\" x=\"{}\" y=\"{}\" text-anchor=\"middle\" font-weight=\"bold\">{}</text>",
-        px + pw / 2.0,
-        y0 + 16.0,
-        escape(&p.title)
-    );
-    let points = || p.series.iter().flat_map(|s| s.points.iter());
+fn log_log_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), String> {
+    let finite = |q: &&Point| q.x > 0.0 && q.y > 0.0 && q.x.is_finite() && q.y.is_finite();
+    let points = || p.series.iter().flat_map(|s| s.points.iter()).filter(finite);
     let (Some(xd), Some(yd)) = (
         decades(points().map(|q| q.x)),
         decades(points().map(|q| q.y)),
     ) else {
-        let _ = writeln!(
-            s,
-            "<rect x=\"{px}\" y=\"{py}\" width=\"{pw}\" height=\"{ph}\" fill=\"none\" stroke=\"black\"/>"
-        );
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#888\">no data</text>",
-            px + pw / 2.0,
-            py + ph / 2.0
-        );
-        s.push_str("</g>\n");
-        return;
+        area.draw(&Text::new(
+            format!("{}: no data", p.title),
+            (60, PANEL_H as i32 / 2),
+            (FONT, 13).into_font().color(&RGBColor(0x88, 0x88, 0x88)),
+        ))
+        .map_err(|e| e.to_string())?;
+        return Ok(());
     };
-    let map_x = |x: f64| px + (x.log10() - xd.0 as f64) / (xd.1 - xd.0) as f64 * pw;
-    let map_y = |y: f64| py + ph - (y.log10() - yd.0 as f64) / (yd.1 - yd.0) as f64 * ph;
-    // grid and ticks
-    let _ = writeln!(s, "<g class=\"axes\" stroke=\"black\">");
-    for k in xd.0..=xd.1 {
-        let x = map_x(10f64.powi(k));
-        let _ = writeln!(
-            s,
-            "<line x1=\"{x:.2}\" y1=\"{py}\" x2=\"{x:.2}\" y2=\"{}\" stroke=\"#ddd\"/>",
-            py + ph
-        );
-        let _ = writeln!(
-            s,
-            "<line x1=\"{x:.2}\" y1=\"{}\" x2=\"{x:.2}\" y2=\"{}\"/>",
-            py + ph,
-            py + ph + 6.0
-        );
-        if k < xd.1 {
-            for m in 2..10 {
-                let xm = map_x(m as f64 * 10f64.powi(k));
-                let _ = writeln!(
-                    s,
-                    "<line x1=\"{xm:.2}\" y1=\"{}\" x2=\"{xm:.2}\" y2=\"{}\"/>",
-                    py + ph,
-                    py + ph + 3.0
-                );
-            }
-        }
-    }
-    for k in yd.0..=yd.1 {
-        let y = map_y(10f64.powi(k));
-        let _ = writeln!(
-            s,
-            "<line x1=\"{px}\" y1=\"{y:.2}\" x2=\"{}\" y2=\"{y:.2}\" stroke=\"#ddd\"/>",
-            px + pw
-        );
-        let _ = writeln!(
-            s,
-            "<line x1=\"{}\" y1=\"{y:.2}\" x2=\"{px}\" y2=\"{y:.2}\"/>",
-            px - 6.0
-        );
-        if k < yd.1 {
-            for m in 2..10 {
-                let ym = map_y(m as f64 * 10f64.powi(k));
-                let _ = writeln!(
-                    s,
-                    "<line x1=\"{}\" y1=\"{ym:.2}\" x2=\"{px}\" y2=\"{ym:.2}\"/>",
-                    px - 3.0
-                );
-            }
-        }
-    }
-    let _ = writeln!(
-        s,
-        "<rect x=\"{px}\" y=\"{py}\" width=\"{pw}\" height=\"{ph}\" fill=\"none\"/>"
-    );
-    s.push_str("</g>\n");
-    for k in xd.0..=xd.1 {
-        let _ = writeln!(
-            s,
-            "<text class=\"tick\" x=\"{:.2}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
-            map_x(10f64.powi(k)),
-            py + ph + 20.0,
-            power_of_ten(k)
-        );
-    }
-    for k in yd.0..=yd.1 {
-        let _ = writeln!(
-            s,
-            "<text class=\"tick\" x=\"{}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
-            px - 9.0,
-            map_y(10f64.powi(k)) + 4.0,
-            power_of_ten(k)
-        );
-    }
-    let _ = writeln!(
-        s,
-        "<text class=\"axis-label\" x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
-        px + pw / 2.0,
-        py + ph + 40.0,
-        escape(&p.x_label)
-    );
-    let (lx, ly) = (x0 + 16.0, py + ph / 2.0);
-    let _ = writeln!(
-        s,
-        "<text class=\"axis-label\" x=\"{lx}\" y=\"{ly}\" text-anchor=\"middle\" transform=\"rotate(-90 {lx} {ly})\">{}</text>",
-        escape(&p.y_label)
-    );
-    // the series
+    // a little beyond the decades, so that both end decades get their tick label
+    let x = (0.8 * 10f64.powi(xd.0)..1.25 * 10f64.powi(xd.1)).log_scale();
+    let y = (0.8 * 10f64.powi(yd.0)..1.25 * 10f64.powi(yd.1)).log_scale();
+    let mut chart = ChartBuilder::on(area)
+        .margin(12)
+        .caption(&p.title, (FONT, 13).into_font().style(FontStyle::Bold))
+        .x_label_area_size(44)
+        .y_label_area_size(62)
+        .build_cartesian_2d(x, y)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(&p.x_label)
+        .y_desc(&p.y_label)
+        .x_label_formatter(&log_tick)
+        .y_label_formatter(&log_tick)
+        .axis_desc_style((FONT, 13))
+        .label_style((FONT, 11))
+        .light_line_style(RGBAColor(0xff, 0xff, 0xff, 0.0))
+        .bold_line_style(RGBColor(0xdd, 0xdd, 0xdd))
+        .draw()
+        .map_err(|e| e.to_string())?;
     for series in &p.series {
-        let pts: Vec<(f64, f64, &Point)> = series
-            .points
-            .iter()
-            .filter(|q| q.x > 0.0 && q.y > 0.0 && q.x.is_finite() && q.y.is_finite())
-            .map(|q| (map_x(q.x), map_y(q.y), q))
-            .collect();
-        let color = series.style.color;
-        let _ = writeln!(
-            s,
-            "<g class=\"series\" data-label=\"{}\">",
-            escape(&series.label)
-        );
-        let coords: Vec<String> = pts
-            .iter()
-            .map(|(x, y, _)| format!("{x:.2},{y:.2}"))
-            .collect();
-        let _ = writeln!(
-            s,
-            "<polyline points=\"{}\" fill=\"none\" stroke=\"{color}\" stroke-width=\"1.8\"/>",
-            coords.join(" ")
-        );
-        for (x, y, q) in &pts {
-            marker(s, series.style, *x, *y, 4.0, q.hollow);
-            let _ = writeln!(
-                s,
-                "<text class=\"point-label\" x=\"{:.2}\" y=\"{:.2}\" font-size=\"9\" fill=\"{color}\">{}</text>",
-                x + 6.0,
-                y - 5.0,
-                escape(&q.label)
+        let color = rgb(series.style.color);
+        let line = color.stroke_width(2);
+        let pts: Vec<&Point> = series.points.iter().filter(finite).collect();
+        let marker = series.style.marker;
+        chart
+            .draw_series(LineSeries::new(pts.iter().map(|q| (q.x, q.y)), line))
+            .map_err(|e| e.to_string())?
+            .label(&series.label)
+            .legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (22, 0)], line)
+                    + marker_element(marker, (11, 0), 4, color, false)
+            });
+        for q in &pts {
+            let label = Text::new(
+                q.label.clone(),
+                (7, -12),
+                (FONT, 10).into_font().color(&color),
             );
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((q.x, q.y))
+                        + marker_element(marker, (0, 0), 4, color, q.hollow)
+                        + label,
+                ))
+                .map_err(|e| e.to_string())?;
         }
-        s.push_str("</g>\n");
     }
-    // legend in the corner of the plot that hides least of the lines (tried in the order
-    // bottom left, top right, bottom right, top left: work-precision lines run from the top
-    // left, cheap and inaccurate, to the bottom right)
-    let drawn: Vec<Vec<(f64, f64)>> = p
-        .series
-        .iter()
-        .map(|series| {
-            series
-                .points
-                .iter()
-                .filter(|q| q.x > 0.0 && q.y > 0.0 && q.x.is_finite() && q.y.is_finite())
-                .map(|q| (map_x(q.x), map_y(q.y)))
-                .collect()
-        })
-        .collect();
-    let widest = p
-        .series
-        .iter()
-        .map(|s| s.label.chars().count())
-        .max()
-        .unwrap_or(0) as f64;
-    let lw = 36.0 + 6.2 * widest;
-    let lh = 8.0 + 16.0 * p.series.len() as f64;
-    let corners = [
-        (px + 6.0, py + ph - lh - 6.0),
-        (px + pw - lw - 6.0, py + 6.0),
-        (px + pw - lw - 6.0, py + ph - lh - 6.0),
-        (px + 6.0, py + 6.0),
-    ];
-    let (lx, ly) = corners
-        .into_iter()
-        .min_by_key(|&(x, y)| covered(&drawn, x - 4.0, y - 4.0, lw + 8.0, lh + 8.0))
-        .expect("four corners");
-    let _ = writeln!(s, "<g class=\"legend\">");
-    let _ = writeln!(
-        s,
-        "<rect x=\"{lx:.2}\" y=\"{ly:.2}\" width=\"{lw:.2}\" height=\"{lh:.2}\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999\"/>"
-    );
-    for (i, series) in p.series.iter().enumerate() {
-        let y = ly + 14.0 + 16.0 * i as f64;
-        let _ = writeln!(
-            s,
-            "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"{}\" stroke-width=\"1.8\"/>",
-            lx + 6.0,
-            y - 4.0,
-            lx + 28.0,
-            y - 4.0,
-            series.style.color
-        );
-        marker(s, series.style, lx + 17.0, y - 4.0, 3.5, false);
-        let _ = writeln!(
-            s,
-            "<text x=\"{:.2}\" y=\"{y:.2}\">{}</text>",
-            lx + 33.0,
-            escape(&series.label)
-        );
-    }
-    s.push_str("</g>\n</g>\n");
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(0x99, 0x99, 0x99))
+        .label_font((FONT, 11))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
 }
 
-/// How much of the polylines `lines` lies in the rectangle `(x, y, w, h)`: the number of
-/// samples (20 per segment, and the vertices) inside it.
-fn covered(lines: &[Vec<(f64, f64)>], x: f64, y: f64, w: f64, h: f64) -> usize {
-    let inside = |(a, b): (f64, f64)| a >= x && a <= x + w && b >= y && b <= y + h;
-    lines
-        .iter()
-        .map(|l| {
-            let vertices = l.iter().filter(|&&q| inside(q)).count();
-            let along: usize = l
-                .windows(2)
-                .map(|w2| {
-                    (1..20)
-                        .filter(|&k| {
-                            let t = k as f64 / 20.0;
-                            inside((
-                                w2[0].0 + t * (w2[1].0 - w2[0].0),
-                                w2[0].1 + t * (w2[1].1 - w2[0].1),
-                            ))
-                        })
-                        .count()
-                })
-                .sum();
-            // a marker and its label weigh more than a stretch of line
-            5 * vertices + along
-        })
-        .sum()
-}
-
-fn marker(s: &mut String, style: Style, x: f64, y: f64, r: f64, hollow: bool) {
-    let color = style.color;
-    let paint = if hollow {
-        format!("fill=\"white\" stroke=\"{color}\" stroke-width=\"1.5\"")
+/// A marker centred on `at` (pixels relative to its anchor): filled, or an outline when
+/// `hollow`.
+fn marker_element<DB: DrawingBackend>(
+    marker: Marker,
+    at: (i32, i32),
+    r: i32,
+    color: RGBColor,
+    hollow: bool,
+) -> DynElement<'static, DB, (i32, i32)> {
+    let style = if hollow {
+        color.stroke_width(2)
     } else {
-        format!("fill=\"{color}\"")
+        color.filled()
     };
-    let _ = match style.marker {
-        Marker::Circle => writeln!(s, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"{r}\" {paint}/>"),
-        Marker::Square => writeln!(
-            s,
-            "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{}\" height=\"{}\" {paint}/>",
-            x - r,
-            y - r,
-            2.0 * r,
-            2.0 * r
-        ),
-    };
+    match marker {
+        Marker::Circle => Circle::new(at, r, style).into_dyn(),
+        Marker::Square => {
+            Rectangle::new([(at.0 - r, at.1 - r), (at.0 + r, at.1 + r)], style).into_dyn()
+        }
+    }
+}
+
+/// A curve of a [`LinePanel`]: points joined in the order given, in data units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curve {
+    /// Legend text (none when empty).
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    /// Drawn dashed (e.g. a reference or an unstable stretch) instead of solid.
+    pub dashed: bool,
+    /// Place in [`PALETTE`].
+    pub color: usize,
+}
+
+/// One plot on linear axes: axis labels with their units, curves, and intervals of x
+/// shaded behind them (with a legend text each).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinePanel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub curves: Vec<Curve>,
+    /// `(from, to, label)` in x.
+    pub shaded: Vec<(f64, f64, String)>,
+}
+
+/// An SVG document: a title, note lines under it (the case and the command), then the
+/// panels side by side on linear axes — for comparisons such as a finite assembly's force
+/// against a closed form. Points that are not finite are left out.
+pub fn lines_svg(title: &str, notes: &[String], panels: &[LinePanel]) -> Result<String, DrawError> {
+    let width = PANEL_W * panels.len().max(1) as u32;
+    let height = CAPTION_LINE * (1 + notes.len() as u32) + 8 + PANEL_H;
+    draw_svg(title, (width, height), |root| {
+        let body = captioned(root, title, notes)?;
+        let areas = body.split_evenly((1, panels.len().max(1)));
+        for (p, area) in panels.iter().zip(&areas) {
+            line_panel(area, p)?;
+        }
+        Ok(())
+    })
+}
+
+/// `[lo, hi]` of the finite values with 5 % head room (a unit wide around a single value).
+fn padded(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if lo > hi {
+        return (0.0, 1.0);
+    }
+    if hi - lo <= 1e-12 * (lo.abs() + hi.abs()) {
+        return (lo - 0.5, hi + 0.5);
+    }
+    let pad = 0.05 * (hi - lo);
+    (lo - pad, hi + pad)
+}
+
+fn line_panel(area: &DrawingArea<SVGBackend, Shift>, p: &LinePanel) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+    let finite = |q: &&(f64, f64)| q.0.is_finite() && q.1.is_finite();
+    let pts = || p.curves.iter().flat_map(|c| c.points.iter()).filter(finite);
+    let x = padded(pts().map(|q| q.0));
+    let y = padded(pts().map(|q| q.1));
+    let mut chart = ChartBuilder::on(area)
+        .margin(12)
+        .caption(&p.title, (FONT, 13).into_font().style(FontStyle::Bold))
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc(&p.x_label)
+        .y_desc(&p.y_label)
+        .axis_desc_style((FONT, 13))
+        .label_style((FONT, 11))
+        .light_line_style(RGBAColor(0xff, 0xff, 0xff, 0.0))
+        .bold_line_style(RGBColor(0xdd, 0xdd, 0xdd))
+        .draw()
+        .map_err(e)?;
+    let fill = RGBColor(0xff, 0xd7, 0x00).mix(0.25).filled();
+    for (from, to, label) in &p.shaded {
+        let a = chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(*from, y.0), (*to, y.1)],
+                fill,
+            )))
+            .map_err(e)?;
+        if !label.is_empty() {
+            a.label(label.clone())
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 22, y + 5)], fill));
+        }
+    }
+    for c in &p.curves {
+        let line = palette(c.color).stroke_width(2);
+        let points: Vec<(f64, f64)> = c.points.iter().filter(finite).copied().collect();
+        let a = if c.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(points, 7, 5, line))
+                .map_err(e)?
+        } else {
+            chart
+                .draw_series(LineSeries::new(points, line))
+                .map_err(e)?
+        };
+        if c.label.is_empty() {
+            continue;
+        }
+        let a = a.label(c.label.clone());
+        if c.dashed {
+            a.legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (8, 0)], line)
+                    + PathElement::new(vec![(14, 0), (22, 0)], line)
+            });
+        } else {
+            a.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], line));
+        }
+    }
+    if p.curves.iter().any(|c| !c.label.is_empty()) || p.shaded.iter().any(|s| !s.2.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(0x99, 0x99, 0x99))
+            .label_font((FONT, 11))
+            .draw()
+            .map_err(e)?;
+    }
+    Ok(())
 }

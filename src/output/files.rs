@@ -5,7 +5,7 @@
 //! there are moved out (and put back if the move fails).
 
 use super::csv::{
-    check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
+    check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
 };
 use crate::discretisation::model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, Snapshot};
@@ -33,9 +33,9 @@ pub fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
     Ok(())
 }
 
-/// The files of a run, written into `dir` (created if needed): load, reactions and state,
-/// and when there are critical points, `critical.csv` and one `mode-<k>.csv` each.
-/// Returns their paths.
+/// The files of a run, written into `dir` (created if needed): load, reactions, state and
+/// joints, and when there are critical points, `critical.csv` and one `mode-<k>.csv` each
+/// ([`run_files`]). Returns their paths.
 pub fn write_run(
     dir: &Path,
     case: &str,
@@ -57,11 +57,26 @@ pub fn write_run_noted(
     critical: &[CriticalPoint],
     model: &DiscreteModel,
 ) -> io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)?;
+    let files = run_files(case, note, points, snapshot, critical, model);
+    write_run_files(dir, &files)
+}
+
+/// The files of a run as (name, text): load, reactions, state and joints, and when there
+/// are critical points, `critical.csv` and one `mode-<k>.csv` each; `note`, when given, as
+/// a `#` line in the header of every file.
+pub fn run_files(
+    case: &str,
+    note: Option<&str>,
+    points: &[LoadPoint],
+    snapshot: &Snapshot,
+    critical: &[CriticalPoint],
+    model: &DiscreteModel,
+) -> Vec<(String, String)> {
     let mut files = vec![
         ("load.csv".to_string(), load_csv(case, points)),
         ("reactions.csv".to_string(), reactions_csv(case, points)),
         ("state.csv".to_string(), state_csv(case, snapshot)),
+        ("joints.csv".to_string(), joints_csv(case, snapshot)),
     ];
     if !critical.is_empty() {
         files.push(("critical.csv".to_string(), critical_csv(case, critical)));
@@ -69,29 +84,70 @@ pub fn write_run_noted(
             files.push((format!("mode-{i}.csv"), mode_csv(case, model, i, c)));
         }
     }
-    let files: Vec<(String, String)> = files
+    files
         .into_iter()
         .map(|(name, text)| match note {
             Some(n) => (name, with_note(&text, n)),
             None => (name, text),
         })
-        .collect();
-    for (name, text) in &files {
+        .collect()
+}
+
+/// `state-<step>.csv` of every recorded state `(output step, snapshot)`, in the format of
+/// `state.csv`; `note` as in [`run_files`].
+pub fn state_files(
+    case: &str,
+    note: Option<&str>,
+    states: &[(usize, Snapshot)],
+) -> Vec<(String, String)> {
+    states
+        .iter()
+        .map(|(step, snapshot)| {
+            let text = state_csv(case, snapshot);
+            let text = match note {
+                Some(n) => with_note(&text, n),
+                None => text,
+            };
+            (format!("state-{step}.csv"), text)
+        })
+        .collect()
+}
+
+/// Writes the files of a run (from [`run_files`], with states and figures if any) into
+/// `dir` as one set ([`write_folder`]), after checking that no CSV holds a non-finite
+/// value. Returns their paths.
+pub fn write_run_files(dir: &Path, files: &[(String, String)]) -> io::Result<Vec<PathBuf>> {
+    for (name, text) in files.iter().filter(|(n, _)| n.ends_with(".csv")) {
         check_finite(text)
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, format!("{name}: {e}")))?;
     }
-    write_folder(dir, &files, is_run_file)
+    write_folder(dir, files, is_run_file)
 }
 
 /// Whether `name` is a file a run writes: `load.csv`, `reactions.csv`, `state.csv`,
-/// `critical.csv` or `mode-<k>.csv`.
+/// `joints.csv`, `critical.csv`, `mode-<k>.csv`, `state-<k>.csv` or a figure
+/// ([`is_figure_file`]).
 pub fn is_run_file(name: &str) -> bool {
     matches!(
         name,
-        "load.csv" | "reactions.csv" | "state.csv" | "critical.csv"
-    ) || name
-        .strip_prefix("mode-")
-        .and_then(|r| r.strip_suffix(".csv"))
+        "load.csv" | "reactions.csv" | "state.csv" | "joints.csv" | "critical.csv"
+    ) || numbered(name, "mode-", ".csv")
+        || numbered(name, "state-", ".csv")
+        || is_figure_file(name)
+}
+
+/// Whether `name` is a figure of a run: `load.svg`, `curvature-step<k>.svg` or
+/// `views-step<k>.svg`.
+pub fn is_figure_file(name: &str) -> bool {
+    name == "load.svg"
+        || numbered(name, "curvature-step", ".svg")
+        || numbered(name, "views-step", ".svg")
+}
+
+/// Whether `name` is `<prefix><whole number><suffix>`.
+fn numbered(name: &str, prefix: &str, suffix: &str) -> bool {
+    name.strip_prefix(prefix)
+        .and_then(|r| r.strip_suffix(suffix))
         .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
 }
 
@@ -108,7 +164,7 @@ pub fn is_precision_file(name: &str) -> bool {
 pub fn write_folder(
     dir: &Path,
     files: &[(String, String)],
-    own: fn(&str) -> bool,
+    own: impl Fn(&str) -> bool,
 ) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
     for (name, _) in files {

@@ -27,7 +27,10 @@ pub trait StudyReport {
     /// The work-precision chart: one panel per measure that has values, log error against
     /// log time, one line per element order, one point per mesh (labelled by its elements
     /// per rod).
-    fn svg(&self) -> String;
+    fn svg(&self) -> Result<String, chart::DrawError>;
+    /// [`StudyReport::svg`] with `command` (the command line that made it) as the last
+    /// caption line.
+    fn svg_for(&self, command: &str) -> Result<String, chart::DrawError>;
 }
 
 /// A row of `precision.csv`: one mesh of the ladder.
@@ -215,7 +218,11 @@ impl StudyReport for Study {
             .collect()
     }
 
-    fn svg(&self) -> String {
+    fn svg(&self) -> Result<String, chart::DrawError> {
+        self.svg_for("")
+    }
+
+    fn svg_for(&self, command: &str) -> Result<String, chart::DrawError> {
         let panels: Vec<Panel> = Measure::ALL
             .into_iter()
             .filter(|&m| m == Measure::Response || self.has(m))
@@ -226,7 +233,7 @@ impl StudyReport for Study {
                     Measure::Critical => "first critical load (relative error)".to_string(),
                 },
                 x_label: "wall time of the whole solve (s)".to_string(),
-                y_label: "relative error".to_string(),
+                y_label: "relative error (–)".to_string(),
                 series: ORDERS
                     .iter()
                     .map(|&o| Series {
@@ -255,6 +262,9 @@ impl StudyReport for Study {
                 "hollow marker: the finest mesh of the reference, whose error is the extrapolation's own estimate (its order is the theoretical one by construction)"
                     .to_string(),
             );
+        }
+        if !command.is_empty() {
+            notes.push(format!("command: {command}"));
         }
         chart::log_log_svg(&title, &notes, &panels)
     }

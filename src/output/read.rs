@@ -1,0 +1,393 @@
+//! The tables of a `spira run` output folder read back, for figures drawn after the run
+//! (`spira plot`) or from the text a run is about to write (`spira run --figures`): the
+//! load path (`load.csv`), its critical points (`critical.csv`), the states (`state.csv`,
+//! `state-<step>.csv`) and the joints (`joints.csv`).
+//!
+//! Columns are found by their header names, so a table with more columns (a later version
+//! of spira) still reads; a missing column, a cell that is not a number and a row of the
+//! wrong length are errors naming the file, the line and the column.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A table of a run folder that cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum TableError {
+    #[error("{file}: missing: not a `spira run` output folder?")]
+    Missing { file: PathBuf },
+    #[error("{file}: {source}")]
+    Io {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{file}: no column `{column}` in the header line")]
+    MissingColumn { file: PathBuf, column: String },
+    #[error("{file}:{line}: column `{column}`: expected {expected}, found `{found}`")]
+    BadCell {
+        file: PathBuf,
+        line: u64,
+        column: String,
+        expected: &'static str,
+        found: String,
+    },
+    #[error("{file}:{line}: {reason}")]
+    BadRow {
+        file: PathBuf,
+        line: u64,
+        reason: String,
+    },
+    #[error("{file}: no data rows")]
+    Empty { file: PathBuf },
+}
+
+/// A table's rows with its columns found by name; `line` is the row's line in the file.
+struct Table {
+    file: PathBuf,
+    header: Vec<String>,
+    rows: Vec<(u64, Vec<String>)>,
+}
+
+impl Table {
+    /// Reads CSV text (`#` lines are comments) of the file `file`.
+    fn parse(file: &Path, text: &str) -> Result<Table, TableError> {
+        let mut reader = ::csv::ReaderBuilder::new()
+            .comment(Some(b'#'))
+            .from_reader(text.as_bytes());
+        let bad_row = |line: u64, e: ::csv::Error| TableError::BadRow {
+            file: file.to_path_buf(),
+            line,
+            reason: match e.kind() {
+                ::csv::ErrorKind::UnequalLengths {
+                    expected_len, len, ..
+                } => format!("{len} fields where the header has {expected_len}"),
+                _ => e.to_string(),
+            },
+        };
+        let header: Vec<String> = reader
+            .headers()
+            .map_err(|e| bad_row(e.position().map_or(1, |p| p.line()), e))?
+            .iter()
+            .map(|h| h.trim().to_string())
+            .collect();
+        let mut rows = Vec::new();
+        for record in reader.records() {
+            let record = record.map_err(|e| bad_row(e.position().map_or(0, |p| p.line()), e))?;
+            let line = record.position().map_or(0, |p| p.line());
+            rows.push((line, record.iter().map(str::to_string).collect()));
+        }
+        Ok(Table {
+            file: file.to_path_buf(),
+            header,
+            rows,
+        })
+    }
+
+    fn column(&self, name: &str) -> Result<usize, TableError> {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| TableError::MissingColumn {
+                file: self.file.clone(),
+                column: name.to_string(),
+            })
+    }
+
+    fn non_empty(self) -> Result<Table, TableError> {
+        if self.rows.is_empty() {
+            return Err(TableError::Empty { file: self.file });
+        }
+        Ok(self)
+    }
+
+    fn bad(&self, line: u64, col: usize, expected: &'static str, found: &str) -> TableError {
+        TableError::BadCell {
+            file: self.file.clone(),
+            line,
+            column: self.header[col].clone(),
+            expected,
+            found: found.to_string(),
+        }
+    }
+
+    /// The finite number in column `col` of a row.
+    fn number(&self, row: &(u64, Vec<String>), col: usize) -> Result<f64, TableError> {
+        let cell = row.1[col].trim();
+        match cell.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(self.bad(row.0, col, "a finite number", cell)),
+        }
+    }
+
+    /// The whole number in column `col` of a row.
+    fn count(&self, row: &(u64, Vec<String>), col: usize) -> Result<usize, TableError> {
+        let cell = row.1[col].trim();
+        cell.parse::<usize>()
+            .map_err(|_| self.bad(row.0, col, "a whole number", cell))
+    }
+
+    /// `0`, `1` or an empty cell in column `col` of a row.
+    fn flag(&self, row: &(u64, Vec<String>), col: usize) -> Result<Option<bool>, TableError> {
+        match row.1[col].trim() {
+            "" => Ok(None),
+            "1" => Ok(Some(true)),
+            "0" => Ok(Some(false)),
+            cell => Err(self.bad(row.0, col, "1, 0 or an empty cell", cell)),
+        }
+    }
+}
+
+/// The first `#` line's words after `case ` up to a comma: the case name a table names.
+fn case_name(text: &str) -> Option<String> {
+    let first = text.lines().next()?.strip_prefix('#')?;
+    let (_, rest) = first.split_once(", case ")?;
+    Some(rest.split(',').next().unwrap_or(rest).trim().to_string())
+}
+
+/// One output step of a load path (a row of `load.csv`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathPoint {
+    pub step: usize,
+    /// Compression ratio `ε = (h0 − h)/h0`.
+    pub eps: f64,
+    /// Load parameter (`ε`, or `P/Pcrit` under load control).
+    pub parameter: f64,
+    /// `(1/(n Pcrit)) Σ F_tip`, per component.
+    pub load: [f64; 3],
+    /// Whether the state is stable, where it was judged.
+    pub stable: Option<bool>,
+}
+
+/// A critical point of a path (a row of `critical.csv`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CriticalMark {
+    /// `limit-point` or `bifurcation`.
+    pub kind: String,
+    pub parameter: f64,
+    pub eps: f64,
+    /// `(1/(n Pcrit)) Σ F_tip`.
+    pub load: [f64; 3],
+}
+
+/// One node of a rod in a state (a row of `state.csv`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StateNode {
+    /// `s/L`.
+    pub s_over_l: f64,
+    /// Centreline position (m).
+    pub position: [f64; 3],
+    /// `(κ1, κ2, Ω)` (1/m).
+    pub curvature: [f64; 3],
+}
+
+/// The nodes of every rod in one state, rods in their order in the file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateTable {
+    /// Output step of the state (the last step of the path for `state.csv`).
+    pub step: usize,
+    /// Compression ratio of the state.
+    pub eps: f64,
+    /// `(rod index, its nodes in order of s)`.
+    pub rods: Vec<(usize, Vec<StateNode>)>,
+}
+
+/// Reads `load.csv` (text `text` of the file `file`).
+pub fn load_path(file: &Path, text: &str) -> Result<Vec<PathPoint>, TableError> {
+    let t = Table::parse(file, text)?.non_empty()?;
+    let cols = ["step", "eps", "parameter", "fx", "fy", "fz", "stable"].map(|c| t.column(c));
+    let [step, eps, parameter, fx, fy, fz, stable] = transpose(cols)?;
+    t.rows
+        .iter()
+        .map(|r| {
+            Ok(PathPoint {
+                step: t.count(r, step)?,
+                eps: t.number(r, eps)?,
+                parameter: t.number(r, parameter)?,
+                load: [t.number(r, fx)?, t.number(r, fy)?, t.number(r, fz)?],
+                stable: t.flag(r, stable)?,
+            })
+        })
+        .collect()
+}
+
+/// Reads `critical.csv`.
+pub fn critical_points(file: &Path, text: &str) -> Result<Vec<CriticalMark>, TableError> {
+    let t = Table::parse(file, text)?;
+    let cols = ["kind", "parameter", "eps", "fx", "fy", "fz"].map(|c| t.column(c));
+    let [kind, parameter, eps, fx, fy, fz] = transpose(cols)?;
+    t.rows
+        .iter()
+        .map(|r| {
+            Ok(CriticalMark {
+                kind: r.1[kind].trim().to_string(),
+                parameter: t.number(r, parameter)?,
+                eps: t.number(r, eps)?,
+                load: [t.number(r, fx)?, t.number(r, fy)?, t.number(r, fz)?],
+            })
+        })
+        .collect()
+}
+
+/// Reads a state table (`state.csv` or `state-<step>.csv`) of output step `step`; its ε
+/// is the one its first `#` line states (`eps = …`), else `eps`.
+pub fn state(file: &Path, text: &str, step: usize, eps: f64) -> Result<StateTable, TableError> {
+    let t = Table::parse(file, text)?.non_empty()?;
+    let cols = ["rod", "s_over_l", "x", "y", "z", "k1", "k2", "omega"].map(|c| t.column(c));
+    let [rod, s, x, y, z, k1, k2, omega] = transpose(cols)?;
+    let mut rods: Vec<(usize, Vec<StateNode>)> = Vec::new();
+    for r in &t.rows {
+        let id = t.count(r, rod)?;
+        let node = StateNode {
+            s_over_l: t.number(r, s)?,
+            position: [t.number(r, x)?, t.number(r, y)?, t.number(r, z)?],
+            curvature: [t.number(r, k1)?, t.number(r, k2)?, t.number(r, omega)?],
+        };
+        match rods.iter_mut().find(|(k, _)| *k == id) {
+            Some((_, nodes)) => nodes.push(node),
+            None => rods.push((id, vec![node])),
+        }
+    }
+    let stated = text
+        .lines()
+        .next()
+        .and_then(|l| l.split_once("eps = "))
+        .and_then(|(_, v)| v.trim().parse::<f64>().ok())
+        .filter(|v| v.is_finite());
+    Ok(StateTable {
+        step,
+        eps: stated.unwrap_or(eps),
+        rods,
+    })
+}
+
+/// Reads `joints.csv`: the arc lengths `s/L` of the joints of each rod.
+pub fn joints(file: &Path, text: &str) -> Result<BTreeMap<usize, Vec<f64>>, TableError> {
+    let t = Table::parse(file, text)?;
+    let [rod, s] = transpose(["rod", "s_over_l"].map(|c| t.column(c)))?;
+    let mut out: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
+    for r in &t.rows {
+        out.entry(t.count(r, rod)?)
+            .or_default()
+            .push(t.number(r, s)?);
+    }
+    Ok(out)
+}
+
+fn transpose<const N: usize>(
+    cols: [Result<usize, TableError>; N],
+) -> Result<[usize; N], TableError> {
+    let mut out = [0; N];
+    for (o, c) in out.iter_mut().zip(cols) {
+        *o = c?;
+    }
+    Ok(out)
+}
+
+/// `state-<step>.csv` → `step`.
+pub fn state_step(name: &str) -> Option<usize> {
+    let k = name.strip_prefix("state-")?.strip_suffix(".csv")?;
+    (!k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| k.parse().ok())
+        .flatten()
+}
+
+/// Everything a run folder says that figures show.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunTables {
+    /// How the run is named in legends and file names (the folder's name).
+    pub label: String,
+    /// The case, as the tables name it (empty if they do not).
+    pub case: String,
+    pub path: Vec<PathPoint>,
+    pub critical: Vec<CriticalMark>,
+    /// The states found, by output step: `state-<step>.csv`, and `state.csv` as the last
+    /// step of the path when no `state-<step>.csv` has that step.
+    pub states: Vec<StateTable>,
+    /// Joints' `s/L` per rod (empty when the folder has no `joints.csv`).
+    pub joints: BTreeMap<usize, Vec<f64>>,
+}
+
+impl RunTables {
+    /// Reads the tables of a run from `files` (file name and text) of a folder `dir` (used
+    /// in messages only). `load.csv` and at least one state are required; `critical.csv`
+    /// and `joints.csv` are read when present.
+    pub fn from_files(
+        label: &str,
+        dir: &Path,
+        files: &BTreeMap<String, String>,
+    ) -> Result<RunTables, TableError> {
+        let need = |name: &str| {
+            files.get(name).ok_or_else(|| TableError::Missing {
+                file: dir.join(name),
+            })
+        };
+        let load = need("load.csv")?;
+        let path = load_path(&dir.join("load.csv"), load)?;
+        let critical = match files.get("critical.csv") {
+            Some(text) => critical_points(&dir.join("critical.csv"), text)?,
+            None => Vec::new(),
+        };
+        let joints = match files.get("joints.csv") {
+            Some(text) => joints(&dir.join("joints.csv"), text)?,
+            None => BTreeMap::new(),
+        };
+        let eps_of = |step: usize| path.iter().find(|p| p.step == step).map_or(0.0, |p| p.eps);
+        let mut states = Vec::new();
+        for (name, text) in files {
+            if let Some(step) = state_step(name) {
+                states.push(state(&dir.join(name), text, step, eps_of(step))?);
+            }
+        }
+        let last = path.last().map_or(0, |p| p.step);
+        if !states.iter().any(|s| s.step == last) {
+            let text = need("state.csv")?;
+            states.push(state(&dir.join("state.csv"), text, last, eps_of(last))?);
+        }
+        states.sort_by_key(|s| s.step);
+        Ok(RunTables {
+            label: label.to_string(),
+            case: case_name(load).unwrap_or_default(),
+            path,
+            critical,
+            states,
+            joints,
+        })
+    }
+
+    /// Reads the tables of the run folder `dir`, labelled by the folder's name.
+    pub fn read(dir: &Path) -> Result<RunTables, TableError> {
+        let io = |file: PathBuf| move |source| TableError::Io { file, source };
+        let entries = std::fs::read_dir(dir).map_err(io(dir.to_path_buf()))?;
+        let mut files = BTreeMap::new();
+        for entry in entries {
+            let entry = entry.map_err(io(dir.to_path_buf()))?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let wanted = matches!(
+                name.as_str(),
+                "load.csv" | "critical.csv" | "joints.csv" | "state.csv"
+            ) || state_step(&name).is_some();
+            if wanted && entry.file_type().is_ok_and(|t| t.is_file()) {
+                let text = std::fs::read_to_string(entry.path()).map_err(io(entry.path()))?;
+                files.insert(name, text);
+            }
+        }
+        let label = dir
+            .canonicalize()
+            .ok()
+            .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .unwrap_or_else(|| dir.display().to_string());
+        RunTables::from_files(&label, dir, &files)
+    }
+
+    /// Number of rods (of the states' first).
+    pub fn rods(&self) -> usize {
+        self.states.first().map_or(0, |s| s.rods.len())
+    }
+
+    /// The state nearest to compression ratio `eps`.
+    pub fn state_near(&self, eps: f64) -> Option<&StateTable> {
+        self.states
+            .iter()
+            .min_by(|a, b| (a.eps - eps).abs().total_cmp(&(b.eps - eps).abs()))
+    }
+}
