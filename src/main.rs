@@ -321,6 +321,15 @@ fn run(
         euler_load(case.stiffness.b1, case.geometry.length),
         case.loading.control.name()
     );
+    if case.discretisation.symmetric {
+        let m = n / 2;
+        println!(
+            "model: one right/left pair standing for {n} rods ({m}-fold symmetry), stability by Bloch blocks p = 0..{}",
+            m / 2
+        );
+    } else {
+        println!("model: the full assembly, {n} rods");
+    }
     println!(
         "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}",
         "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)", "unstable"

@@ -144,4 +144,8 @@ pub struct CriticalPoint {
     /// For a symmetric pair: the critical mode on the whole assembly (the primal unknowns of
     /// the full model, unit norm), rebuilt from its Bloch block's eigenvector.
     pub assembly_mode: Option<Vec<f64>>,
+    /// For a double point (`0 < p < m/2`): the other mode of its plane (from `i` times the
+    /// block's eigenvector); every critical mode there is `cos φ · assembly_mode + sin φ ·
+    /// second_mode`.
+    pub second_mode: Option<Vec<f64>>,
 }

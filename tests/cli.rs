@@ -602,7 +602,10 @@ fn repeats_are_bounded() {
 #[test]
 fn a_case_far_beyond_memory_is_refused_at_once_with_its_estimate() {
     let dir = Scratch::new("too-big");
-    let case = dir.write("huge.toml", "[geometry]\nhelices = 512\nturns = 1.5\n");
+    let case = dir.write(
+        "huge.toml",
+        "[geometry]\nhelices = 512\nturns = 1.5\n[discretisation]\nsymmetric = false\n",
+    );
     let t = std::time::Instant::now();
     let err = assert_failure(&spira_run(&dir, &case, &dir.path("out"), &[]));
     assert!(t.elapsed().as_secs_f64() < 1.0);
@@ -623,7 +626,10 @@ fn a_case_far_beyond_memory_is_refused_at_once_with_its_estimate() {
 fn a_long_case_prints_its_size_before_solving() {
     use std::io::{BufRead as _, BufReader};
     let dir = Scratch::new("long");
-    let case = dir.write("n64.toml", "[geometry]\nhelices = 64\nturns = 10\n");
+    let case = dir.write(
+        "n64.toml",
+        "[geometry]\nhelices = 64\nturns = 10\n[discretisation]\nsymmetric = false\n",
+    );
     let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
         .args([
             "run",

@@ -22,7 +22,8 @@ fn solve(case: &Case, eps: f64) -> Simulation {
 #[test]
 fn symmetric_pair_reproduces_the_full_assembly() {
     for n in [4, 8] {
-        let full_case = thesis(n);
+        let mut full_case = thesis(n);
+        full_case.discretisation.symmetric = false;
         let mut pair_case = full_case.clone();
         pair_case.discretisation.symmetric = true;
         let (full, pair) = (solve(&full_case, 0.3), solve(&pair_case, 0.3));
@@ -89,7 +90,7 @@ fn assemblies_without_the_symmetry_are_refused_the_reduction() {
             other => panic!("n = {n}: expected a refusal, got {other:?}"),
         }
     }
-    // and a symmetric pair cannot switch to a branch that breaks its symmetry
+    // and a pair that has crossed no critical point has no branch to switch to
     let mut c = thesis(4);
     c.discretisation.symmetric = true;
     let mut sim = Simulation::from_case(&c).unwrap();
@@ -203,6 +204,7 @@ fn the_sliding_tip_sways_at_a_double_wavenumber_one_mode_rebuilt_on_the_whole_as
     use spira::model::loading::TipLoad;
     let mut full_case = thesis(8);
     full_case.boundary.tip.translation = spira::model::boundary::Translation::Slide;
+    full_case.discretisation.symmetric = false;
     let mut pair_case = full_case.clone();
     pair_case.discretisation.symmetric = true;
     let (full, pair) = (solve(&full_case, 0.2), solve(&pair_case, 0.2));
@@ -256,5 +258,57 @@ fn the_sliding_tip_sways_at_a_double_wavenumber_one_mode_rebuilt_on_the_whole_as
     assert!(
         energy_at_critical.abs() < 1e-5 * energy_before,
         "{energy_at_critical} vs {energy_before}"
+    );
+}
+
+/// Past the sway of the sliding tip, switching branch from the pair (a wavenumber-1 mode:
+/// the path moves onto the full model) and from the full model follow the same branch:
+/// the same axial force, energy, lateral force magnitude and stability at the same ε (the
+/// two start along different directions of the double mode's plane, so the sway may point
+/// another way).
+#[test]
+fn switching_onto_the_sway_from_the_pair_follows_the_full_models_branch() {
+    let mut full_case = thesis(8);
+    full_case.boundary.tip.translation = spira::model::boundary::Translation::Slide;
+    full_case.discretisation.symmetric = false;
+    let mut pair_case = full_case.clone();
+    pair_case.discretisation.symmetric = true;
+    let (mut full, mut pair) = (solve(&full_case, 0.16), solve(&pair_case, 0.16));
+    assert_eq!(pair.critical_points()[0].wavenumber, Some(1));
+    for sim in [&mut full, &mut pair] {
+        sim.switch_branch(0, 1.0, 0.02).expect("switches");
+        sim.advance_to(0.2).expect("follows the branch");
+    }
+    assert_eq!(
+        pair.model().rods.len(),
+        8,
+        "the pair moved onto the full model"
+    );
+    let (a, b) = (full.load_point(1), pair.load_point(1));
+    // the sliding tips carry no lateral force: the sway is their mean lateral offset
+    let sway = |sim: &Simulation| {
+        let shot = sim.snapshot();
+        let n = shot.rods.len() as f64;
+        let (mut x, mut y) = (0.0, 0.0);
+        for r in &shot.rods {
+            let tip = r.nodes.last().unwrap().position;
+            x += tip[0] / n;
+            y += tip[1] / n;
+        }
+        f64::hypot(x, y)
+    };
+    let (sa, sb) = (sway(&full), sway(&pair));
+    assert!(sa > 1e-4, "the branch sways: {sa} m");
+    assert!((sa - sb).abs() < 1e-5 * sa, "{sa} vs {sb}");
+    assert!(
+        (a.load[2] - b.load[2]).abs() < 1e-6 * a.load[2].abs(),
+        "{:?} vs {:?}",
+        a.load,
+        b.load
+    );
+    assert!((a.energy - b.energy).abs() < 1e-6 * a.energy);
+    assert_eq!(
+        a.stability.map(|s| s.unstable_directions),
+        b.stability.map(|s| s.unstable_directions)
     );
 }

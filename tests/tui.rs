@@ -1304,6 +1304,7 @@ fn critical_point() -> spira::results::CriticalPoint {
         state: vec![],
         mode: vec![],
         assembly_mode: None,
+        second_mode: None,
     }
 }
 

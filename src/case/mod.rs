@@ -28,6 +28,7 @@ pub use target::TargetError;
 use crate::discretisation::model::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
+use crate::model::loading::Branch;
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
 use raw::RawCase;
@@ -86,7 +87,12 @@ impl Case {
         let boundary = tables::boundary(&raw.boundary);
         tables::free_motion(&boundary, &geometry, &ck)?;
         let loading = tables::loading(&raw.loading, &geometry, &ck)?;
-        let discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
+        let mut discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
+        // a branch switched onto may break the symmetry: the automatic choice is then the
+        // full model
+        if discretisation.symmetric_auto && loading.branch == Branch::Switch {
+            discretisation.symmetric = false;
+        }
         let mut solver = tables::solver(&raw.solver, &ck)?;
         // Newton's balance rows in units of the stiffness (scale-free convergence)
         solver.newton.force_scale = stiffness.b1;
@@ -106,7 +112,12 @@ impl Case {
         let mut c = self.clone();
         c.geometry.helices = n;
         // the symmetric reduction needs n = 2m, m ≥ 2
-        c.discretisation.symmetric &= n >= 4 && n % 2 == 0;
+        let has = n >= 4 && n % 2 == 0;
+        c.discretisation.symmetric = if c.discretisation.symmetric_auto {
+            has && c.loading.branch != Branch::Switch
+        } else {
+            c.discretisation.symmetric && has
+        };
         c
     }
 

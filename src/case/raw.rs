@@ -106,7 +106,15 @@ pub(super) struct RawDiscretisation {
     pub order: Option<Order>,
     /// Target relative accuracy; not with `elements`.
     pub accuracy: Option<Spanned<f64>>,
-    pub symmetric: Option<Spanned<bool>>,
+    pub symmetric: Option<Spanned<SymmetricKey>>,
+}
+
+/// `discretisation.symmetric`: `true`, `false` or `"auto"`.
+#[derive(Deserialize, Clone, Debug, PartialEq)]
+#[serde(untagged)]
+pub(super) enum SymmetricKey {
+    Flag(bool),
+    Word(String),
 }
 
 /// `[solver]`.

@@ -59,9 +59,14 @@ pub struct Discretisation {
     /// by the mesh it chooses (and clears this) before anything is solved.
     pub accuracy: Option<Accuracy>,
     /// Solve one right/left pair and take the other rods as its images (the assembly's
-    /// `m`-fold rotational symmetry, `n = 2m`, `m ≥ 2`); stability is still judged on the
-    /// full model. Key `symmetric`, default false.
+    /// `m`-fold rotational symmetry, `n = 2m`, `m ≥ 2`); stability is judged on the whole
+    /// assembly by the pair's Bloch blocks. Key `symmetric`: `true`, `false`, or `"auto"`
+    /// (the default: the pair wherever the assembly has the symmetry, unless the case
+    /// switches branches, which may leave the symmetry).
     pub symmetric: bool,
+    /// Whether `symmetric` was chosen automatically (and is chosen again when the number
+    /// of helices changes).
+    pub symmetric_auto: bool,
 }
 
 /// A relative accuracy asked of the response (the axial reaction `Fz` at the target under

@@ -5,6 +5,7 @@ use super::error::{line_of, CaseError};
 use super::limits::*;
 use super::raw::{
     RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawSolver, RawStiffness,
+    SymmetricKey,
 };
 use super::settings::{Accuracy, Discretisation, Geometry, Loading};
 use super::target::check_target;
@@ -393,11 +394,13 @@ pub(super) fn discretisation(
             ));
         }
     }
+    let (symmetric, symmetric_auto) = symmetric(d, helices, ck)?;
     Ok(Discretisation {
         elements,
         order: d.order.unwrap_or(Order::Quadratic),
         accuracy,
-        symmetric: symmetric(d, helices, ck)?,
+        symmetric,
+        symmetric_auto,
     })
 }
 
@@ -423,16 +426,31 @@ fn accuracy(d: &RawDiscretisation, ck: &Checker) -> Result<Option<Accuracy>, Cas
     }
 }
 
-/// `discretisation.symmetric`: true only for `n = 2m` helices, `m ≥ 2`.
-fn symmetric(d: &RawDiscretisation, helices: usize, ck: &Checker) -> Result<bool, CaseError> {
+/// `discretisation.symmetric`: `true` only for `n = 2m` helices, `m ≥ 2`; `"auto"` (the
+/// default) is `true` where the assembly has that symmetry. Returns the choice and whether
+/// it was automatic.
+fn symmetric(
+    d: &RawDiscretisation,
+    helices: usize,
+    ck: &Checker,
+) -> Result<(bool, bool), CaseError> {
+    let has = helices >= 4 && helices % 2 == 0;
     match &d.symmetric {
-        None => Ok(false),
-        Some(flag) if *flag.get_ref() && (helices < 4 || helices % 2 == 1) => Err(ck.invalid(
-            "discretisation.symmetric",
-            flag.span(),
-            format!("expected false: {helices} helix(es) have no rotational symmetry to reduce (it needs n = 2m helices with m ≥ 2)"),
-        )),
-        Some(flag) => Ok(*flag.get_ref()),
+        None => Ok((has, true)),
+        Some(key) => match key.get_ref() {
+            SymmetricKey::Word(w) if w == "auto" => Ok((has, true)),
+            SymmetricKey::Word(w) => Err(ck.invalid(
+                "discretisation.symmetric",
+                key.span(),
+                format!("expected true, false or \"auto\", found \"{w}\""),
+            )),
+            SymmetricKey::Flag(true) if !has => Err(ck.invalid(
+                "discretisation.symmetric",
+                key.span(),
+                format!("expected false or \"auto\": {helices} helix(es) have no rotational symmetry to reduce (it needs n = 2m helices with m ≥ 2)"),
+            )),
+            SymmetricKey::Flag(flag) => Ok((*flag, false)),
+        },
     }
 }
 

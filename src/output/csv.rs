@@ -232,13 +232,15 @@ pub fn mode_csv(
             .to_string(),
     ];
     // a symmetric pair's mode is written on the whole assembly, where it was rebuilt
-    let full = critical
-        .assembly_mode
-        .as_ref()
-        .and_then(|m| Some((model.full_model()?, m)));
-    let (model, mode) = match &full {
-        Some((full, m)) => (full, m.as_slice()),
-        None => (model, critical.mode.as_slice()),
+    // (after a switch onto a branch that breaks the symmetry the model is the full one)
+    let full = match (&critical.assembly_mode, model.assembly.symmetry) {
+        (Some(m), Some(_)) => model.full_model().map(|f| (f, m)),
+        _ => None,
+    };
+    let (model, mode) = match (&full, &critical.assembly_mode) {
+        (Some((full, m)), _) => (full, m.as_slice()),
+        (None, Some(m)) if m.len() == model.n_primal => (model, m.as_slice()),
+        _ => (model, critical.mode.as_slice()),
     };
     let length = model.length();
     let rows = model.rods.iter().enumerate().flat_map(|(id, rod)| {

@@ -61,6 +61,19 @@ pub fn write_run_noted(
     write_run_files(dir, &files)
 }
 
+/// Which model was solved, for the header of every file.
+pub fn model_solved(model: &DiscreteModel) -> String {
+    match model.assembly.symmetry {
+        Some(sym) => format!(
+            "model: one right/left pair standing for all {} rods (the {}-fold rotational symmetry), stability of the whole assembly by its Bloch blocks p = 0..{}",
+            sym.full_rods(),
+            sym.m,
+            sym.m / 2
+        ),
+        None => format!("model: the full assembly, {} rods", model.rods.len()),
+    }
+}
+
 /// The files of a run as (name, text): load, reactions, state and joints, and when there
 /// are critical points, `critical.csv` and one `mode-<k>.csv` each; `note`, when given, as
 /// a `#` line in the header of every file.
@@ -84,8 +97,10 @@ pub fn run_files(
             files.push((format!("mode-{i}.csv"), mode_csv(case, model, i, c)));
         }
     }
+    let solved = model_solved(model);
     files
         .into_iter()
+        .map(|(name, text)| (name, with_note(&text, &solved)))
         .map(|(name, text)| match note {
             Some(n) => (name, with_note(&text, n)),
             None => (name, text),

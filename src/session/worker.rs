@@ -492,6 +492,7 @@ impl Solver {
                 state: Vec::new(),
                 mode: Vec::new(),
                 assembly_mode: None,
+                second_mode: None,
                 ..c.clone()
             })
             .collect();

@@ -233,17 +233,27 @@ impl Simulation {
             let reactions = fields::reactions(&rods.model, &rods.system, &c.state);
             let load = fields::normalised_load(&rods.model, &reactions);
             let eps = eps_of(&rods.model, &c.state);
-            let (wavenumber, multiplicity, assembly_mode) = match rods.bloch().cloned() {
-                Some(bloch) => {
-                    let p = c.block;
-                    let mode = rods.block_mode(&c.state, p).and_then(|v| {
-                        let full = rods.model.full_model()?;
-                        Some(bloch.assembly_mode(&rods.model, p, &v, &full))
-                    });
-                    (Some(p), bloch.multiplicity(p), mode)
-                }
-                None => (None, 1, None),
-            };
+            let (wavenumber, multiplicity, assembly_mode, second_mode) =
+                match (rods.bloch().cloned(), rods.model.full_model()) {
+                    (Some(bloch), Some(full)) => {
+                        let p = c.block;
+                        let v = rods.block_mode(&c.state, p);
+                        let rebuilt = |v: &[f64]| bloch.assembly_mode(&rods.model, p, v, &full);
+                        let first = v.as_deref().map(rebuilt);
+                        // i v: (re, im) → (−im, re)
+                        let second = v.filter(|_| !bloch.is_real(p)).map(|v| {
+                            let half = v.len() / 2;
+                            let turned: Vec<f64> = v[half..]
+                                .iter()
+                                .map(|x| -x)
+                                .chain(v[..half].iter().copied())
+                                .collect();
+                            rebuilt(&turned)
+                        });
+                        (Some(p), bloch.multiplicity(p), first, second)
+                    }
+                    _ => (None, 1, None, None),
+                };
             self.critical.push(CriticalPoint {
                 kind: c.kind,
                 control,
@@ -257,6 +267,7 @@ impl Simulation {
                 state: c.state,
                 mode: c.mode,
                 assembly_mode,
+                second_mode,
             });
         }
         let (x, lambda) = (self.path.state().x.clone(), self.path.state().lambda);
@@ -282,9 +293,24 @@ impl Simulation {
     /// Leaves the path at bifurcation `index` (of [`Simulation::critical_points`]) along
     /// its critical mode, in the direction `sign` (±1), by an arclength step of `h`
     /// measured along the mode; continuation then goes on in arclength steps along the new
-    /// branch.
+    /// branch. A symmetric pair stays the pair for a mode of wavenumber 0 (it keeps the
+    /// symmetry); for a mode of wavenumber `p ≠ 0` the path moves onto the full model,
+    /// from the critical state expanded onto every rod, along the mode rebuilt on the
+    /// whole assembly.
     pub fn switch_branch(&mut self, index: usize, sign: f64, h: f64) -> Result<(), SolveError> {
-        if self.rods().is_symmetric_pair() {
+        let breaking = self
+            .critical
+            .get(index)
+            .filter(|c| self.rods().is_symmetric_pair() && c.wavenumber != Some(0))
+            .cloned();
+        let Some(cp) = breaking else {
+            return self
+                .path
+                .switch_branch(index, sign, h)
+                .map_err(|e| self.error(e));
+        };
+        let (Some(mode), Some(full)) = (cp.assembly_mode.as_ref(), self.model().full_model())
+        else {
             let lambda = self.parameter();
             return Err(self.error(ContinuationError {
                 reached: lambda,
@@ -292,10 +318,44 @@ impl Simulation {
                 step: 0.0,
                 reason: StopReason::SymmetricPair,
             }));
+        };
+        let (control, bc) = (self.control(), self.boundary_conditions());
+        let tip = TipLoad::at(control, cp.parameter, full.height0(), pcrit(&full));
+        let natural = System::new(&full, bc, &full.natural_state(), tip);
+        let mut x = vec![0.0; natural.n];
+        expand_state(
+            self.model(),
+            self.system(),
+            &cp.state,
+            &full,
+            &natural,
+            &mut x,
+        );
+        // the supports hold what they hold at the critical state, as the pair's did
+        let system = System::new(&full, bc, &x[..full.n_primal], tip);
+        // the branches of a double point leave it along particular directions of its
+        // plane (where the symmetry's higher-order terms are extremal, at multiples of
+        // π/2m for a wavenumber-1 mode): the directions φ = jπ/2m are tried in turn
+        let m = full.rods.len() / 2;
+        let tries = if cp.second_mode.is_some() { 2 * m } else { 1 };
+        let mut last = None;
+        for j in 0..tries {
+            let phi = j as f64 * std::f64::consts::PI / (2 * m) as f64;
+            let (c, s) = (phi.cos(), phi.sin());
+            let along: Vec<f64> = match &cp.second_mode {
+                Some(b) => mode.iter().zip(b).map(|(a, b)| c * a + s * b).collect(),
+                None => mode.clone(),
+            };
+            let problem = RodProblem::new(full.clone(), system.clone(), control);
+            match self
+                .path
+                .switch_onto_problem(problem, x.clone(), cp.parameter, &along, sign, h)
+            {
+                Ok(()) => return Ok(()),
+                Err(e) => last = Some(e),
+            }
         }
-        self.path
-            .switch_branch(index, sign, h)
-            .map_err(|e| self.error(e))
+        Err(self.error(last.expect("at least one direction tried")))
     }
 
     /// Changes the boundary conditions and re-solves at the current load from the current

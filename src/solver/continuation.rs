@@ -512,4 +512,60 @@ impl<P: Problem> Continuation<P> {
             }
         }
     }
+
+    /// Replaces the problem (e.g. the full model behind a reduced one) and leaves the
+    /// critical state `(x, λ)` of the new problem along `mode` as
+    /// [`Continuation::switch_onto`] does; on failure the old problem and state are kept.
+    pub fn switch_onto_problem(
+        &mut self,
+        problem: P,
+        mut x: Vec<f64>,
+        lambda: f64,
+        mode: &[f64],
+        sign: f64,
+        h: f64,
+    ) -> Result<(), ContinuationError> {
+        x.resize(problem.unknowns(), 0.0);
+        let mut newton = Newton::new(&problem);
+        newton.carry_count(self.newton.factorisations());
+        let old_problem = std::mem::replace(&mut self.problem, problem);
+        let mut old_newton = std::mem::replace(&mut self.newton, newton);
+        let old_state = self.state.clone();
+        self.state.x = x;
+        self.state.lambda = lambda;
+        self.state.tangent = None;
+        // the new problem's multipliers (of supports and joints) are solved for first, at
+        // the critical state, where the Jacobian is nearly singular (as for the probes of
+        // a critical-point search)
+        let solved = {
+            let x0 = self.state.x.clone();
+            let step = StepEquation {
+                tx: None,
+                tl: 1.0,
+                x0: &x0,
+                l0: lambda,
+                ds: 0.0,
+            };
+            let settings = NewtonSettings {
+                singular_threshold: self.settings.newton.singular_threshold.max(1e-2),
+                ..self.settings.newton
+            };
+            self.correct(x0.clone(), lambda, &step, &settings)
+                .map_err(|cause| self.error(lambda, 0.0, StopReason::Newton { step: 0.0, cause }))
+        };
+        let switched = solved.and_then(|t| {
+            self.state.x.clone_from(&t.x);
+            self.switch_onto(&t.x, lambda, mode, sign, h)
+        });
+        match switched {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                old_newton.carry_count(self.newton.factorisations());
+                self.problem = old_problem;
+                self.newton = old_newton;
+                self.state = old_state;
+                Err(e)
+            }
+        }
+    }
 }

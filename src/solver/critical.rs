@@ -284,34 +284,48 @@ impl<P: Problem> Continuation<P> {
             let lambda = self.state.lambda;
             return Err(self.error(lambda, 0.0, StopReason::NoCriticalPoint { index }));
         };
+        self.switch_onto(&cp.state, cp.parameter, &cp.mode, sign, h)
+    }
+
+    /// Leaves the critical state `(state, λ)` along `mode` (its primal unknowns at least;
+    /// unit norm over them), in the direction `sign` (±1), by an arclength step of `h`
+    /// measured along the mode; continuation then goes on in arclength steps along the new
+    /// branch. On failure the current state is kept.
+    pub fn switch_onto(
+        &mut self,
+        state: &[f64],
+        parameter: f64,
+        mode: &[f64],
+        sign: f64,
+        h: f64,
+    ) -> Result<(), ContinuationError> {
         let np = self.problem.primal_unknowns();
-        let tx: Vec<f64> = cp.mode[..np].iter().map(|v| v * sign).collect();
-        let x: Vec<f64> = cp
-            .state
+        let tx: Vec<f64> = mode[..np].iter().map(|v| v * sign).collect();
+        let x: Vec<f64> = state
             .iter()
-            .zip(&cp.mode)
-            .map(|(a, m)| a + sign * h * m)
+            .enumerate()
+            .map(|(i, a)| a + sign * h * mode.get(i).copied().unwrap_or(0.0))
             .collect();
         self.newton.discard_factorisation();
         let step = StepEquation {
             tx: Some(&tx),
             tl: 0.0,
-            x0: &cp.state,
-            l0: cp.parameter,
+            x0: state,
+            l0: parameter,
             ds: h,
         };
         let settings = self.settings.newton;
-        match self.correct(x, cp.parameter, &step, &settings) {
+        match self.correct(x, parameter, &step, &settings) {
             Ok(t) => {
-                self.state.x = cp.state.clone();
-                self.state.lambda = cp.parameter;
+                self.state.x = state.to_vec();
+                self.state.lambda = parameter;
                 self.state.arclength = true;
                 self.accept(t);
                 self.state.step = h;
                 self.update_stability(true);
                 Ok(())
             }
-            Err(cause) => Err(self.error(cp.parameter, h, StopReason::Newton { step: h, cause })),
+            Err(cause) => Err(self.error(parameter, h, StopReason::Newton { step: h, cause })),
         }
     }
 }

@@ -251,6 +251,16 @@ impl App {
         &self.case
     }
 
+    /// Whether the explorer solves one symmetric pair for the current `n` (its Bloch blocks
+    /// judging the whole assembly's stability), rather than the full assembly.
+    pub fn solves_pair(&self) -> bool {
+        self.case
+            .with_helices(self.helices)
+            .for_explorer()
+            .discretisation
+            .symmetric
+    }
+
     /// The case's name, with the number of helices when it was changed from the case's.
     pub fn case_label(&self) -> String {
         if self.helices == self.case.geometry.helices {

@@ -1155,7 +1155,11 @@ fn case_line(app: &App) -> Line<'static> {
     Line::from(vec![
         bold(app.case_label()),
         sep(),
-        Span::raw(format!("n {}", app.helices)),
+        Span::raw(format!(
+            "n {} {}",
+            app.helices,
+            if app.solves_pair() { "pair" } else { "full" }
+        )),
         sep(),
         Span::raw("ε "),
         bold(eps),
