@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use spira::case::Case;
 use spira::model::stiffness::euler_load;
 use spira::output::precision::{ChoiceReport, StudyReport};
-use spira::run::{run_path, run_path_with};
+use spira::run::{run_path, run_path_steps};
 use spira::session::script::{replay_into, Script};
 use spira::solver::interrupt::Interrupt;
 use spira::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
@@ -44,6 +44,10 @@ enum Command {
         /// Solve even a case whose size estimate exceeds the memory available.
         #[arg(long)]
         force: bool,
+        /// Also write a ParaView series: series.pvd and one step-<k>.vtp per output step
+        /// (and mode-<k>.vtp per critical point).
+        #[arg(long)]
+        vtk: bool,
     },
     /// Open the terminal explorer on a case (default: the built-in thesis n = 8 case).
     Tui {
@@ -137,7 +141,8 @@ fn main() {
             steps,
             out,
             force,
-        }) => run(&case, to, steps, &out, force),
+            vtk,
+        }) => run(&case, to, steps, &out, force, vtk),
         Some(Command::Bench {
             case,
             repeats,
@@ -225,7 +230,14 @@ fn check_size(case: &Case, force: bool) -> Result<()> {
     Ok(())
 }
 
-fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool) -> Result<()> {
+fn run(
+    path: &Path,
+    to: Option<f64>,
+    steps: Option<u64>,
+    out: &Path,
+    force: bool,
+    vtk: bool,
+) -> Result<()> {
     let case = Case::from_file(path)?;
     let target = to.unwrap_or(case.loading.target);
     if to.is_some() {
@@ -283,7 +295,12 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
             );
         }
     });
-    let outcome = run_path_with(&case, &eps, Some(interrupt), Some(observer), |p, dt| {
+    let mut shapes = Vec::new();
+    let outcome = run_path_steps(&case, &eps, Some(interrupt), Some(observer), |step| {
+        let (p, dt) = (step.point, step.time);
+        if vtk {
+            shapes.push(step.snapshot.clone());
+        }
         *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
         let unstable = p
             .stability
@@ -299,6 +316,7 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
             dt.as_secs_f64() * 1e3,
             unstable
         );
+        println!("      {}", bulk_line(step.bulk));
     })
     .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
     for (i, c) in outcome.critical.iter().enumerate() {
@@ -319,16 +337,12 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
     let note = choice
         .as_ref()
         .map(|c| c.note(c.estimate_with(response(&case, last))));
-    let files = spira::output::write_run_noted(
-        out,
-        &case.name,
-        note.as_deref(),
-        &outcome.points,
-        &outcome.snapshot,
-        &outcome.critical,
-        &outcome.model,
-    )
-    .with_context(|| format!("writing results into {}", out.display()))?;
+    let mut files = spira::output::RunFiles::of(&case.name, note.as_deref(), &outcome);
+    if vtk {
+        files.series = Some((&shapes, &outcome.modes));
+    }
+    let files = spira::output::write_run(out, &files)
+        .with_context(|| format!("writing results into {}", out.display()))?;
     println!(
         "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
         last.eps,
@@ -353,6 +367,40 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
         );
     }
     Ok(())
+}
+
+/// One line on the bulk of a step: the stretch of s/L common to every rod's bulk, the mean
+/// fitted helix, Love's force for it against the rods' mean tip force, and the finite
+/// assembly's force over the infinite tube's.
+fn bulk_line(bulk: &spira::results::StepBulk) -> String {
+    let n = bulk.rods.len().max(1) as f64;
+    let start = bulk
+        .rods
+        .iter()
+        .map(|b| b.start_over_l())
+        .fold(0.0, f64::max);
+    let end = bulk.rods.iter().map(|b| b.end_over_l()).fold(1.0, f64::min);
+    let mean =
+        |f: &dyn Fn(&spira::results::RodBulk) -> f64| bulk.rods.iter().map(f).sum::<f64>() / n;
+    let love: Option<f64> = bulk
+        .rods
+        .iter()
+        .map(|b| b.love_force)
+        .sum::<Option<f64>>()
+        .map(|f| f / n);
+    let extent = if end > start {
+        format!("bulk s/L {start:.3}-{end:.3}")
+    } else {
+        "no bulk common to all rods".to_string()
+    };
+    format!(
+        "{extent}, helix a = {:.5} m, b = {:.5} m, Love F = {}, tip fz = {:.4} N, finite/infinite tube = {}",
+        mean(&|b| b.radius),
+        mean(&|b| b.pitch),
+        love.map_or("-".to_string(), |f| format!("{f:.4} N")),
+        mean(&|b| b.axial_force),
+        bulk.tube_ratio.map_or("-".to_string(), |r| format!("{r:.4}"))
+    )
 }
 
 /// How long `spira run` stays silent during a step before it reports progress.

@@ -5,10 +5,13 @@
 //! there are moved out (and put back if the move fails).
 
 use super::csv::{
-    check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
+    bulk_csv, check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
+    NonFinite,
 };
+use super::vtk;
 use crate::discretisation::model::DiscreteModel;
-use crate::results::{CriticalPoint, LoadPoint, Snapshot};
+use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
+use crate::run::PathOutcome;
 use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
 
@@ -33,45 +36,63 @@ pub fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
     Ok(())
 }
 
-/// The files of a run, written into `dir` (created if needed): load, reactions and state,
-/// and when there are critical points, `critical.csv` and one `mode-<k>.csv` each.
-/// Returns their paths.
-pub fn write_run(
-    dir: &Path,
-    case: &str,
-    points: &[LoadPoint],
-    snapshot: &Snapshot,
-    critical: &[CriticalPoint],
-    model: &DiscreteModel,
-) -> io::Result<Vec<PathBuf>> {
-    write_run_noted(dir, case, None, points, snapshot, critical, model)
+/// What a run leaves behind, for [`write_run`].
+#[derive(Clone, Copy, Debug)]
+pub struct RunFiles<'a> {
+    pub case: &'a str,
+    /// A `#` line for the header of every CSV file (the mesh an accuracy target chose).
+    pub note: Option<&'a str>,
+    pub points: &'a [LoadPoint],
+    /// The last state.
+    pub snapshot: &'a Snapshot,
+    pub critical: &'a [CriticalPoint],
+    pub model: &'a DiscreteModel,
+    /// The bulk at every point of `points`.
+    pub bulk: &'a [StepBulk],
+    /// For a ParaView series (`--vtk`): the shape at every point of `points` (same order),
+    /// and every critical point's mode on its state.
+    pub series: Option<(&'a [Snapshot], &'a [ModeShape])>,
 }
 
-/// [`write_run`] with `note`, when given, as a `#` line in the header of every file.
-pub fn write_run_noted(
-    dir: &Path,
-    case: &str,
-    note: Option<&str>,
-    points: &[LoadPoint],
-    snapshot: &Snapshot,
-    critical: &[CriticalPoint],
-    model: &DiscreteModel,
-) -> io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)?;
-    let mut files = vec![
-        ("load.csv".to_string(), load_csv(case, points)),
-        ("reactions.csv".to_string(), reactions_csv(case, points)),
-        ("state.csv".to_string(), state_csv(case, snapshot)),
-    ];
-    if !critical.is_empty() {
-        files.push(("critical.csv".to_string(), critical_csv(case, critical)));
-        for (i, c) in critical.iter().enumerate() {
-            files.push((format!("mode-{i}.csv"), mode_csv(case, model, i, c)));
+impl<'a> RunFiles<'a> {
+    /// The files of a path's outcome, without a ParaView series.
+    pub fn of(case: &'a str, note: Option<&'a str>, outcome: &'a PathOutcome) -> RunFiles<'a> {
+        RunFiles {
+            case,
+            note,
+            points: &outcome.points,
+            snapshot: &outcome.snapshot,
+            critical: &outcome.critical,
+            model: &outcome.model,
+            bulk: &outcome.bulk,
+            series: None,
         }
     }
-    let files: Vec<(String, String)> = files
+}
+
+/// The files of a run, written into `dir` (created if needed) as one set: load, reactions,
+/// state and bulk, and when there are critical points, `critical.csv` and one
+/// `mode-<k>.csv` each; with a series, `series.pvd`, one `step-<k>.vtp` per output step and
+/// one `mode-<k>.vtp` per critical point. Returns their paths. A table or series holding a
+/// value that is not finite is refused before anything is written.
+pub fn write_run(dir: &Path, run: &RunFiles) -> io::Result<Vec<PathBuf>> {
+    let case = run.case;
+    std::fs::create_dir_all(dir)?;
+    let mut files = vec![
+        ("load.csv".to_string(), load_csv(case, run.points)),
+        ("reactions.csv".to_string(), reactions_csv(case, run.points)),
+        ("state.csv".to_string(), state_csv(case, run.snapshot)),
+        ("bulk.csv".to_string(), bulk_csv(case, run.bulk)),
+    ];
+    if !run.critical.is_empty() {
+        files.push(("critical.csv".to_string(), critical_csv(case, run.critical)));
+        for (i, c) in run.critical.iter().enumerate() {
+            files.push((format!("mode-{i}.csv"), mode_csv(case, run.model, i, c)));
+        }
+    }
+    let mut files: Vec<(String, String)> = files
         .into_iter()
-        .map(|(name, text)| match note {
+        .map(|(name, text)| match run.note {
             Some(n) => (name, with_note(&text, n)),
             None => (name, text),
         })
@@ -80,19 +101,43 @@ pub fn write_run_noted(
         check_finite(text)
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, format!("{name}: {e}")))?;
     }
+    if let Some((shapes, modes)) = run.series {
+        let refuse = |name: &str, e: NonFinite| {
+            io::Error::new(io::ErrorKind::InvalidData, format!("{name}: {e}"))
+        };
+        let mut steps = Vec::new();
+        for (p, shape) in run.points.iter().zip(shapes) {
+            let name = vtk::step_file(p.step);
+            let text = vtk::vtp(case, shape).map_err(|e| refuse(&name, e))?;
+            steps.push((p.parameter, name.clone()));
+            files.push((name, text));
+        }
+        let text = vtk::pvd(case, &steps).map_err(|e| refuse(vtk::SERIES_FILE, e))?;
+        files.push((vtk::SERIES_FILE.to_string(), text));
+        for (i, m) in modes.iter().enumerate() {
+            let name = vtk::mode_file(i);
+            let text = vtk::mode_vtp(case, i, m).map_err(|e| refuse(&name, e))?;
+            files.push((name, text));
+        }
+    }
     write_folder(dir, &files, is_run_file)
 }
 
 /// Whether `name` is a file a run writes: `load.csv`, `reactions.csv`, `state.csv`,
-/// `critical.csv` or `mode-<k>.csv`.
+/// `bulk.csv`, `critical.csv`, `mode-<k>.csv`, and of a series `series.pvd`,
+/// `step-<k>.vtp` and `mode-<k>.vtp`.
 pub fn is_run_file(name: &str) -> bool {
+    let numbered = |prefix: &str, suffix: &str| {
+        name.strip_prefix(prefix)
+            .and_then(|r| r.strip_suffix(suffix))
+            .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+    };
     matches!(
         name,
-        "load.csv" | "reactions.csv" | "state.csv" | "critical.csv"
-    ) || name
-        .strip_prefix("mode-")
-        .and_then(|r| r.strip_suffix(".csv"))
-        .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+        "load.csv" | "reactions.csv" | "state.csv" | "bulk.csv" | "critical.csv" | "series.pvd"
+    ) || numbered("mode-", ".csv")
+        || numbered("mode-", ".vtp")
+        || numbered("step-", ".vtp")
 }
 
 /// Whether `name` is a file a precision study writes.

@@ -1,14 +1,16 @@
-//! What a run and a study leave behind: CSV tables ([`csv`]), the work-precision report and
-//! chart ([`precision`], [`chart`]) and the files on disk, written atomically ([`files`]).
+//! What a run and a study leave behind: CSV tables ([`csv`]), ParaView series ([`vtk`]), the
+//! work-precision report and chart ([`precision`], [`chart`]) and the files on disk, written
+//! atomically ([`files`]).
 //! Everything here reads results and studies; nothing computes them.
 
 pub mod chart;
 pub mod csv;
 pub mod files;
 pub mod precision;
+pub mod vtk;
 
 pub use self::csv::{
-    check_finite, comment_safe, critical_csv, load_csv, mode_csv, reactions_csv, state_csv,
-    with_note, NonFinite,
+    bulk_csv, check_finite, comment_safe, critical_csv, load_csv, mode_csv, reactions_csv,
+    state_csv, with_note, NonFinite,
 };
-pub use self::files::{write_atomic, write_run, write_run_noted};
+pub use self::files::{write_atomic, write_run, RunFiles};
