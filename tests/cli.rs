@@ -702,6 +702,7 @@ fn a_run_replaces_the_previous_runs_files_and_leaves_nothing_temporary() {
     assert_eq!(
         names,
         [
+            "bulk.csv",
             "load.csv",
             "load.csv.partial",
             "notes.txt",
