@@ -155,7 +155,7 @@ fn orders_on_the_thesis_helix_match_the_theory_of_each_element() {
             // and 128..512 on the way down to 3)
             let k = check[1].expect("curvature check");
             assert!(
-                k >= 3.0 - SLOPE_TOLERANCE && k <= 4.0 + SLOPE_TOLERANCE,
+                (3.0 - SLOPE_TOLERANCE..=4.0 + SLOPE_TOLERANCE).contains(&k),
                 "curvature check order {k}"
             );
         }
@@ -186,7 +186,7 @@ fn orders_on_the_thesis_helix_match_the_theory_of_each_element() {
     for r in s.of_order(Order::Quadratic).filter(|r| !r.by_construction) {
         if let Some(k) = r.observed(Measure::Curvature) {
             assert!(
-                k >= theory - SLOPE_TOLERANCE && k <= theory + 1.0 + SLOPE_TOLERANCE,
+                (theory - SLOPE_TOLERANCE..=theory + 1.0 + SLOPE_TOLERANCE).contains(&k),
                 "quadratic curvature: observed order {k:.3} at {} elements/rod\n{}",
                 r.elements(),
                 report(&s)
