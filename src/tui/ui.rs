@@ -571,15 +571,6 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
                 .style(Style::new().fg(JOINT))
         })
         .collect();
-    if !bulk_bar.is_empty() {
-        datasets.push(
-            Dataset::default()
-                .data(&bulk_bar)
-                .graph_type(GraphType::Line)
-                .marker(Marker::Bar)
-                .style(Style::new().fg(BULK)),
-        );
-    }
     for (c, (data, color)) in series
         .iter()
         .zip([K1_LINE, K2_LINE, OMEGA_LINE])
@@ -592,6 +583,16 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
                 .graph_type(graph)
                 .marker(marker)
                 .style(Style::new().fg(color)),
+        );
+    }
+    // over the curves, so that a curve in the top band does not hide it
+    if !bulk_bar.is_empty() {
+        datasets.push(
+            Dataset::default()
+                .data(&bulk_bar)
+                .graph_type(GraphType::Line)
+                .marker(Marker::Bar)
+                .style(Style::new().fg(BULK)),
         );
     }
     let at = app.cursor as f64 / CURSOR_STEPS as f64;
