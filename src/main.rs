@@ -8,7 +8,7 @@ use spira::model::stiffness::euler_load;
 use spira::output::figures::{run_figures, Kinds, Rods, Steps};
 use spira::output::precision::{ChoiceReport, StudyReport};
 use spira::output::read::RunTables;
-use spira::run::{run_path, run_path_recording};
+use spira::run::{run_path, run_path_steps};
 use spira::session::script::{replay_into, Script};
 use spira::solver::interrupt::Interrupt;
 use spira::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
@@ -53,6 +53,10 @@ enum Command {
         /// write the state of every output step (as --states).
         #[arg(long)]
         figures: bool,
+        /// Also write a ParaView series: series.pvd and one step-<k>.vtp per output step
+        /// (and mode-<k>.vtp per critical point).
+        #[arg(long)]
+        vtk: bool,
     },
     /// Draw the figures of `spira run` output folders: load.svg (the load curves of every
     /// run), and per run and state curvature-step<k>.svg and views-step<k>.svg.
@@ -168,6 +172,7 @@ fn main() {
             force,
             states,
             figures,
+            vtk,
         }) => run(
             &case,
             to,
@@ -177,6 +182,7 @@ fn main() {
             Extras {
                 states: states || figures,
                 figures,
+                vtk,
             },
         ),
         Some(Command::Plot {
@@ -280,6 +286,8 @@ struct Extras {
     states: bool,
     /// The figures of the run.
     figures: bool,
+    /// A ParaView series.
+    vtk: bool,
 }
 
 /// The command line as typed, the program named `spira`, for captions.
@@ -365,30 +373,29 @@ fn run(
             );
         }
     });
-    let outcome = run_path_recording(
-        &case,
-        &eps,
-        Some(interrupt),
-        Some(observer),
-        extras.states,
-        |p, dt| {
-            *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
-            let unstable = p
-                .stability
-                .map(|s| s.unstable_directions.to_string())
-                .unwrap_or_else(|| "-".into());
-            println!(
-                "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
-                p.step,
-                p.eps,
-                p.load[2],
-                p.iterations,
-                p.residual,
-                dt.as_secs_f64() * 1e3,
-                unstable
-            );
-        },
-    )
+    let mut shapes = Vec::new();
+    let outcome = run_path_steps(&case, &eps, Some(interrupt), Some(observer), |step| {
+        let (p, dt) = (step.point, step.time);
+        if extras.vtk || extras.states {
+            shapes.push(step.snapshot.clone());
+        }
+        *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
+        let unstable = p
+            .stability
+            .map(|s| s.unstable_directions.to_string())
+            .unwrap_or_else(|| "-".into());
+        println!(
+            "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
+            p.step,
+            p.eps,
+            p.load[2],
+            p.iterations,
+            p.residual,
+            dt.as_secs_f64() * 1e3,
+            unstable
+        );
+        println!("      {}", bulk_line(step.bulk));
+    })
     .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
     for (i, c) in outcome.critical.iter().enumerate() {
         println!(
@@ -408,19 +415,22 @@ fn run(
     let note = choice
         .as_ref()
         .map(|c| c.note(c.estimate_with(response(&case, last))));
-    let mut files = spira::output::files::run_files(
-        &case.name,
-        note.as_deref(),
-        &outcome.points,
-        &outcome.snapshot,
-        &outcome.critical,
-        &outcome.model,
-    );
-    files.extend(spira::output::files::state_files(
-        &case.name,
-        note.as_deref(),
-        &outcome.states,
-    ));
+    let states: Vec<(usize, spira::results::Snapshot)> = if extras.states {
+        outcome
+            .points
+            .iter()
+            .map(|p| p.step)
+            .zip(shapes.iter().cloned())
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut run_files = spira::output::RunFiles::of(&case.name, note.as_deref(), &outcome);
+    if extras.vtk {
+        run_files.series = Some((&shapes, &outcome.modes));
+    }
+    run_files.states = &states;
+    let mut files = spira::output::run_files(&run_files)?;
     // a figure that cannot be drawn does not cost the tables: they are written, and the
     // run fails afterwards saying why
     let mut figure_error = None;
@@ -553,6 +563,40 @@ fn plot(dirs: &[PathBuf], out: Option<&Path>, eps: &str, rod: &str, only: &str) 
         shown.join(", ")
     );
     Ok(())
+}
+
+/// One line on the bulk of a step: the stretch of s/L common to every rod's bulk, the mean
+/// fitted helix, Love's force for it against the rods' mean tip force, and the finite
+/// assembly's force over the infinite tube's.
+fn bulk_line(bulk: &spira::results::StepBulk) -> String {
+    let n = bulk.rods.len().max(1) as f64;
+    let start = bulk
+        .rods
+        .iter()
+        .map(|b| b.start_over_l())
+        .fold(0.0, f64::max);
+    let end = bulk.rods.iter().map(|b| b.end_over_l()).fold(1.0, f64::min);
+    let mean =
+        |f: &dyn Fn(&spira::results::RodBulk) -> f64| bulk.rods.iter().map(f).sum::<f64>() / n;
+    let love: Option<f64> = bulk
+        .rods
+        .iter()
+        .map(|b| b.love_force)
+        .sum::<Option<f64>>()
+        .map(|f| f / n);
+    let extent = if end > start {
+        format!("bulk s/L {start:.3}-{end:.3}")
+    } else {
+        "no bulk common to all rods".to_string()
+    };
+    format!(
+        "{extent}, helix a = {:.5} m, b = {:.5} m, Love F = {}, tip fz = {:.4} N, finite/infinite tube = {}",
+        mean(&|b| b.radius),
+        mean(&|b| b.pitch),
+        love.map_or("-".to_string(), |f| format!("{f:.4} N")),
+        mean(&|b| b.axial_force),
+        bulk.tube_ratio.map_or("-".to_string(), |r| format!("{r:.4}"))
+    )
 }
 
 /// How long `spira run` stays silent during a step before it reports progress.

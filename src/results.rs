@@ -57,8 +57,14 @@ pub struct NodeState {
     pub position: [f64; 3],
     /// Unit quaternion `(q1, q2, q3, q4)`.
     pub quaternion: [f64; 4],
-    /// `(κ1, κ2, Ω)` (1/m); at element vertices the mean of the two adjacent elements.
+    /// `(κ1, κ2, Ω)` (1/m), recovered from the Barlow points of the elements around the node
+    /// by a local least-squares fit (`discretisation::fields::recovered_curvature`).
     pub curvature: [f64; 3],
+    /// Internal force `n` (N, global frame): the force the part of the rod beyond `s`
+    /// exerts on the part before it, constant along an element (the multiplier of its
+    /// inextensibility constraint); at an element vertex the mean of the two elements
+    /// meeting there (it jumps at a pin joint by the joint's force).
+    pub internal_force: [f64; 3],
 }
 
 /// The shape of one rod.
@@ -148,4 +154,71 @@ pub struct CriticalPoint {
     /// block's eigenvector); every critical mode there is `cos φ · assembly_mode + sin φ ·
     /// second_mode`.
     pub second_mode: Option<Vec<f64>>,
+}
+
+/// The bulk of one rod in a state: the longest stretch of arc length where its curvatures
+/// stay within a tolerance of one uniform helix (thesis §4, "bulk" and boundary layers),
+/// the helix fitted there, the axial force and couple Love's closed form gives for that
+/// helix (DESIGN.md §6), and the rod's actual tip reactions beside them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodBulk {
+    pub rod: RodId,
+    pub chirality: Chirality,
+    /// Rod length `L` (m).
+    pub length: f64,
+    /// Arc lengths where the bulk starts and ends (m); the boundary layers are `[0, start]`
+    /// and `[end, L]`.
+    pub start: f64,
+    pub end: f64,
+    /// Mean curvatures `(κ1, κ2, Ω)` over the bulk (1/m).
+    pub curvature: [f64; 3],
+    /// Radius `a` and pitch parameter `b` of the fitted helix (m): `a = K/(K² + Ω²)`,
+    /// `b = χ Ω/(K² + Ω²)`, `K = √(κ1² + κ2²)` (negative `b`: the bulk turned the other way).
+    pub radius: f64,
+    pub pitch: f64,
+    /// Love's axial force on the tip (N, tension positive) and axial couple (N m) for the
+    /// fitted helix; `None` where the helix is degenerate (straight, or a naturally straight
+    /// rod).
+    pub love_force: Option<f64>,
+    pub love_moment: Option<f64>,
+    /// The rod's tip reaction: axial force `Fz` (N) and couple about the tube axis
+    /// `Mz + (r_tip × F)_z` (N m), the quantities Love's are.
+    pub axial_force: f64,
+    pub axial_moment: f64,
+}
+
+impl RodBulk {
+    /// `start / L`.
+    pub fn start_over_l(&self) -> f64 {
+        self.start / self.length
+    }
+    /// `end / L`.
+    pub fn end_over_l(&self) -> f64 {
+        self.end / self.length
+    }
+}
+
+/// The bulk of every rod at one output step, with the infinitely long tube beside the
+/// finite assembly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepBulk {
+    pub step: usize,
+    pub eps: f64,
+    pub rods: Vec<RodBulk>,
+    /// Axial force per rod of the infinite tube at this `ε` (N): Love's on the helix of the
+    /// same arc length per turn, `c = c0`, `b = b0 (1 − ε)` (DESIGN.md §7); `None` for
+    /// naturally straight rods.
+    pub tube_force: Option<f64>,
+    /// The finite assembly's mean tip `Fz` over its rods divided by `tube_force`; `None` at
+    /// `ε = 0` (both vanish).
+    pub tube_ratio: Option<f64>,
+}
+
+/// A critical mode on the geometry of its state, for output: the shape of the state at the
+/// critical point (the model's own rods) and the mode's centreline displacement at every
+/// quaternion node of each (m per unit mode).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModeShape {
+    pub shape: Snapshot,
+    pub displacement: Vec<Vec<[f64; 3]>>,
 }

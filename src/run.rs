@@ -2,9 +2,11 @@
 //! the tests.
 
 use crate::case::Case;
+use crate::discretisation::bulk;
+use crate::discretisation::fields;
 use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
-use crate::results::{LoadPoint, Snapshot};
+use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::Observer;
@@ -26,14 +28,15 @@ pub struct PathOutcome {
     /// System size (unknowns including multipliers).
     pub unknowns: usize,
     pub critical: Vec<CriticalPoint>,
+    /// The bulk of every rod at every point of `points` (same order).
+    pub bulk: Vec<StepBulk>,
+    /// Each critical point's mode on the geometry of its state (same order as `critical`).
+    pub modes: Vec<ModeShape>,
     /// The discrete model (for mode output).
     pub model: crate::discretisation::model::DiscreteModel,
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
-    /// The state at every output point `(step, shape)`, step 0 included, when the path
-    /// was asked to record them ([`run_path_recording`]); else empty.
-    pub states: Vec<(usize, Snapshot)>,
 }
 
 /// Solves `case` from the natural state through the output values `targets` of its load
@@ -57,31 +60,52 @@ pub fn run_path_with(
     targets: &[f64],
     interrupt: Option<Interrupt>,
     observer: Option<Observer>,
-    on_step: impl FnMut(&LoadPoint, Duration),
+    mut on_step: impl FnMut(&LoadPoint, Duration),
 ) -> Result<PathOutcome, SolveError> {
-    run_path_recording(case, targets, interrupt, observer, false, on_step)
+    run_path_steps(case, targets, interrupt, observer, |step| {
+        on_step(step.point, step.time)
+    })
 }
 
-/// As [`run_path_with`], keeping the shape of every output point in
-/// [`PathOutcome::states`] when `record_states` (for per-step state files and figures).
-pub fn run_path_recording(
+/// What [`run_path_steps`] tells of each converged output point.
+#[derive(Clone, Copy, Debug)]
+pub struct Step<'a> {
+    pub point: &'a LoadPoint,
+    /// The shape of the state there.
+    pub snapshot: &'a Snapshot,
+    /// Its bulk.
+    pub bulk: &'a StepBulk,
+    /// Wall time of the step.
+    pub time: Duration,
+}
+
+/// As [`run_path_with`], telling `on_step` of each output point's shape and bulk too (a
+/// caller that writes every step's shape keeps them; the outcome keeps only the last).
+pub fn run_path_steps(
     case: &Case,
     targets: &[f64],
     interrupt: Option<Interrupt>,
     observer: Option<Observer>,
-    record_states: bool,
-    mut on_step: impl FnMut(&LoadPoint, Duration),
+    mut on_step: impl FnMut(&Step),
 ) -> Result<PathOutcome, SolveError> {
     let t0 = Instant::now();
     let mut sim = Simulation::from_case(case)?;
     sim.set_interrupt(interrupt);
     sim.set_observer(observer);
+    let mut bulks: Vec<StepBulk> = Vec::new();
+    let mut report = |sim: &Simulation, p: &LoadPoint, time: Duration| {
+        let snapshot = sim.snapshot();
+        let b = bulk::step_bulk(sim.model(), &snapshot, p);
+        on_step(&Step {
+            point: p,
+            snapshot: &snapshot,
+            bulk: &b,
+            time,
+        });
+        bulks.push(b);
+    };
     let first = sim.load_point(0);
-    on_step(&first, t0.elapsed());
-    let mut states = Vec::new();
-    if record_states {
-        states.push((0, sim.snapshot()));
-    }
+    report(&sim, &first, t0.elapsed());
     let mut points = vec![first];
     let mut error = None;
     let mut switched_at = None;
@@ -110,23 +134,24 @@ pub fn run_path_recording(
         if let Err(err) = outcome {
             if (sim.parameter() - points.last().map_or(0.0, |p| p.parameter)).abs() > 0.0 {
                 let p = sim.load_point(k + 1);
-                on_step(&p, t.elapsed());
+                report(&sim, &p, t.elapsed());
                 points.push(p);
-                if record_states {
-                    states.push((k + 1, sim.snapshot()));
-                }
             }
             error = Some(err);
             break;
         }
         let p = sim.load_point(k + 1);
-        on_step(&p, t.elapsed());
+        report(&sim, &p, t.elapsed());
         points.push(p);
-        if record_states {
-            states.push((k + 1, sim.snapshot()));
-        }
     }
+    let modes = sim
+        .critical_points()
+        .iter()
+        .map(|c| fields::mode_shape(sim.model(), sim.system(), &c.state, c.eps, &c.mode))
+        .collect();
     Ok(PathOutcome {
+        bulk: bulks,
+        modes,
         points,
         snapshot: sim.snapshot(),
         stats: sim.statistics(),
@@ -135,6 +160,5 @@ pub fn run_path_recording(
         model: sim.model().clone(),
         switched_at,
         error,
-        states,
     })
 }

@@ -8,7 +8,7 @@ use std::process::{Command, Output};
 const LOAD_COLUMNS: &str =
     "step,eps,h,fx,fy,fz,energy,iterations,residual,stable,unstable_dirs,lowest_eig,parameter";
 const REACTION_COLUMNS: &str = "step,eps,rod,chirality,fx,fy,fz,mx,my,mz";
-const STATE_COLUMNS: &str = "rod,s,s_over_l,x,y,z,q1,q2,q3,q4,k1,k2,omega";
+const STATE_COLUMNS: &str = "rod,s,s_over_l,x,y,z,q1,q2,q3,q4,k1,k2,omega,nx,ny,nz";
 const OUTPUTS: [&str; 3] = ["load.csv", "reactions.csv", "state.csv"];
 
 /// Thesis geometry: h0 = 7 π b, L = 7 π c.
@@ -708,6 +708,7 @@ fn a_run_replaces_the_previous_runs_files_and_leaves_nothing_temporary() {
     assert_eq!(
         names,
         [
+            "bulk.csv",
             "joints.csv",
             "load.csv",
             "load.csv.partial",

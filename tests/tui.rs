@@ -61,9 +61,11 @@ fn solved(sim: &Simulation, step: usize) -> Box<Solved> {
     let mut point = sim.load_point(step);
     point.iterations = 3;
     point.residual = 1.5e-11;
+    let snapshot = sim.snapshot();
     Box::new(Solved {
+        bulk: spira::discretisation::bulk::step_bulk(sim.model(), &snapshot, &point),
         point,
-        snapshot: sim.snapshot(),
+        snapshot,
         boundary: sim.boundary_conditions(),
         step_length: sim.step_length(),
         time: Duration::from_millis(42),
@@ -797,6 +799,7 @@ fn screen_compressed_state_100x30() {
     for label in [
         "rod 1 (left)",
         "joints",
+        "bulk",
         "fx",
         "fy",
         "fz",

@@ -2,6 +2,7 @@
 //! elements, meshes, the discrete model and its unknowns, the constraints, the global KKT
 //! system, what a discrete state says (reactions, shapes), and the symmetric pair.
 
+pub mod bulk;
 pub mod constraints;
 pub mod element;
 pub mod fields;

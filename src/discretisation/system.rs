@@ -343,6 +343,14 @@ impl System {
         Evaluation { energy }
     }
 
+    /// Internal force `n` (N, global frame) carried by element `e` of rod `rod` in state `x`:
+    /// the multiplier `λ` of its constraint `r_end − r_start − ∫ d3 ds = 0`, the force that
+    /// the rod beyond the element exerts on it (at the tip it equals the tip support's force).
+    pub fn internal_force(&self, x: &[f64], rod: RodId, e: usize) -> Vector3<f64> {
+        let row = self.compat_row(rod, e);
+        Vector3::new(x[row], x[row + 1], x[row + 2])
+    }
+
     /// Force (N) and moment (N m) that the support (and, under load control, the dead
     /// load at the tip) applies to rod `rod` at `end`, in the global frame, from the
     /// multipliers of its support constraints: the generalised

@@ -86,3 +86,26 @@ impl LoveHelix {
         [-a / c2, 0.0, chirality.sign() * b / c2]
     }
 }
+
+/// Love's axial force on the tip (N, tension positive) and axial couple (N m) of a rod
+/// naturally the helix `(a0, b0)` held on the uniform helix `(a, b)` of any arc length per
+/// turn (DESIGN.md §6): `F = [C (τ − τ0) a − B (K − K0) b] / (a c)`,
+/// `M = χ [B (K − K0) a + C (τ − τ0) b] / c`, with `K = a/c²`, `τ = b/c²`, `B = B1`, `C = B3`.
+/// `None` when `a ≤ 0` (a straight rod is no helix).
+pub fn axial_wrench(
+    natural: (f64, f64),
+    held: (f64, f64),
+    stiffness: &Stiffness,
+    chirality: Chirality,
+) -> Option<(f64, f64)> {
+    let ((a0, b0), (a, b)) = (natural, held);
+    if a.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let (c0, c) = (a0.hypot(b0), a.hypot(b));
+    let (k0, t0) = (a0 / (c0 * c0), b0 / (c0 * c0));
+    let (dk, dt) = (a / (c * c) - k0, b / (c * c) - t0);
+    let f = (stiffness.b3 * dt * a - stiffness.b1 * dk * b) / (a * c);
+    let m = chirality.sign() * (stiffness.b1 * dk * a + stiffness.b3 * dt * b) / c;
+    (f.is_finite() && m.is_finite()).then_some((f, m))
+}

@@ -6,8 +6,9 @@
 //! notation with a fixed number of digits (the `e*` helpers of [`format`]) and a missing
 //! value is an empty cell.
 
+use crate::discretisation::bulk::BULK_TOLERANCE;
 use crate::discretisation::model::DiscreteModel;
-use crate::results::{CriticalPoint, LoadPoint, Snapshot};
+use crate::results::{CriticalPoint, LoadPoint, Snapshot, StepBulk};
 use serde::Serialize;
 
 /// Number formats of the cells: `{:.Ne}` scientific notation with `N` digits after the
@@ -39,6 +40,14 @@ pub mod format {
     pub fn opt_e6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
         match v {
             Some(v) => e6(v, s),
+            None => s.serialize_str(""),
+        }
+    }
+
+    /// `{:.10e}`, or an empty cell.
+    pub fn opt_e10<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => e10(v, s),
             None => s.serialize_str(""),
         }
     }
@@ -344,13 +353,20 @@ struct NodeRow {
     /// Twist (1/m).
     #[serde(serialize_with = "format::e10")]
     omega: f64,
+    /// Internal force (N), global frame.
+    #[serde(serialize_with = "format::e10")]
+    nx: f64,
+    #[serde(serialize_with = "format::e10")]
+    ny: f64,
+    #[serde(serialize_with = "format::e10")]
+    nz: f64,
 }
 
 /// `state.csv`: every quaternion node of every rod.
 pub fn state_csv(case: &str, snapshot: &Snapshot) -> String {
     let comments = [
         format!("spira state, case {case}, eps = {:.10e}", snapshot.eps),
-        "s: arc length (m); x,y,z: centreline (m); q1..q4: unit quaternion (vector, scalar); k1,k2,omega: curvatures (1/m)".to_string(),
+        "s: arc length (m); x,y,z: centreline (m); q1..q4: unit quaternion (vector, scalar); k1,k2,omega: curvatures (1/m), recovered from the Barlow points of the elements by a local least-squares fit; nx,ny,nz: internal force (N; at an element vertex the mean of the two elements)".to_string(),
     ];
     let rows = snapshot.rods.iter().flat_map(|rod| {
         rod.nodes.iter().map(move |n| NodeRow {
@@ -367,6 +383,91 @@ pub fn state_csv(case: &str, snapshot: &Snapshot) -> String {
             k1: n.curvature[0],
             k2: n.curvature[1],
             omega: n.curvature[2],
+            nx: n.internal_force[0],
+            ny: n.internal_force[1],
+            nz: n.internal_force[2],
+        })
+    });
+    table(&comments, rows)
+}
+
+/// A row of `bulk.csv`: the bulk of one rod at one output step.
+#[derive(Serialize, Default)]
+struct BulkRow {
+    step: usize,
+    #[serde(serialize_with = "format::e10")]
+    eps: f64,
+    rod: usize,
+    /// `right` or `left`.
+    chirality: &'static str,
+    /// Extent of the bulk, `s/L`.
+    #[serde(serialize_with = "format::e10")]
+    bulk_start: f64,
+    #[serde(serialize_with = "format::e10")]
+    bulk_end: f64,
+    /// Boundary-layer lengths at the base and the tip (m).
+    #[serde(serialize_with = "format::e10")]
+    layer_base: f64,
+    #[serde(serialize_with = "format::e10")]
+    layer_tip: f64,
+    /// Fitted helix: radius and pitch parameter (m).
+    #[serde(serialize_with = "format::e10")]
+    radius: f64,
+    #[serde(serialize_with = "format::e10")]
+    pitch: f64,
+    /// Mean curvatures over the bulk (1/m).
+    #[serde(serialize_with = "format::e10")]
+    k1: f64,
+    #[serde(serialize_with = "format::e10")]
+    k2: f64,
+    #[serde(serialize_with = "format::e10")]
+    omega: f64,
+    /// Love's axial force (N) and couple (N m) for the fitted helix.
+    #[serde(serialize_with = "format::opt_e10")]
+    love_force: Option<f64>,
+    #[serde(serialize_with = "format::opt_e10")]
+    love_moment: Option<f64>,
+    /// The rod's tip reaction: axial force (N) and couple about the tube axis (N m).
+    #[serde(serialize_with = "format::e10")]
+    fz: f64,
+    #[serde(serialize_with = "format::e10")]
+    mz: f64,
+    /// Axial force per rod of the infinite tube at this eps (N), and the finite
+    /// assembly's mean tip fz over it.
+    #[serde(serialize_with = "format::opt_e10")]
+    tube_force: Option<f64>,
+    #[serde(serialize_with = "format::opt_e10")]
+    tube_ratio: Option<f64>,
+}
+
+/// `bulk.csv`: the bulk of every rod at every output step, the helix fitted there, Love's
+/// wrench for it beside the rod's reactions, and the infinite tube beside the assembly.
+pub fn bulk_csv(case: &str, steps: &[StepBulk]) -> String {
+    let comments = [
+        format!("spira bulk, case {case}; bulk = longest stretch where k1, k2, omega stay within {} x 1/c0 of one helix", BULK_TOLERANCE),
+        "bulk_start,bulk_end: extent of the bulk (s/L); layer_base,layer_tip: boundary-layer lengths (m); radius,pitch: fitted helix a and b (m); k1,k2,omega: mean curvatures over the bulk (1/m); love_force (N, tension positive), love_moment (N m): Love's closed form for the fitted helix; fz (N), mz (N m): the rod's tip reaction, axial force and couple about the tube axis; tube_force: Love's axial force per rod of the infinite tube (c = c0, b = b0 (1 - eps)) (N); tube_ratio: mean tip fz of the rods / tube_force".to_string(),
+    ];
+    let rows = steps.iter().flat_map(|st| {
+        st.rods.iter().map(move |b| BulkRow {
+            step: st.step,
+            eps: st.eps,
+            rod: b.rod,
+            chirality: b.chirality.name(),
+            bulk_start: b.start_over_l(),
+            bulk_end: b.end_over_l(),
+            layer_base: b.start,
+            layer_tip: b.length - b.end,
+            radius: b.radius,
+            pitch: b.pitch,
+            k1: b.curvature[0],
+            k2: b.curvature[1],
+            omega: b.curvature[2],
+            love_force: b.love_force,
+            love_moment: b.love_moment,
+            fz: b.axial_force,
+            mz: b.axial_moment,
+            tube_force: st.tube_force,
+            tube_ratio: st.tube_ratio,
         })
     });
     table(&comments, rows)

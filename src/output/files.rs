@@ -5,10 +5,13 @@
 //! there are moved out (and put back if the move fails).
 
 use super::csv::{
-    check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
+    bulk_csv, check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv,
+    state_csv, with_note, NonFinite,
 };
+use super::vtk;
 use crate::discretisation::model::DiscreteModel;
-use crate::results::{CriticalPoint, LoadPoint, Snapshot};
+use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
+use crate::run::PathOutcome;
 use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
 
@@ -33,32 +36,41 @@ pub fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
     Ok(())
 }
 
-/// The files of a run, written into `dir` (created if needed): load, reactions, state and
-/// joints, and when there are critical points, `critical.csv` and one `mode-<k>.csv` each
-/// ([`run_files`]). Returns their paths.
-pub fn write_run(
-    dir: &Path,
-    case: &str,
-    points: &[LoadPoint],
-    snapshot: &Snapshot,
-    critical: &[CriticalPoint],
-    model: &DiscreteModel,
-) -> io::Result<Vec<PathBuf>> {
-    write_run_noted(dir, case, None, points, snapshot, critical, model)
+/// What a run leaves behind, for [`run_files`] and [`write_run`].
+#[derive(Clone, Copy, Debug)]
+pub struct RunFiles<'a> {
+    pub case: &'a str,
+    /// A `#` line for the header of every CSV file (the mesh an accuracy target chose).
+    pub note: Option<&'a str>,
+    pub points: &'a [LoadPoint],
+    /// The last state.
+    pub snapshot: &'a Snapshot,
+    pub critical: &'a [CriticalPoint],
+    pub model: &'a DiscreteModel,
+    /// The bulk at every point of `points`.
+    pub bulk: &'a [StepBulk],
+    /// For a ParaView series (`--vtk`): the shape at every point of `points` (same order),
+    /// and every critical point's mode on its state.
+    pub series: Option<(&'a [Snapshot], &'a [ModeShape])>,
+    /// For `state-<step>.csv` files (`--states`, `--figures`): `(output step, shape)`.
+    pub states: &'a [(usize, Snapshot)],
 }
 
-/// [`write_run`] with `note`, when given, as a `#` line in the header of every file.
-pub fn write_run_noted(
-    dir: &Path,
-    case: &str,
-    note: Option<&str>,
-    points: &[LoadPoint],
-    snapshot: &Snapshot,
-    critical: &[CriticalPoint],
-    model: &DiscreteModel,
-) -> io::Result<Vec<PathBuf>> {
-    let files = run_files(case, note, points, snapshot, critical, model);
-    write_run_files(dir, &files)
+impl<'a> RunFiles<'a> {
+    /// The files of a path's outcome, without a ParaView series or per-step states.
+    pub fn of(case: &'a str, note: Option<&'a str>, outcome: &'a PathOutcome) -> RunFiles<'a> {
+        RunFiles {
+            case,
+            note,
+            points: &outcome.points,
+            snapshot: &outcome.snapshot,
+            critical: &outcome.critical,
+            model: &outcome.model,
+            bulk: &outcome.bulk,
+            series: None,
+            states: &[],
+        }
+    }
 }
 
 /// Which model was solved, for the header of every file.
@@ -74,63 +86,69 @@ pub fn model_solved(model: &DiscreteModel) -> String {
     }
 }
 
-/// The files of a run as (name, text): load, reactions, state and joints, and when there
-/// are critical points, `critical.csv` and one `mode-<k>.csv` each; `note`, when given, as
-/// a `#` line in the header of every file.
-pub fn run_files(
-    case: &str,
-    note: Option<&str>,
-    points: &[LoadPoint],
-    snapshot: &Snapshot,
-    critical: &[CriticalPoint],
-    model: &DiscreteModel,
-) -> Vec<(String, String)> {
+/// The files of a run as (name, text): load, reactions, state, joints and bulk, and when
+/// there are critical points, `critical.csv` and one `mode-<k>.csv` each; the per-step
+/// states when given; with a series, `series.pvd`, one `step-<k>.vtp` per output step and
+/// one `mode-<k>.vtp` per critical point. Every CSV names the model solved and the note in
+/// its header. A series holding a value that is not finite is refused.
+pub fn run_files(run: &RunFiles) -> io::Result<Vec<(String, String)>> {
+    let case = run.case;
     let mut files = vec![
-        ("load.csv".to_string(), load_csv(case, points)),
-        ("reactions.csv".to_string(), reactions_csv(case, points)),
-        ("state.csv".to_string(), state_csv(case, snapshot)),
-        ("joints.csv".to_string(), joints_csv(case, snapshot)),
+        ("load.csv".to_string(), load_csv(case, run.points)),
+        ("reactions.csv".to_string(), reactions_csv(case, run.points)),
+        ("state.csv".to_string(), state_csv(case, run.snapshot)),
+        ("joints.csv".to_string(), joints_csv(case, run.snapshot)),
+        ("bulk.csv".to_string(), bulk_csv(case, run.bulk)),
     ];
-    if !critical.is_empty() {
-        files.push(("critical.csv".to_string(), critical_csv(case, critical)));
-        for (i, c) in critical.iter().enumerate() {
-            files.push((format!("mode-{i}.csv"), mode_csv(case, model, i, c)));
+    if !run.critical.is_empty() {
+        files.push(("critical.csv".to_string(), critical_csv(case, run.critical)));
+        for (i, c) in run.critical.iter().enumerate() {
+            files.push((format!("mode-{i}.csv"), mode_csv(case, run.model, i, c)));
         }
     }
-    let solved = model_solved(model);
-    files
+    for (step, snapshot) in run.states {
+        files.push((format!("state-{step}.csv"), state_csv(case, snapshot)));
+    }
+    let solved = model_solved(run.model);
+    let mut files: Vec<(String, String)> = files
         .into_iter()
         .map(|(name, text)| (name, with_note(&text, &solved)))
-        .map(|(name, text)| match note {
+        .map(|(name, text)| match run.note {
             Some(n) => (name, with_note(&text, n)),
             None => (name, text),
         })
-        .collect()
+        .collect();
+    if let Some((shapes, modes)) = run.series {
+        let refuse = |name: &str, e: NonFinite| {
+            io::Error::new(io::ErrorKind::InvalidData, format!("{name}: {e}"))
+        };
+        let mut steps = Vec::new();
+        for (p, shape) in run.points.iter().zip(shapes) {
+            let name = vtk::step_file(p.step);
+            let text = vtk::vtp(case, shape).map_err(|e| refuse(&name, e))?;
+            steps.push((p.parameter, name.clone()));
+            files.push((name, text));
+        }
+        let text = vtk::pvd(case, &steps).map_err(|e| refuse(vtk::SERIES_FILE, e))?;
+        files.push((vtk::SERIES_FILE.to_string(), text));
+        for (i, m) in modes.iter().enumerate() {
+            let name = vtk::mode_file(i);
+            let text = vtk::mode_vtp(case, i, m).map_err(|e| refuse(&name, e))?;
+            files.push((name, text));
+        }
+    }
+    Ok(files)
 }
 
-/// `state-<step>.csv` of every recorded state `(output step, snapshot)`, in the format of
-/// `state.csv`; `note` as in [`run_files`].
-pub fn state_files(
-    case: &str,
-    note: Option<&str>,
-    states: &[(usize, Snapshot)],
-) -> Vec<(String, String)> {
-    states
-        .iter()
-        .map(|(step, snapshot)| {
-            let text = state_csv(case, snapshot);
-            let text = match note {
-                Some(n) => with_note(&text, n),
-                None => text,
-            };
-            (format!("state-{step}.csv"), text)
-        })
-        .collect()
+/// The files of a run ([`run_files`]) written into `dir` (created if needed) as one set.
+/// Returns their paths.
+pub fn write_run(dir: &Path, run: &RunFiles) -> io::Result<Vec<PathBuf>> {
+    write_run_files(dir, &run_files(run)?)
 }
 
-/// Writes the files of a run (from [`run_files`], with states and figures if any) into
-/// `dir` as one set ([`write_folder`]), after checking that no CSV holds a non-finite
-/// value. Returns their paths.
+/// Writes the files of a run (from [`run_files`], with figures if any) into `dir` as one
+/// set ([`write_folder`]), after checking that no CSV holds a non-finite value. Returns
+/// their paths.
 pub fn write_run_files(dir: &Path, files: &[(String, String)]) -> io::Result<Vec<PathBuf>> {
     for (name, text) in files.iter().filter(|(n, _)| n.ends_with(".csv")) {
         check_finite(text)
@@ -140,14 +158,22 @@ pub fn write_run_files(dir: &Path, files: &[(String, String)]) -> io::Result<Vec
 }
 
 /// Whether `name` is a file a run writes: `load.csv`, `reactions.csv`, `state.csv`,
-/// `joints.csv`, `critical.csv`, `mode-<k>.csv`, `state-<k>.csv` or a figure
-/// ([`is_figure_file`]).
+/// `joints.csv`, `bulk.csv`, `critical.csv`, `mode-<k>.csv`, `state-<k>.csv`, a figure
+/// ([`is_figure_file`]), and of a series `series.pvd`, `step-<k>.vtp` and `mode-<k>.vtp`.
 pub fn is_run_file(name: &str) -> bool {
     matches!(
         name,
-        "load.csv" | "reactions.csv" | "state.csv" | "joints.csv" | "critical.csv"
+        "load.csv"
+            | "reactions.csv"
+            | "state.csv"
+            | "joints.csv"
+            | "bulk.csv"
+            | "critical.csv"
+            | "series.pvd"
     ) || numbered(name, "mode-", ".csv")
         || numbered(name, "state-", ".csv")
+        || numbered(name, "mode-", ".vtp")
+        || numbered(name, "step-", ".vtp")
         || is_figure_file(name)
 }
 

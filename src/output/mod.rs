@@ -1,6 +1,7 @@
-//! What a run and a study leave behind: CSV tables ([`csv`]), the work-precision report and
-//! chart ([`precision`], [`chart`]), the figures of runs ([`figures`], drawn from the
-//! tables read back by [`read`]) and the files on disk, written atomically ([`files`]).
+//! What a run and a study leave behind: CSV tables ([`csv`]), ParaView series ([`vtk`]), the
+//! work-precision report and chart ([`precision`], [`chart`]), the figures of runs
+//! ([`figures`], drawn from the tables read back by [`read`]) and the files on disk, written
+//! atomically ([`files`]).
 //! Everything here reads results and studies; nothing computes them.
 
 pub mod chart;
@@ -9,9 +10,10 @@ pub mod figures;
 pub mod files;
 pub mod precision;
 pub mod read;
+pub mod vtk;
 
 pub use self::csv::{
-    check_finite, comment_safe, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv,
-    state_csv, with_note, NonFinite,
+    bulk_csv, check_finite, comment_safe, critical_csv, joints_csv, load_csv, mode_csv,
+    reactions_csv, state_csv, with_note, NonFinite,
 };
-pub use self::files::{write_atomic, write_run, write_run_files, write_run_noted};
+pub use self::files::{run_files, write_atomic, write_run, write_run_files, RunFiles};

@@ -14,8 +14,9 @@
 
 use super::latest::{Context, Latest};
 use crate::case::Case;
+use crate::discretisation::bulk;
 use crate::model::boundary::BoundaryConditions;
-use crate::results::{CriticalPoint, LoadPoint, Snapshot};
+use crate::results::{CriticalPoint, LoadPoint, Snapshot, StepBulk};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::StopReason;
@@ -90,6 +91,8 @@ pub struct Request {
 pub struct Solved {
     pub point: LoadPoint,
     pub snapshot: Snapshot,
+    /// The bulk of every rod of the state (`discretisation::bulk`).
+    pub bulk: StepBulk,
     /// The conditions the state is under.
     pub boundary: BoundaryConditions,
     /// Internal continuation step length at this state.
@@ -497,10 +500,13 @@ impl Solver {
             })
             .collect();
         self.critical = all.len();
+        let point = sim.load_point(self.points);
+        let snapshot = sim.snapshot();
         let state = Solved {
             critical,
-            point: sim.load_point(self.points),
-            snapshot: sim.snapshot(),
+            bulk: bulk::step_bulk(sim.model(), &snapshot, &point),
+            point,
+            snapshot,
             boundary: sim.boundary_conditions(),
             step_length: sim.step_length(),
             time: t0.elapsed(),

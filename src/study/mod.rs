@@ -9,7 +9,8 @@
 //!   displacement control (`ε` under load control, where the load is prescribed), or the
 //!   tip force of Love's helix (N);
 //! - the **curvature** profiles `(κ1, κ2, Ω)` (1/m) of every rod, in the max norm over the
-//!   vertices of the coarsest mesh (common to every mesh of a doubling ladder), relative to
+//!   vertices of the coarsest mesh (common to every mesh of a doubling ladder; values
+//!   recovered from the Barlow points, `fields::recovered_curvature`), relative to
 //!   the largest reference curvature;
 //! - the **critical load** parameter of the first critical point, when there is one.
 //!

@@ -75,32 +75,22 @@ impl Measure {
     ///   stress the energy error is, to first order, the stress times the integral of
     ///   that error, and the 2-point Gauss rule integrates `t(1 − t) − 1/6` to exactly
     ///   zero: the `O(h²)` term cancels and the reactions converge as `O(h⁴)`.
-    /// - **Curvature at the element vertices.** In 1-D the nodal values are
-    ///   superconvergent, so the error is that of differentiating the interpolant of the
-    ///   exact rotation field at its nodes (the curvature is `2 Im(q̄ q')/|q|²`).
-    ///   *Quadratic: 2.* The slope of a quadratic interpolant at either end of its element
-    ///   is off by `h² q⁽³⁾/12` with the same sign from both sides, so the mean over the
-    ///   two elements at a vertex keeps the `O(h²)` term. *Linear: 1, or 2 when the
-    ///   curvature is uniform.* At an interior vertex the mean of the two one-sided slopes
-    ///   is a central difference, `O(h²)`; at a rod end only one element meets and the
-    ///   slope is off by `(h/2) q''`, whose part along the field is the derivative of the
-    ///   curvature there: `O(h)` wherever the curvature varies at an end (the clamped ends
-    ///   of a deformed assembly). On a uniform helix (Love's) that derivative vanishes,
-    ///   and a linear chord of the great circle the quaternion field runs on is `O(h²)`
-    ///   everywhere.
+    /// - **Curvature, recovered at the element vertices: `p + 1`.** The curvature is
+    ///   sampled at the Barlow points of every element (the `p` Gauss–Legendre points,
+    ///   `fields::barlow_points`), where the slope of the interpolation error's leading term
+    ///   `h^{p+1} q^{(p+1)} ω(ξ)/(p+1)!` vanishes: there `q'` is off by `O(h^{p+1})`, not
+    ///   `O(h^p)`, and so is `2 Im(q̄ q')/|q|²`. The vertex values are recovered by a
+    ///   least-squares fit of degree `p` to the samples of the neighbouring elements
+    ///   (superconvergent patch recovery), whose own error is `O(h^{p+1})` for a smooth
+    ///   field; the patches stop at joints and rod ends, where one-sided fits keep the order.
+    ///   *Quadratic: 3, linear: 2*, at the clamped ends too (the vertex means of the former
+    ///   evaluation gave 2 and, at an end, 1).
     pub fn theoretical_order(self, order: Order, uniform_curvature: bool) -> f64 {
         let p = order.degree() as f64;
         match (self, order) {
             (Measure::Response, Order::Linear) if uniform_curvature => 4.0,
             (Measure::Response | Measure::Critical, _) => 2.0 * p,
-            (Measure::Curvature, Order::Quadratic) => 2.0,
-            (Measure::Curvature, Order::Linear) => {
-                if uniform_curvature {
-                    2.0
-                } else {
-                    1.0
-                }
-            }
+            (Measure::Curvature, _) => p + 1.0,
         }
     }
 }
@@ -184,7 +174,7 @@ impl Problem {
     }
 
     /// Whether the exact curvature is uniform along every rod (Love's helix), which raises
-    /// the order of linear elements' vertex curvature (see [`Measure::theoretical_order`]).
+    /// the order of linear elements' reactions (see [`Measure::theoretical_order`]).
     pub fn uniform_curvature(&self) -> bool {
         matches!(self, Problem::Love(_))
     }

@@ -336,15 +336,8 @@ fn write_folder(
     let mut failure = None;
     if let Some(s) = solved {
         let o = &s.outcome;
-        if let Err(e) = crate::output::write_run_noted(
-            tmp.path(),
-            &s.case.name,
-            s.note.as_deref(),
-            &o.points,
-            &o.snapshot,
-            &o.critical,
-            &o.model,
-        ) {
+        let files = crate::output::RunFiles::of(&s.case.name, s.note.as_deref(), o);
+        if let Err(e) = crate::output::write_run(tmp.path(), &files) {
             failure = Some(format!("writing the result files: {e}"));
         }
     }

@@ -30,6 +30,8 @@ pub const K1_PALETTE: [Color; 5] = [
 ];
 const SELECTED: Color = Color::White;
 const JOINT: Color = Color::Gray;
+/// The bar over the bulk of the rod on the curvature plot.
+const BULK: Color = Color::Cyan;
 const K1_LINE: Color = Color::LightYellow;
 const K2_LINE: Color = Color::LightCyan;
 const OMEGA_LINE: Color = Color::LightMagenta;
@@ -521,7 +523,11 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
         .state
         .as_ref()
         .and_then(|s| s.snapshot.rods.get(app.selected_rod));
-    let block = curvature_block(rod, app.no_color);
+    let has_bulk = app
+        .state
+        .as_ref()
+        .is_some_and(|s| s.bulk.rods.get(app.selected_rod).is_some());
+    let block = curvature_block(rod, app.no_color, has_bulk);
     let Some(rod) = rod else {
         return placeholder(frame, area, block, app);
     };
@@ -534,14 +540,27 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
         })
         .collect();
     let y = padded_range(series.iter().flatten().map(|p| p.1), 1.0);
-    // a band below the curves for the joint ticks
+    // a band below the curves for the joint ticks, and one above for the bulk
     let tick = 0.08 * (y[1] - y[0]);
-    let y = nice_bounds(if rod.joints.is_empty() {
-        y
-    } else {
-        [y[0] - tick, y[1]]
-    });
+    let bulk = app
+        .state
+        .as_ref()
+        .and_then(|s| s.bulk.rods.get(app.selected_rod));
+    let y = nice_bounds([
+        if rod.joints.is_empty() {
+            y[0]
+        } else {
+            y[0] - tick
+        },
+        if bulk.is_some() { y[1] + tick } else { y[1] },
+    ]);
     let ticks = joint_ticks(rod, y[0], tick);
+    let bulk_bar: Vec<(f64, f64)> = bulk
+        .map(|b| {
+            let top = y[1] - 0.25 * tick;
+            vec![(b.start_over_l(), top), (b.end_over_l(), top)]
+        })
+        .unwrap_or_default();
     let mut datasets: Vec<Dataset> = ticks
         .iter()
         .map(|t| {
@@ -564,6 +583,16 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
                 .graph_type(graph)
                 .marker(marker)
                 .style(Style::new().fg(color)),
+        );
+    }
+    // over the curves, so that a curve in the top band does not hide it
+    if !bulk_bar.is_empty() {
+        datasets.push(
+            Dataset::default()
+                .data(&bulk_bar)
+                .graph_type(GraphType::Line)
+                .marker(Marker::Bar)
+                .style(Style::new().fg(BULK)),
         );
     }
     let at = app.cursor as f64 / CURSOR_STEPS as f64;
@@ -608,7 +637,7 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
 }
 
 /// The curvature panel's frame: the rod and the legend of its lines.
-fn curvature_block(rod: Option<&RodShape>, no_color: bool) -> Block<'static> {
+fn curvature_block(rod: Option<&RodShape>, no_color: bool, bulk: bool) -> Block<'static> {
     let mut title = vec![Span::styled(
         match rod {
             Some(r) => format!(" rod {} ({}) ", r.rod, r.chirality.name()),
@@ -622,6 +651,9 @@ fn curvature_block(rod: Option<&RodShape>, no_color: bool) -> Block<'static> {
     title.extend(key_span(marks[2], "Ω", OMEGA_LINE));
     if rod.is_some_and(|r| !r.joints.is_empty()) {
         title.extend(key_span("╷", "joints", JOINT));
+    }
+    if bulk {
+        title.extend(key_span("▄", "bulk", BULK));
     }
     Block::new()
         .borders(Borders::ALL)
@@ -1073,8 +1105,8 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
     );
 }
 
-/// The numbers of the state on screen: ε, h, the loads, energy, stability, and the
-/// selected rod's tip reaction.
+/// The numbers of the state on screen: ε, h, the loads, the selected rod's bulk (s/L),
+/// energy, stability, and the selected rod's tip reaction.
 fn readout_line(app: &App) -> Line<'static> {
     let Some(s) = app.state.as_ref() else {
         return Line::from(Span::styled("no converged state", Style::new().fg(DIM)));
@@ -1097,11 +1129,22 @@ fn readout_line(app: &App) -> Line<'static> {
             fmt_short(p.load[1], big)
         )),
         bold(fmt_short(p.load[2], big)),
+    ];
+    // the selected rod's bulk (s/L), early in the line so that 80 columns show it
+    if let Some(b) = s.bulk.rods.get(app.selected_rod) {
+        spans.push(sep());
+        spans.push(Span::raw(format!(
+            "bulk {:.2}–{:.2}",
+            b.start_over_l(),
+            b.end_over_l()
+        )));
+    }
+    spans.extend([
         sep(),
         Span::raw(format!("E {} J", fmt_num(p.energy))),
         sep(),
         Span::raw(format!("unstable {dirs} λmin {lowest}")),
-    ];
+    ]);
     if let Some(r) = p.reactions.get(app.selected_rod) {
         let f = r.tip.force;
         let big = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
