@@ -7,7 +7,7 @@
 use nalgebra::Vector3;
 use spira::case::Case;
 use spira::discretisation::element;
-use spira::discretisation::model::{DiscreteModel, End};
+use spira::discretisation::model::{DiscreteModel, End, Reference};
 use spira::discretisation::shape::Order;
 use spira::discretisation::system::System;
 use spira::model::assembly::Assembly;
@@ -479,8 +479,8 @@ fn perfect_helix_in_extension_is_held_by_loves_axial_force_and_couple() {
 
 // ---------------------------------------------------------------- thesis cases
 
-fn reaction_norm_at_rest(n: usize, elements: usize) -> f64 {
-    let mut case = thesis(n);
+fn reaction_norm_at_rest(case: &Case, elements: usize) -> f64 {
+    let mut case = case.clone();
     case.discretisation.elements = elements;
     let sim = Simulation::from_case(&case).unwrap();
     sim.load_point(0)
@@ -491,9 +491,13 @@ fn reaction_norm_at_rest(n: usize, elements: usize) -> f64 {
 }
 
 #[test]
-fn natural_state_carries_no_force_up_to_discretisation_error_that_falls_at_fourth_order() {
+fn with_the_continuums_curvature_the_natural_state_carries_a_force_that_falls_at_fourth_order() {
+    // the thesis's discretisation (`discretisation.reference = "continuum"`): the
+    // interpolated helix is not exactly stress-free; the force at rest is a discretisation
+    // error and must vanish like h^4 for quadratic elements
     for n in [1, 8] {
-        let case = thesis(n);
+        let mut case = thesis(n);
+        case.discretisation.reference = Reference::Continuum;
         let pcrit = spira::model::stiffness::euler_load(1.0, case.geometry.length);
         let sim = Simulation::from_case(&case).unwrap();
         let lp = sim.load_point(0);
@@ -505,12 +509,136 @@ fn natural_state_carries_no_force_up_to_discretisation_error_that_falls_at_fourt
                 lp.load
             );
         }
-        // per rod: the interpolated helix is not exactly stress-free; the force is a
-        // discretisation error and must vanish like h^4 for quadratic elements
-        let (f1, f2) = (reaction_norm_at_rest(n, 56), reaction_norm_at_rest(n, 112));
+        let (f1, f2) = (
+            reaction_norm_at_rest(&case, 56),
+            reaction_norm_at_rest(&case, 112),
+        );
         assert!(f1 < 5e-3 * pcrit, "n = {n}: {f1} N at rest");
         let order = (f1 / f2).log2();
         assert!(order > 3.7, "n = {n}: force at rest falls at order {order}");
+    }
+}
+
+/// Issue 11: with the reference curvatures of the discrete natural configuration (the
+/// default), the natural state is an exact equilibrium: every rod's reactions below
+/// 1e-10 Pcrit (moments below 1e-10 Pcrit L) and the energy below 1e-12 J, at every mesh
+/// and order, for every support the supports table offers, and for the symmetric pair.
+#[test]
+fn helices_stress_free_in_their_discrete_configuration_carry_nothing_at_rest() {
+    use spira::model::boundary::{EndCondition, Rotation, Translation};
+    let supports = [
+        BoundaryConditions::default(),
+        BoundaryConditions {
+            tip: EndCondition {
+                translation: Translation::Slide,
+                rotation: Rotation::Clamped,
+            },
+            ..Default::default()
+        },
+        BoundaryConditions {
+            base: EndCondition {
+                translation: Translation::Radial,
+                rotation: Rotation::Free,
+            },
+            ..Default::default()
+        },
+    ];
+    let mut checked = 0;
+    for (n, symmetric) in [(1, false), (2, false), (8, false), (8, true)] {
+        for order in [Order::Linear, Order::Quadratic] {
+            for elements in [7, 24, 56, 97] {
+                for bc in supports {
+                    let mut case = thesis(n);
+                    assert_eq!(case.discretisation.reference, Reference::Discrete);
+                    case.discretisation.order = order;
+                    case.discretisation.elements = elements;
+                    case.discretisation.symmetric = symmetric;
+                    case.boundary = bc;
+                    let length = case.geometry.length;
+                    let pcrit = spira::model::stiffness::euler_load(case.stiffness.b1, length);
+                    let sim = Simulation::from_case(&case).unwrap();
+                    let lp = sim.load_point(0);
+                    let what = format!("n = {n} ({symmetric}), {order:?} x {elements}, {bc:?}");
+                    assert_eq!(lp.eps, 0.0, "{what}");
+                    assert!(lp.energy.abs() < 1e-12, "{what}: energy {} J", lp.energy);
+                    for r in &lp.reactions {
+                        for end in [r.tip, r.base] {
+                            let f = Vector3::from(end.force).norm();
+                            let m = Vector3::from(end.moment).norm();
+                            assert!(f < 1e-10 * pcrit, "{what}: rod {} force {f} N", r.rod);
+                            assert!(
+                                m < 1e-10 * pcrit * length,
+                                "{what}: rod {} moment {m} N m",
+                                r.rod
+                            );
+                        }
+                    }
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 4 * 2 * 4 * 3);
+}
+
+/// Along a path of `steps` equal steps to the case's target: at every output step the
+/// energy stored and the work done by the supports on the tips, `Σ_rods ∫ Fz dz` by the
+/// trapezoid rule over the output steps (the bases do not move and the clamped tips do
+/// not turn, so no other support works).
+fn energy_and_work(case: &Case, steps: usize) -> Vec<(f64, f64)> {
+    let mut sim = Simulation::from_case(case).unwrap();
+    let mut previous = sim.load_point(0);
+    let fz =
+        |p: &spira::results::LoadPoint| p.reactions.iter().map(|r| r.tip.force[2]).sum::<f64>();
+    let mut work = 0.0;
+    let mut out = Vec::new();
+    for k in 1..=steps {
+        sim.advance_to(case.loading.target * k as f64 / steps as f64)
+            .unwrap();
+        let lp = sim.load_point(k);
+        work += 0.5 * (fz(&previous) + fz(&lp)) * (lp.height - previous.height);
+        out.push((lp.energy, work));
+        previous = lp;
+    }
+    out
+}
+
+/// Issue 11: energy stored = work done by the supports, to the accuracy of the quadrature
+/// of the work. n = 8, thesis mesh, clamped, compressed to ε = 0.5 in 100 equal steps (the
+/// symmetric pair: the same equilibria as the full model, tests/symmetry.rs).
+///
+/// The trapezoid rule's own error is `O(Δε²)` times the change of the stiffness: at the
+/// first step (ε = 0.005) it is 2.7e-4 of the energy, because Fz(ε) stiffens from the
+/// start (it is the same with the continuum's reference curvatures, prestress and all:
+/// the 2.7e-4 of issue 11 is this quadrature error, not the prestress). So the test checks
+/// that the difference is that error — it falls as `Δε²` when the steps are halved — and
+/// that the work with it removed (Richardson's extrapolation of the trapezoid rule on 100
+/// and 200 steps) equals the energy to 1e-6 relative at every one of the 100 steps.
+#[test]
+fn energy_stored_is_the_work_of_the_supports_along_a_hundred_step_path() {
+    let mut case = thesis(8);
+    case.discretisation.symmetric = true;
+    case.solver.lowest_eigenvalue = false;
+    let (coarse, fine) = (energy_and_work(&case, 100), energy_and_work(&case, 200));
+    for (k, &(energy, work)) in coarse.iter().enumerate() {
+        let (energy_fine, work_fine) = fine[2 * k + 1];
+        // the same state, to the Newton tolerance (about 1e-9 of the energy)
+        assert!(
+            (energy - energy_fine).abs() < 1e-7 * energy,
+            "step {k}: same state"
+        );
+        let richardson = work_fine + (work_fine - work) / 3.0;
+        let rel = (energy - richardson).abs() / energy;
+        assert!(
+            rel < 1e-6,
+            "step {}: energy {energy} J, work {richardson} J ({rel:e})",
+            k + 1
+        );
+        let order = ((energy - work) / (energy_fine - work_fine)).log2();
+        if k < 20 {
+            // where the quadrature error is well above the Newton tolerance's floor
+            assert!((order - 2.0).abs() < 0.1, "step {}: order {order}", k + 1);
+        }
     }
 }
 

@@ -1,6 +1,7 @@
 //! The values a case sets, table by table, once read and checked: the geometry of the
 //! assembly, its loading and the mesh of its rods.
 
+use crate::discretisation::model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::loading::{Branch, Control};
 use std::f64::consts::PI;
@@ -62,6 +63,9 @@ pub struct Discretisation {
     /// `m`-fold rotational symmetry, `n = 2m`, `m ≥ 2`); stability is still judged on the
     /// full model. Key `symmetric`, default false.
     pub symmetric: bool,
+    /// Where the reference curvatures of helical rods come from (key `reference`,
+    /// default `"discrete"`: the natural state is exactly stress-free).
+    pub reference: Reference,
 }
 
 /// A relative accuracy asked of the response (the axial reaction `Fz` at the target under
