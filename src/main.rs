@@ -249,6 +249,11 @@ fn run(path: &Path, to: Option<f64>, steps: Option<u64>, out: &Path, force: bool
         case.loading.control.name()
     );
     println!(
+        "  elastic hypotheses: {}; reference curvatures: {}",
+        case.rod.describe(),
+        case.discretisation.reference.name()
+    );
+    println!(
         "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}",
         "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)", "unstable"
     );

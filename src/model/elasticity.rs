@@ -84,6 +84,37 @@ impl Energy {
     }
 }
 
+/// Where the reference (stress-free) curvatures of naturally helical rods come from (case
+/// key `discretisation.reference`).
+///
+/// The interpolated quaternion field of a helix is not a helix: its curvature at a
+/// quadrature point differs from the helix's by `O(h²)`, and its chords from the helix's
+/// by `O(h⁴)`. With the continuum's curvatures the natural state is therefore not stress-free
+/// (the thesis's discretisation: at `ε = 0` each rod of the n = 8 thesis mesh carries about
+/// 2e-3 Pcrit); with the discrete ones it is, exactly, at every mesh, as in discrete-rod
+/// codes that take the rest curvature from the rest shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Reference {
+    /// The curvature of the interpolated natural quaternion field at each quadrature point,
+    /// and the natural state's vertices where its chords `∫ d3 ds` put them (from the
+    /// base of the helix), so that it is an exact, unloaded equilibrium. The default.
+    Discrete,
+    /// The helix's own constant curvatures (DESIGN.md §2) and its vertices on the analytic
+    /// helix, as in the thesis.
+    Continuum,
+}
+
+impl Reference {
+    /// Name in case files and outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reference::Discrete => "discrete",
+            Reference::Continuum => "continuum",
+        }
+    }
+}
+
 /// Energy density `W(u)` (J/m), its gradient `∂W/∂u` (N m) and Hessian `∂²W/∂u²` (N m²).
 pub type Density = (f64, Vector3<f64>, Matrix3<f64>);
 

@@ -47,7 +47,8 @@ pub fn write_run(
     write_run_noted(dir, case, None, points, snapshot, critical, model)
 }
 
-/// [`write_run`] with `note`, when given, as a `#` line in the header of every file.
+/// [`write_run`] with `note`, when given, as a `#` line in the header of every file; every
+/// file also says the elastic hypotheses of the model (issue 11).
 pub fn write_run_noted(
     dir: &Path,
     case: &str,
@@ -69,8 +70,10 @@ pub fn write_run_noted(
             files.push((format!("mode-{i}.csv"), mode_csv(case, model, i, c)));
         }
     }
+    let hypotheses = hypotheses_note(model);
     let files: Vec<(String, String)> = files
         .into_iter()
+        .map(|(name, text)| (name, with_note(&text, &hypotheses)))
         .map(|(name, text)| match note {
             Some(n) => (name, with_note(&text, n)),
             None => (name, text),
@@ -81,6 +84,15 @@ pub fn write_run_noted(
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, format!("{name}: {e}")))?;
     }
     write_folder(dir, &files, is_run_file)
+}
+
+/// The `#` line naming the elastic hypotheses of `model` and its reference curvatures.
+pub fn hypotheses_note(model: &DiscreteModel) -> String {
+    format!(
+        "elastic hypotheses: {}; reference curvatures: {}",
+        model.elasticity.describe(),
+        model.reference.name()
+    )
 }
 
 /// Whether `name` is a file a run writes: `load.csv`, `reactions.csv`, `state.csv`,

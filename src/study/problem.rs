@@ -111,11 +111,13 @@ impl Measure {
 /// helix `(a0, b0)`. One rod has no joints, so its meshes are uniform and a doubling ladder
 /// nests.
 fn love_model(love: &LoveHelix, order: Order, elements: usize) -> DiscreteModel {
-    DiscreteModel::new(
+    DiscreteModel::with_hypotheses(
         Assembly::new(1, love.radius0, love.pitch0, love.length),
         love.stiffness,
         elements,
         order,
+        love.elasticity,
+        love.reference,
     )
 }
 
@@ -159,15 +161,21 @@ impl Problem {
     pub fn describe(&self) -> String {
         match self {
             Problem::Path(case) => format!(
-                "n = {}, {} control 0 → {} in {} steps",
+                "n = {}, {} control 0 → {} in {} steps; {}, {} reference curvatures",
                 case.geometry.helices,
                 case.loading.control.name(),
                 case.loading.target,
-                case.loading.steps
+                case.loading.steps,
+                case.rod.describe(),
+                case.discretisation.reference.name()
             ),
             Problem::Love(love) => format!(
-                "Love's helix: a rod of a0 = {} m, b0 = {} m held on b = {} m",
-                love.radius0, love.pitch0, love.pitch
+                "Love's helix: a rod of a0 = {} m, b0 = {} m held on b = {} m; {}, {} reference curvatures",
+                love.radius0,
+                love.pitch0,
+                love.pitch,
+                love.elasticity.describe(),
+                love.reference.name()
             ),
         }
     }
@@ -253,7 +261,7 @@ impl Problem {
         };
         let k = love.curvature(Chirality::Right);
         Some(format!(
-            "Love's helix, DESIGN.md §6: Fz = {:.6} N, (κ1, κ2, Ω) = ({:.4}, 0, {:.4}) 1/m",
+            "a uniform helix, DESIGN.md §6–§7: Fz = {:.6} N, (κ1, κ2, Ω) = ({:.4}, 0, {:.4}) 1/m",
             love.force(),
             k[0],
             k[2]
