@@ -163,7 +163,7 @@ impl Elasticity {
                 }
             ),
             Energy::Sadowsky(r) => format!(
-                "Sadowsky ribbons stress-free when flat, W = D/2 [k1^2 + 2 W^2 + W^4/(k1^2 + eta^2)] + B2/2 k2^2 \
+                "Sadowsky ribbons stress-free when flat, W = D/2 [k1^2 + 2 om^2 + om^4/(k1^2 + eta^2)] + B2/2 k2^2 (om = twist) \
                  with eta = sqrt(60) t/w^2 = {:.6e} 1/m (w = {} m, t = {} m; rod-ribbon limits of \
                  Audoly & Neukirch, JMPS 2021, twisted-strip term of Green 1936)",
                 r.regularisation(),
