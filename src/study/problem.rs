@@ -260,8 +260,14 @@ impl Problem {
             return None;
         };
         let k = love.curvature(Chirality::Right);
+        let source = match love.elasticity.energy {
+            crate::model::elasticity::Energy::Kirchhoff => "Love's helix, DESIGN.md §6",
+            crate::model::elasticity::Energy::Sadowsky(_) => {
+                "a uniform ribbon helix, DESIGN.md §7 (balance laws, m = ∂W/∂u)"
+            }
+        };
         Some(format!(
-            "a uniform helix, DESIGN.md §6–§7: Fz = {:.6} N, (κ1, κ2, Ω) = ({:.4}, 0, {:.4}) 1/m",
+            "{source}: Fz = {:.6} N, (κ1, κ2, Ω) = ({:.4}, 0, {:.4}) 1/m",
             love.force(),
             k[0],
             k[2]
