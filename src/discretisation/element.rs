@@ -1,5 +1,7 @@
 //! Quaternion rod elements: Lagrange interpolation of the nodal quaternions, the bending
-//! and twisting energy (DESIGN.md §1) and the element's inextensibility integral
+//! and twisting energy of the rod's elastic hypotheses (Kirchhoff's, DESIGN.md §1, or
+//! Sadowsky's ribbon, DESIGN.md §7 and [`crate::model::elasticity`]) with reference
+//! curvatures given at each quadrature point, and the element's inextensibility integral
 //! `∫ d3 ds` (DESIGN.md §5), with exact first and second derivatives.
 //!
 //! The interpolated quaternion need not be unit between nodes; curvatures and directors
