@@ -339,6 +339,11 @@ fn run(
         println!("model: the full assembly, {n} rods");
     }
     println!(
+        "  elastic hypotheses: {}; reference curvatures: {}",
+        case.rod.describe(),
+        case.discretisation.reference.name()
+    );
+    println!(
         "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}",
         "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)", "unstable"
     );

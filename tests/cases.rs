@@ -887,3 +887,83 @@ fn output_steps_are_equally_spaced_up_to_the_target() {
     }
     assert_eq!(*eps.last().unwrap(), 0.3);
 }
+
+// ---------------------------------------------------------------- elastic hypotheses
+
+#[test]
+fn the_elastic_hypotheses_default_to_kirchhoff_rods_stress_free_in_their_discrete_helix() {
+    use spira::discretisation::model::Reference;
+    use spira::model::elasticity::{Elasticity, Energy, StressFree};
+    let case = Case::parse("", "empty.toml", "empty").unwrap();
+    assert_eq!(case.rod, Elasticity::default());
+    assert_eq!(case.rod.stress_free, StressFree::Helix);
+    assert_eq!(case.rod.energy, Energy::Kirchhoff);
+    assert_eq!(case.discretisation.reference, Reference::Discrete);
+    let text = "[rod]\nstress_free = \"straight\"\nenergy = \"sadowsky\"\nwidth = 0.02\nthickness = 2e-4\n[discretisation]\nreference = \"continuum\"\n";
+    let case = Case::parse(text, "ribbon.toml", "ribbon").unwrap();
+    assert_eq!(case.rod.stress_free, StressFree::Straight);
+    match case.rod.energy {
+        Energy::Sadowsky(r) => {
+            assert_eq!((r.width, r.thickness), (0.02, 2e-4));
+            // η = √60 t / w²
+            assert!((r.regularisation() - 60f64.sqrt() * 2e-4 / 4e-4).abs() < 1e-12);
+        }
+        Energy::Kirchhoff => panic!("expected a ribbon"),
+    }
+    assert_eq!(case.discretisation.reference, Reference::Continuum);
+}
+
+fn refused(text: &str) -> CaseError {
+    Case::parse(text, "rod.toml", "rod").expect_err("refused")
+}
+
+#[test]
+fn a_ribbon_stress_free_when_helical_is_refused_naming_the_key() {
+    // Sadowsky's ribbon is stress-free when flat; with the default stress_free = "helix"
+    let e = refused(
+        "[geometry]\nhelices = 2\n[rod]\nenergy = \"sadowsky\"\nwidth = 0.02\nthickness = 1e-4\n",
+    );
+    check(
+        &e,
+        4,
+        "rod.energy",
+        &["rod.toml:4", "stress_free = \"straight\"", "flat"],
+    );
+    assert!(is_invalid(&e));
+    let e = refused(
+        "[rod]\nstress_free = \"helix\"\nenergy = \"sadowsky\"\nwidth = 0.02\nthickness = 1e-4\n",
+    );
+    check(&e, 3, "rod.energy", &["straight"]);
+}
+
+#[test]
+fn a_ribbon_needs_its_width_and_thickness_and_a_rod_refuses_them() {
+    let e = refused("[rod]\nstress_free = \"straight\"\nenergy = \"sadowsky\"\nthickness = 1e-4\n");
+    check(&e, 3, "rod.width", &["width", "regularisation"]);
+    let e = refused("[rod]\nstress_free = \"straight\"\nenergy = \"sadowsky\"\nwidth = 0.01\nthickness = 0.02\n");
+    check(&e, 5, "rod.thickness", &["thinner", "0.01", "0.02"]);
+    let e = refused("[rod]\nstress_free = \"straight\"\nenergy = \"sadowsky\"\nwidth = -1.0\nthickness = 1e-4\n");
+    check(&e, 4, "rod.width", &["positive length", "-1"]);
+    let e = refused("[rod]\nwidth = 0.02\n");
+    check(&e, 2, "rod.width", &["sadowsky"]);
+}
+
+#[test]
+fn an_unknown_hypothesis_lists_the_names() {
+    let e = refused("[rod]\nenergy = \"cosserat\"\n");
+    check(
+        &e,
+        2,
+        "rod.energy",
+        &["cosserat", "`kirchhoff` or `sadowsky`"],
+    );
+    let e = refused("[rod]\nstress_free = \"curved\"\n");
+    check(&e, 2, "rod.stress_free", &["`helix` or `straight`"]);
+    let e = refused("[discretisation]\nreference = \"exact\"\n");
+    check(
+        &e,
+        2,
+        "discretisation.reference",
+        &["`discrete` or `continuum`"],
+    );
+}

@@ -254,6 +254,9 @@ fn allowed_names(key: &str) -> Option<&'static str> {
         "order" => "\"quadratic\", \"linear\"",
         "translation" => "\"fixed\", \"slide\", \"radial\"",
         "rotation" => "\"clamped\", \"free\", \"pinned\"",
+        "reference" => "\"discrete\", \"continuum\"",
+        "stress_free" => "\"helix\", \"straight\"",
+        "energy" => "\"kirchhoff\", \"sadowsky\"",
         _ => return None,
     })
 }

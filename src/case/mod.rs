@@ -28,6 +28,7 @@ pub use target::TargetError;
 use crate::discretisation::model::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
+use crate::model::elasticity::Elasticity;
 use crate::model::loading::Branch;
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
@@ -49,6 +50,8 @@ pub struct Case {
     /// Bending stiffnesses `B1`, `B2` about the directors `d1`, `d2` and torsional stiffness
     /// `B3` (N m²).
     pub stiffness: Stiffness,
+    /// The elastic hypotheses of the rods (`[rod]`).
+    pub rod: Elasticity,
     pub boundary: BoundaryConditions,
     pub loading: Loading,
     pub discretisation: Discretisation,
@@ -84,6 +87,7 @@ impl Case {
         let ck = Checker { file, text };
         let geometry = tables::geometry(&raw.geometry, &ck)?;
         let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
+        let rod = tables::rod(&raw.rod, &ck)?;
         let boundary = tables::boundary(&raw.boundary);
         tables::free_motion(&boundary, &geometry, &ck)?;
         let loading = tables::loading(&raw.loading, &geometry, &ck)?;
@@ -100,6 +104,7 @@ impl Case {
             name: raw.name.unwrap_or_else(|| stem.to_string()),
             geometry,
             stiffness,
+            rod,
             boundary,
             loading,
             discretisation,
@@ -148,11 +153,13 @@ impl Case {
         } else {
             full
         };
-        DiscreteModel::new(
+        DiscreteModel::with_hypotheses(
             assembly,
             self.stiffness,
             self.discretisation.elements,
             self.discretisation.order,
+            self.rod,
+            self.discretisation.reference,
         )
     }
 

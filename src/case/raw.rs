@@ -3,6 +3,7 @@
 //! that a value out of range can be pointed at.
 
 use super::error::CaseError;
+use crate::discretisation::model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::boundary::{Rotation, Translation};
 use crate::model::loading::{Branch, Control};
@@ -18,6 +19,8 @@ pub(super) struct RawCase {
     pub geometry: RawGeometry,
     #[serde(default)]
     pub stiffness: RawStiffness,
+    #[serde(default)]
+    pub rod: RawRod,
     #[serde(default)]
     pub boundary: RawBoundary,
     #[serde(default)]
@@ -66,6 +69,36 @@ pub(super) struct RawStiffness {
     pub b3: Option<Spanned<f64>>,
 }
 
+/// `[rod]`: the elastic hypotheses.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawRod {
+    /// `"helix"` or `"straight"`.
+    pub stress_free: Option<Spanned<StressFreeName>>,
+    /// `"kirchhoff"` or `"sadowsky"`.
+    pub energy: Option<Spanned<EnergyName>>,
+    /// Ribbon width `w` (m), Sadowsky only.
+    pub width: Option<Spanned<f64>>,
+    /// Ribbon thickness `t` (m), Sadowsky only.
+    pub thickness: Option<Spanned<f64>>,
+}
+
+/// The names `rod.stress_free` takes.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum StressFreeName {
+    Helix,
+    Straight,
+}
+
+/// The names `rod.energy` takes.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum EnergyName {
+    Kirchhoff,
+    Sadowsky,
+}
+
 /// `[boundary]`.
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
@@ -107,6 +140,8 @@ pub(super) struct RawDiscretisation {
     /// Target relative accuracy; not with `elements`.
     pub accuracy: Option<Spanned<f64>>,
     pub symmetric: Option<Spanned<SymmetricKey>>,
+    /// Reference curvatures: `"discrete"` or `"continuum"`.
+    pub reference: Option<Reference>,
 }
 
 /// `discretisation.symmetric`: `true`, `false` or `"auto"`.

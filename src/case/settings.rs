@@ -1,6 +1,7 @@
 //! The values a case sets, table by table, once read and checked: the geometry of the
 //! assembly, its loading and the mesh of its rods.
 
+use crate::discretisation::model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::loading::{Branch, Control};
 use std::f64::consts::PI;
@@ -67,6 +68,9 @@ pub struct Discretisation {
     /// Whether `symmetric` was chosen automatically (and is chosen again when the number
     /// of helices changes).
     pub symmetric_auto: bool,
+    /// Where the reference curvatures of helical rods come from (key `reference`,
+    /// default `"discrete"`: the natural state is exactly stress-free).
+    pub reference: Reference,
 }
 
 /// A relative accuracy asked of the response (the axial reaction `Fz` at the target under

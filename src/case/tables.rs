@@ -4,13 +4,15 @@
 use super::error::{line_of, CaseError};
 use super::limits::*;
 use super::raw::{
-    RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawSolver, RawStiffness,
-    SymmetricKey,
+    EnergyName, RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawRod, RawSolver,
+    RawStiffness, StressFreeName, SymmetricKey,
 };
 use super::settings::{Accuracy, Discretisation, Geometry, Loading};
 use super::target::check_target;
+use crate::discretisation::model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::boundary::{BoundaryConditions, EndCondition};
+use crate::model::elasticity::{Elasticity, Energy, Ribbon, StressFree};
 use crate::model::loading::{Branch, Control};
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
@@ -264,6 +266,82 @@ pub(super) fn stiffness(
     Ok(stiffness)
 }
 
+/// `[rod]`: the elastic hypotheses, Kirchhoff rods stress-free when helical unless given.
+/// Sadowsky's ribbon is stress-free when flat, so it needs `stress_free = "straight"`
+/// (no form for naturally curved ribbons is implemented), and its width and thickness
+/// (m, thickness below width), which set the regularisation of its energy
+/// ([`crate::model::elasticity`]); they are refused for Kirchhoff rods.
+pub(super) fn rod(r: &RawRod, ck: &Checker) -> Result<Elasticity, CaseError> {
+    let stress_free = match r.stress_free.as_ref().map(|v| *v.get_ref()) {
+        None | Some(StressFreeName::Helix) => StressFree::Helix,
+        Some(StressFreeName::Straight) => StressFree::Straight,
+    };
+    let sadowsky = r
+        .energy
+        .as_ref()
+        .is_some_and(|e| *e.get_ref() == EnergyName::Sadowsky);
+    if !sadowsky {
+        for (key, value) in [("rod.width", &r.width), ("rod.thickness", &r.thickness)] {
+            if let Some(v) = value {
+                return Err(ck.invalid(
+                    key,
+                    v.span(),
+                    "a ribbon's width and thickness are only used with energy = \"sadowsky\"; remove it, or set rod.energy = \"sadowsky\"",
+                ));
+            }
+        }
+        return Ok(Elasticity {
+            stress_free,
+            energy: Energy::Kirchhoff,
+        });
+    }
+    let energy_span = span(&r.energy);
+    if stress_free != StressFree::Straight {
+        return Err(ck.invalid(
+            "rod.energy",
+            energy_span,
+            "Sadowsky's ribbon is stress-free when flat: it needs rod.stress_free = \"straight\" (found \"helix\", the default; no form for naturally curved ribbons is implemented)",
+        ));
+    }
+    let length = |key: &str, value: &Option<Spanned<f64>>| -> Result<f64, CaseError> {
+        if value.is_none() {
+            return Err(ck.invalid(
+                key,
+                energy_span.clone(),
+                format!(
+                    "energy = \"sadowsky\" needs the ribbon's `{}` in m {} (width and thickness set the regularisation of the energy)",
+                    key.trim_start_matches("rod."),
+                    range(LENGTH_RANGE)
+                ),
+            ));
+        }
+        ck.number(
+            key,
+            value,
+            0.0,
+            |v| in_range(v, LENGTH_RANGE),
+            &format!("a positive length in m {}", range(LENGTH_RANGE)),
+        )
+    };
+    let width = length("rod.width", &r.width)?;
+    let thickness = length("rod.thickness", &r.thickness)?;
+    if thickness >= width {
+        return Err(ck.invalid(
+            "rod.thickness",
+            span(&r.thickness),
+            format!(
+                "a ribbon is thinner than it is wide: expected a thickness below the width {} m, found {} m",
+                num(width),
+                num(thickness)
+            ),
+        ));
+    }
+    Ok(Elasticity {
+        stress_free,
+        energy: Energy::Sadowsky(Ribbon { width, thickness }),
+    })
+}
+
 /// `[boundary]`: the supports of the base and the tip, and the joints at the crossings.
 /// Every value the file can hold is admissible (serde has refused the others).
 pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
@@ -401,6 +479,7 @@ pub(super) fn discretisation(
         accuracy,
         symmetric,
         symmetric_auto,
+        reference: d.reference.unwrap_or(Reference::Discrete),
     })
 }
 

@@ -179,7 +179,7 @@ pub fn step_bulk(model: &DiscreteModel, snapshot: &Snapshot, point: &LoadPoint) 
     let natural = model.rods.first().map(|r| r.helix);
     let tube_force = natural
         .filter(|h| !h.is_straight() && point.eps < 1.0)
-        .map(|h| tube_force(&h, &model.stiffness, length, point.eps))
+        .map(|h| tube_force(&h, model, length, point.eps))
         .filter(|f| f.is_finite());
     let tube_ratio = tube_force.and_then(|tf| {
         if point.eps.abs() <= EPS_FLOOR || tf == 0.0 || rods.is_empty() {
@@ -199,14 +199,17 @@ pub fn step_bulk(model: &DiscreteModel, snapshot: &Snapshot, point: &LoadPoint) 
 
 /// Love's axial force per rod (N, tension positive) of the infinitely long tube of rods
 /// naturally `natural`, compressed by `ε`: the helix `c = c0`, `b = b0 (1 − ε)`, which pin
-/// joints at fixed material points impose far from the ends (DESIGN.md §7).
-pub fn tube_force(natural: &Helix, stiffness: &Stiffness, length: f64, eps: f64) -> f64 {
+/// joints at fixed material points impose far from the ends (DESIGN.md §7), under the
+/// model's elastic hypotheses.
+pub fn tube_force(natural: &Helix, model: &DiscreteModel, length: f64, eps: f64) -> f64 {
     LoveHelix {
         radius0: natural.radius,
         pitch0: natural.pitch,
         length,
-        stiffness: *stiffness,
+        stiffness: model.stiffness,
         pitch: natural.pitch * (1.0 - eps),
+        elasticity: model.elasticity,
+        reference: model.reference,
     }
     .force()
 }

@@ -1,5 +1,7 @@
 //! Quaternion rod elements: Lagrange interpolation of the nodal quaternions, the bending
-//! and twisting energy (DESIGN.md §1) and the element's inextensibility integral
+//! and twisting energy of the rod's elastic hypotheses (Kirchhoff's, DESIGN.md §1, or
+//! Sadowsky's ribbon, DESIGN.md §7 and [`crate::model::elasticity`]) with reference
+//! curvatures given at each quadrature point, and the element's inextensibility integral
 //! `∫ d3 ds` (DESIGN.md §5), with exact first and second derivatives.
 //!
 //! The interpolated quaternion need not be unit between nodes; curvatures and directors
@@ -7,6 +9,7 @@
 //! so every point of the element carries a proper rotation.
 
 use super::shape::{Order, QuadraturePoint, MAX_NODES};
+use crate::model::elasticity::Elasticity;
 use crate::model::stiffness::Stiffness;
 use nalgebra::Vector3;
 
@@ -34,26 +37,39 @@ pub fn curvature(q: &[f64; 4], p: &[f64; 4]) -> Vector3<f64> {
     u
 }
 
-/// Energy density `W = ½ Σ B_i (u_i − u*_i)²` (J/m) at a point and its gradient and
-/// Hessian with respect to `x = (q, p)`, `p = q'`.
+/// Kirchhoff's energy density `W = ½ Σ B_i (u_i − u*_i)²` (J/m) at a point and its
+/// gradient and Hessian with respect to `x = (q, p)`, `p = q'`.
 pub fn energy_density(
     q: &[f64; 4],
     p: &[f64; 4],
     stiffness: &Stiffness,
     natural: &Vector3<f64>,
 ) -> (f64, [f64; 8], [[f64; 8]; 8]) {
-    let bs = stiffness.as_array();
+    strain_energy_density(q, p, stiffness, &Elasticity::default(), natural)
+}
+
+/// The energy density `W(u(q, p))` (J/m) of the hypotheses `elasticity`
+/// ([`Elasticity::density`]) with reference curvatures `reference` (1/m) at a point, and
+/// its gradient and Hessian with respect to `x = (q, p)`, `p = q'`, by the chain rule
+/// `∇W = Σ_i W_,i ∇u_i`, `∇²W = Σ_ij W_,ij ∇u_i ∇u_jᵀ + Σ_i W_,i ∇²u_i`.
+pub fn strain_energy_density(
+    q: &[f64; 4],
+    p: &[f64; 4],
+    stiffness: &Stiffness,
+    elasticity: &Elasticity,
+    reference: &Vector3<f64>,
+) -> (f64, [f64; 8], [[f64; 8]; 8]) {
     let d: f64 = q.iter().map(|x| x * x).sum();
-    let mut w = 0.0;
-    let mut grad = [0.0; 8];
-    let mut hess = [[0.0; 8]; 8];
     // ∇D = (2q, 0), ∇²D = diag(2I, 0)
     let mut gd = [0.0; 8];
     for j in 0..4 {
         gd[j] = 2.0 * q[j];
     }
+    let mut u = Vector3::zeros();
+    let mut gu = [[0.0; 8]; 3];
+    let mut hu = [[[0.0; 8]; 8]; 3];
     for i in 0..3 {
-        // N_i = 2 qᵀ C_i p and its derivatives
+        // N_i = 2 qᵀ C_i p and its derivatives; u_i = N_i / D
         let mut n = 0.0;
         let mut gn = [0.0; 8];
         let mut hn = [[0.0; 8]; 8];
@@ -64,25 +80,37 @@ pub fn energy_density(
             hn[j][4 + k] += 2.0 * sg;
             hn[4 + k][j] += 2.0 * sg;
         }
-        let u = n / d;
-        let e = u - natural[i];
-        let mut gu = [0.0; 8];
+        u[i] = n / d;
         for a in 0..8 {
-            gu[a] = gn[a] / d - n * gd[a] / (d * d);
-        }
-        w += 0.5 * bs[i] * e * e;
-        for a in 0..8 {
-            grad[a] += bs[i] * e * gu[a];
+            gu[i][a] = gn[a] / d - n * gd[a] / (d * d);
         }
         for a in 0..8 {
             for b in 0..8 {
-                let mut hu = hn[a][b] / d - (gn[a] * gd[b] + gd[a] * gn[b]) / (d * d)
+                let mut h = hn[a][b] / d - (gn[a] * gd[b] + gd[a] * gn[b]) / (d * d)
                     + 2.0 * n * gd[a] * gd[b] / (d * d * d);
                 if a == b && a < 4 {
-                    hu -= n * 2.0 / (d * d);
+                    h -= n * 2.0 / (d * d);
                 }
-                hess[a][b] += bs[i] * (gu[a] * gu[b] + e * hu);
+                hu[i][a][b] = h;
             }
+        }
+    }
+    let (w, wu, wuu) = elasticity.density(stiffness, &u, reference);
+    let mut grad = [0.0; 8];
+    let mut hess = [[0.0; 8]; 8];
+    for a in 0..8 {
+        grad[a] = (0..3).map(|i| wu[i] * gu[i][a]).sum();
+        for b in 0..8 {
+            let mut v = 0.0;
+            for i in 0..3 {
+                v += wu[i] * hu[i][a][b];
+                for j in 0..3 {
+                    if wuu[(i, j)] != 0.0 {
+                        v += wuu[(i, j)] * gu[i][a] * gu[j][b];
+                    }
+                }
+            }
+            hess[a][b] = v;
         }
     }
     (w, grad, hess)
@@ -144,18 +172,80 @@ pub struct ElementTerms {
     pub chord_gradient: [[f64; MAX_Q]; 3],
 }
 
+/// The interpolated quaternion `q` and its arc-length derivative `q'` at quadrature point
+/// `gp` of an element of length `h` (m), with the shape functions' derivatives `dN_a/ds`.
+fn at_point(
+    order: Order,
+    gp: &QuadraturePoint,
+    h: f64,
+    q: &[[f64; 4]; MAX_NODES],
+) -> ([f64; 4], [f64; 4], [f64; MAX_NODES]) {
+    let mut qg = [0.0; 4];
+    let mut pg = [0.0; 4];
+    let mut b = [0.0; MAX_NODES];
+    for a in 0..order.nodes() {
+        b[a] = gp.dn[a] / h;
+        for k in 0..4 {
+            qg[k] += gp.n[a] * q[a][k];
+            pg[k] += b[a] * q[a][k];
+        }
+    }
+    (qg, pg, b)
+}
+
+/// Curvatures `(κ1, κ2, Ω)` (1/m) of the interpolated field of nodal quaternions `q` at
+/// every point of `rule` on an element of length `h` (m): the reference curvatures of a
+/// rod whose discrete natural configuration is `q`.
+pub fn curvatures_at_points(
+    order: Order,
+    rule: &[QuadraturePoint],
+    h: f64,
+    q: &[[f64; 4]; MAX_NODES],
+) -> Vec<Vector3<f64>> {
+    rule.iter()
+        .map(|gp| {
+            let (qg, pg, _) = at_point(order, gp, h, q);
+            curvature(&qg, &pg)
+        })
+        .collect()
+}
+
+/// `∫ d3 ds` over an element of length `h` (m) with nodal quaternions `q` (m), by the
+/// quadrature `rule` of [`element_terms`] (the same sum, so the same rounding).
+pub fn chord(
+    order: Order,
+    rule: &[QuadraturePoint],
+    h: f64,
+    q: &[[f64; 4]; MAX_NODES],
+) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    for gp in rule {
+        let jw = gp.weight * h;
+        let (qg, _, _) = at_point(order, gp, h, q);
+        let (t, _, _) = tangent(&qg);
+        for j in 0..3 {
+            out[j] += jw * t[j];
+        }
+    }
+    out
+}
+
 /// Evaluates an element of length `h` (m) with nodal quaternions `q` (only the first
-/// `order.nodes()` used), natural curvature `natural` (1/m) and the inextensibility
-/// multiplier `lambda` (N) that weights the chord's Hessian.
+/// `order.nodes()` used), the energy of the hypotheses `elasticity` with reference
+/// curvatures `reference[g]` (1/m) at quadrature point `g` of `rule`, and the
+/// inextensibility multiplier `lambda` (N) that weights the chord's Hessian.
+#[allow(clippy::too_many_arguments)]
 pub fn element_terms(
     order: Order,
     rule: &[QuadraturePoint],
     h: f64,
     q: &[[f64; 4]; MAX_NODES],
     stiffness: &Stiffness,
-    natural: &Vector3<f64>,
+    elasticity: &Elasticity,
+    reference: &[Vector3<f64>],
     lambda: &[f64; 3],
 ) -> ElementTerms {
+    debug_assert_eq!(reference.len(), rule.len());
     let nn = order.nodes();
     let mut out = ElementTerms {
         energy: 0.0,
@@ -164,19 +254,10 @@ pub fn element_terms(
         chord: [0.0; 3],
         chord_gradient: [[0.0; MAX_Q]; 3],
     };
-    for gp in rule {
+    for (gp, reference) in rule.iter().zip(reference) {
         let jw = gp.weight * h;
-        let mut qg = [0.0; 4];
-        let mut pg = [0.0; 4];
-        let mut b = [0.0; MAX_NODES];
-        for a in 0..nn {
-            b[a] = gp.dn[a] / h;
-            for k in 0..4 {
-                qg[k] += gp.n[a] * q[a][k];
-                pg[k] += b[a] * q[a][k];
-            }
-        }
-        let (w, gw, hw) = energy_density(&qg, &pg, stiffness, natural);
+        let (qg, pg, b) = at_point(order, gp, h, q);
+        let (w, gw, hw) = strain_energy_density(&qg, &pg, stiffness, elasticity, reference);
         let (t, gt, ht) = tangent(&qg);
         out.energy += jw * w;
         for j in 0..3 {

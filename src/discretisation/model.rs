@@ -1,13 +1,17 @@
 //! The discrete model: every rod meshed, and the numbering of its unknowns (nodal
 //! quaternions, 4 per quaternion node, then vertex positions, 3 per element vertex).
 
+use super::element;
 use super::mesh::RodMesh;
 use super::shape::{self, Order, QuadraturePoint, MAX_NODES};
 use crate::model::assembly::{Assembly, RodId};
+use crate::model::elasticity::{Elasticity, StressFree};
 use crate::model::helix::Helix;
 use crate::model::quaternion::Quat;
 use crate::model::stiffness::Stiffness;
 use nalgebra::Vector3;
+
+pub use crate::model::elasticity::Reference;
 
 /// Rod end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,11 +23,13 @@ pub enum End {
 /// One rod of the discrete model.
 #[derive(Clone, Debug)]
 pub struct DiscreteRod {
-    /// The natural helix (initial state, intrinsic curvature).
+    /// The natural helix (initial state; intrinsic curvature of a helical rod).
     pub helix: Helix,
     pub mesh: RodMesh,
-    /// Intrinsic curvatures `(κ1*, κ2*, Ω*)` (1/m).
-    pub natural: Vector3<f64>,
+    /// Reference curvatures `(κ1*, κ2*, Ω*)` (1/m) at every quadrature point, element by
+    /// element (`rule.len()` per element): zero for rods stress-free when straight, else
+    /// as [`Reference`] says.
+    pub reference: Vec<Vector3<f64>>,
     /// First quaternion unknown.
     pub q_offset: usize,
     /// First position unknown.
@@ -46,6 +52,10 @@ impl DiscreteRod {
             End::Tip => self.mesh.quaternion_nodes() - 1,
         }
     }
+    /// Reference curvatures at the quadrature points of element `e`, `points` per element.
+    pub fn element_reference(&self, e: usize, points: usize) -> &[Vector3<f64>] {
+        &self.reference[e * points..(e + 1) * points]
+    }
     /// Vertex at an end.
     pub fn end_vertex(&self, end: End) -> usize {
         match end {
@@ -61,6 +71,14 @@ pub struct DiscreteModel {
     pub assembly: Assembly,
     pub rods: Vec<DiscreteRod>,
     pub stiffness: Stiffness,
+    /// The elastic hypotheses (stress-free shape, energy) of every rod.
+    pub elasticity: Elasticity,
+    /// Where the reference curvatures of helical rods come from.
+    pub reference: Reference,
+    /// Tip height `h0` (m) of the natural state, the `ε = 0` of the load path: the
+    /// analytic `b L / c` with the continuum reference, the mean tip height of the
+    /// discrete natural state with the discrete one (they differ by `O(h⁴)`).
+    height0: f64,
     pub order: Order,
     pub rule: Vec<QuadraturePoint>,
     /// Number of primal unknowns (quaternions and positions).
@@ -71,13 +89,34 @@ pub struct DiscreteModel {
 
 impl DiscreteModel {
     /// Meshes every rod with about `elements` elements of the given order, with vertices
-    /// at its joints.
+    /// at its joints: Kirchhoff rods stress-free in their discrete natural configuration.
     pub fn new(
         assembly: Assembly,
         stiffness: Stiffness,
         elements: usize,
         order: Order,
     ) -> DiscreteModel {
+        DiscreteModel::with_hypotheses(
+            assembly,
+            stiffness,
+            elements,
+            order,
+            Elasticity::default(),
+            Reference::Discrete,
+        )
+    }
+
+    /// [`DiscreteModel::new`] with the elastic hypotheses `elasticity` and the reference
+    /// curvatures of helical rods taken as `reference` says.
+    pub fn with_hypotheses(
+        assembly: Assembly,
+        stiffness: Stiffness,
+        elements: usize,
+        order: Order,
+        elasticity: Elasticity,
+        reference: Reference,
+    ) -> DiscreteModel {
+        let rule = shape::quadrature(order);
         let mut offset = 0;
         let rods = assembly
             .rods
@@ -93,24 +132,38 @@ impl DiscreteModel {
                 let q_offset = offset;
                 let r_offset = q_offset + 4 * mesh.quaternion_nodes();
                 offset = r_offset + 3 * (mesh.elements() + 1);
+                let reference_curvatures =
+                    reference_curvatures(helix, &mesh, order, &rule, elasticity, reference);
                 DiscreteRod {
                     helix: *helix,
-                    natural: helix.natural_curvature(),
+                    reference: reference_curvatures,
                     mesh,
                     q_offset,
                     r_offset,
                 }
             })
             .collect();
-        DiscreteModel {
-            rule: shape::quadrature(order),
+        let mut model = DiscreteModel {
+            rule,
+            height0: assembly.height(),
             assembly,
             rods,
             stiffness,
+            elasticity,
+            reference,
             order,
             n_primal: offset,
             requested_elements: elements,
+        };
+        if reference == Reference::Discrete && !model.rods.is_empty() {
+            let x = model.natural_state();
+            let n = model.rods.len() as f64;
+            model.height0 = (0..model.rods.len())
+                .map(|id| model.vertex(&x, id, model.rods[id].mesh.elements())[2])
+                .sum::<f64>()
+                / n;
         }
+        model
     }
 
     /// For a symmetric pair: the full model it stands for (same meshes).
@@ -123,11 +176,13 @@ impl DiscreteModel {
             pair[0].pitch,
             self.length(),
         );
-        Some(DiscreteModel::new(
+        Some(DiscreteModel::with_hypotheses(
             full,
             self.stiffness,
             self.requested_elements,
             self.order,
+            self.elasticity,
+            self.reference,
         ))
     }
 
@@ -136,9 +191,9 @@ impl DiscreteModel {
         self.assembly.length
     }
 
-    /// Initial tip height `h0` (m).
+    /// Initial tip height `h0` (m): that of the natural state (see the field).
     pub fn height0(&self) -> f64 {
-        self.assembly.height()
+        self.height0
     }
 
     /// The natural state: nodal quaternions and positions of the free helices.
@@ -148,7 +203,11 @@ impl DiscreteModel {
     }
 
     /// The primal state in which rod `i` lies on `helices[i]` (nodal quaternions of its
-    /// directors and vertex positions), e.g. to prescribe ends on other helices.
+    /// directors and vertex positions), e.g. to prescribe ends on other helices. With the
+    /// discrete reference the vertices are where the chords `∫ d3 ds` of the interpolated
+    /// field put them from the helix's base, so that the state is the discrete helix (it
+    /// meets the inextensibility constraints exactly); with the continuum one they are on
+    /// the analytic helix.
     pub fn helix_state(&self, helices: &[Helix]) -> Vec<f64> {
         let mut x = vec![0.0; self.n_primal];
         for (rod, helix) in self.rods.iter().zip(helices) {
@@ -160,10 +219,29 @@ impl DiscreteModel {
                     x[rod.q_dof(k, c)] = q[c];
                 }
             }
-            for (v, &sv) in rod.mesh.vertices.iter().enumerate() {
-                let r = helix.position(sv);
-                for c in 0..3 {
-                    x[rod.r_dof(v, c)] = r[c];
+            match self.reference {
+                Reference::Continuum => {
+                    for (v, &sv) in rod.mesh.vertices.iter().enumerate() {
+                        let r = helix.position(sv);
+                        for c in 0..3 {
+                            x[rod.r_dof(v, c)] = r[c];
+                        }
+                    }
+                }
+                Reference::Discrete => {
+                    let mut r = helix.position(rod.mesh.vertices[0]);
+                    for c in 0..3 {
+                        x[rod.r_dof(0, c)] = r[c];
+                    }
+                    for e in 0..rod.mesh.elements() {
+                        let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
+                        let q = self.element_quaternions(&x, rod, e);
+                        let chord = element::chord(self.order, &self.rule, h, &q);
+                        for c in 0..3 {
+                            r[c] += chord[c];
+                            x[rod.r_dof(e + 1, c)] = r[c];
+                        }
+                    }
                 }
             }
         }
@@ -228,5 +306,39 @@ impl DiscreteModel {
             .map(|r| r.mesh.elements())
             .max()
             .unwrap_or(0)
+    }
+}
+
+/// Reference curvatures of a rod naturally on `helix` at every quadrature point of its
+/// mesh (see [`DiscreteRod::reference`]).
+fn reference_curvatures(
+    helix: &Helix,
+    mesh: &RodMesh,
+    order: Order,
+    rule: &[QuadraturePoint],
+    elasticity: Elasticity,
+    reference: Reference,
+) -> Vec<Vector3<f64>> {
+    let points = mesh.elements() * rule.len();
+    match (elasticity.stress_free, reference) {
+        (StressFree::Straight, _) => vec![Vector3::zeros(); points],
+        (StressFree::Helix, Reference::Continuum) => vec![helix.natural_curvature(); points],
+        (StressFree::Helix, Reference::Discrete) => {
+            let s: Vec<f64> = (0..mesh.quaternion_nodes())
+                .map(|k| mesh.node_arc_length(k))
+                .collect();
+            let field = helix.quaternion_field(&s);
+            let p = order.degree();
+            (0..mesh.elements())
+                .flat_map(|e| {
+                    let mut q = [[0.0; 4]; MAX_NODES];
+                    for (a, qa) in q.iter_mut().enumerate().take(p + 1) {
+                        *qa = std::array::from_fn(|c| field[e * p + a][c]);
+                    }
+                    let h = mesh.vertices[e + 1] - mesh.vertices[e];
+                    element::curvatures_at_points(order, rule, h, &q)
+                })
+                .collect()
+        }
     }
 }

@@ -275,7 +275,8 @@ impl System {
                     h,
                     &q,
                     &model.stiffness,
-                    &rod.natural,
+                    &model.elasticity,
+                    rod.element_reference(e, model.rule.len()),
                     &lambda,
                 );
                 energy += t.energy;

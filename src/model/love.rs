@@ -1,9 +1,14 @@
 //! Love's helical equilibria (DESIGN.md §6): a rod held on a uniform helix of another radius
 //! and pitch than its natural one stays that helix, loaded by an axial force and an axial
-//! couple only, both in closed form.
+//! couple only, both in closed form — for Kirchhoff rods stress-free when helical (Love's
+//! formula), when straight (the same with `K0 = τ0 = 0`), and for any energy density
+//! `W(κ1, κ2, Ω)` whose couple `m = ∂W/∂u` has no `d2` component on the helix
+//! (Sadowsky's ribbon, DESIGN.md §7), from the balance laws.
 
+use super::elasticity::{Elasticity, Reference, StressFree};
 use super::helix::Chirality;
 use super::stiffness::Stiffness;
+use nalgebra::Vector3;
 use std::f64::consts::PI;
 
 /// A rod, naturally a helix of radius `a0` and pitch parameter `b0`, held on the helix of
@@ -19,6 +24,11 @@ pub struct LoveHelix {
     pub stiffness: Stiffness,
     /// Pitch parameter `b` of the held helix (m).
     pub pitch: f64,
+    /// The elastic hypotheses of the rod.
+    pub elasticity: Elasticity,
+    /// How the discrete rod takes its reference curvatures (for the studies that solve it;
+    /// the closed form is the continuum's).
+    pub reference: Reference,
 }
 
 impl LoveHelix {
@@ -36,6 +46,17 @@ impl LoveHelix {
                 b3: 2.0,
             },
             pitch,
+            elasticity: Elasticity::default(),
+            reference: Reference::Discrete,
+        }
+    }
+
+    /// The same problem for a rod of other elastic hypotheses and reference.
+    pub fn with_hypotheses(self, elasticity: Elasticity, reference: Reference) -> LoveHelix {
+        LoveHelix {
+            elasticity,
+            reference,
+            ..self
         }
     }
 
@@ -54,29 +75,38 @@ impl LoveHelix {
         (self.c0().powi(2) - self.pitch.powi(2)).sqrt()
     }
 
-    /// `(K − K0, τ − τ0)` (1/m) with `K = a/c²`, `τ = b/c²`, and `c`.
-    fn changes(&self) -> (f64, f64, f64) {
-        let (a, b) = (self.radius(), self.pitch);
-        let (c0, c) = (self.c0(), a.hypot(b));
-        let (k0, t0) = (self.radius0 / (c0 * c0), self.pitch0 / (c0 * c0));
-        let (k, t) = (a / (c * c), b / (c * c));
-        (k - k0, t - t0, c)
+    /// The couple `m = ∂W/∂u` (N m, body components) on the held helix of a right-handed
+    /// rod, with the reference curvatures of the natural helix (zero when stress-free
+    /// straight).
+    fn couple(&self) -> Vector3<f64> {
+        let u = Vector3::from(self.curvature(Chirality::Right));
+        let reference = match self.elasticity.stress_free {
+            StressFree::Straight => Vector3::zeros(),
+            StressFree::Helix => {
+                let c0 = self.c0();
+                Vector3::new(-self.radius0 / (c0 * c0), 0.0, self.pitch0 / (c0 * c0))
+            }
+        };
+        self.elasticity.density(&self.stiffness, &u, &reference).1
     }
 
-    /// Axial force on the tip (N, tension positive):
-    /// `F = [C (τ − τ0) a − B (K − K0) b] / (a c)`.
+    /// Axial force on the tip (N, tension positive), from `m' + d3 × n = 0` with `n = F e_z`
+    /// on the helix: `F = c (Ω m1 − κ1 m3) / a`. For Kirchhoff rods this is Love's
+    /// `F = [C (τ − τ0) a − B (K − K0) b] / (a c)` (`K0 = τ0 = 0` when straight).
     pub fn force(&self) -> f64 {
-        let (a, b) = (self.radius(), self.pitch);
-        let (dk, dt, c) = self.changes();
-        (self.stiffness.b3 * dt * a - self.stiffness.b1 * dk * b) / (a * c)
+        let (a, c) = (self.radius(), self.c0());
+        let u = self.curvature(Chirality::Right);
+        let m = self.couple();
+        c * (u[2] * m[0] - u[0] * m[2]) / a
     }
 
-    /// Axial couple on the tip (N m): `M = χ [B (K − K0) a + C (τ − τ0) b] / c`, `χ = ±1`
-    /// for a right- or left-handed rod.
+    /// Axial couple on the tip (N m), `M = m · e_z = χ (−a m1 + b m3)/c` with `m` the
+    /// right-handed rod's couple (a left-handed rod is its mirror image); for Kirchhoff rods
+    /// Love's `M = χ [B (K − K0) a + C (τ − τ0) b] / c`, `χ = ±1`.
     pub fn moment(&self, chirality: Chirality) -> f64 {
-        let (a, b) = (self.radius(), self.pitch);
-        let (dk, dt, c) = self.changes();
-        chirality.sign() * (self.stiffness.b1 * dk * a + self.stiffness.b3 * dt * b) / c
+        let (a, b, c) = (self.radius(), self.pitch, self.c0());
+        let m = self.couple();
+        chirality.sign() * (-a * m[0] + b * m[2]) / c
     }
 
     /// Curvatures `(−a/c², 0, χ b/c²)` of the held helix (1/m).

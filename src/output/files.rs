@@ -5,8 +5,8 @@
 //! there are moved out (and put back if the move fails).
 
 use super::csv::{
-    bulk_csv, check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv,
-    state_csv, with_note, NonFinite,
+    bulk_csv, check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv, state_csv,
+    with_note, NonFinite,
 };
 use super::vtk;
 use crate::discretisation::model::DiscreteModel;
@@ -73,6 +73,16 @@ impl<'a> RunFiles<'a> {
     }
 }
 
+/// The elastic hypotheses of the model and where its reference curvatures come from, for
+/// the header of every file (issue 11).
+pub fn hypotheses_note(model: &DiscreteModel) -> String {
+    format!(
+        "elastic hypotheses: {}; reference curvatures: {}",
+        model.elasticity.describe(),
+        model.reference.name()
+    )
+}
+
 /// Which model was solved, for the header of every file.
 pub fn model_solved(model: &DiscreteModel) -> String {
     match model.assembly.symmetry {
@@ -110,8 +120,10 @@ pub fn run_files(run: &RunFiles) -> io::Result<Vec<(String, String)>> {
         files.push((format!("state-{step}.csv"), state_csv(case, snapshot)));
     }
     let solved = model_solved(run.model);
+    let hypotheses = hypotheses_note(run.model);
     let mut files: Vec<(String, String)> = files
         .into_iter()
+        .map(|(name, text)| (name, with_note(&text, &hypotheses)))
         .map(|(name, text)| (name, with_note(&text, &solved)))
         .map(|(name, text)| match run.note {
             Some(n) => (name, with_note(&text, n)),

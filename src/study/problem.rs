@@ -101,11 +101,13 @@ impl Measure {
 /// helix `(a0, b0)`. One rod has no joints, so its meshes are uniform and a doubling ladder
 /// nests.
 fn love_model(love: &LoveHelix, order: Order, elements: usize) -> DiscreteModel {
-    DiscreteModel::new(
+    DiscreteModel::with_hypotheses(
         Assembly::new(1, love.radius0, love.pitch0, love.length),
         love.stiffness,
         elements,
         order,
+        love.elasticity,
+        love.reference,
     )
 }
 
@@ -149,15 +151,21 @@ impl Problem {
     pub fn describe(&self) -> String {
         match self {
             Problem::Path(case) => format!(
-                "n = {}, {} control 0 → {} in {} steps",
+                "n = {}, {} control 0 → {} in {} steps; {}, {} reference curvatures",
                 case.geometry.helices,
                 case.loading.control.name(),
                 case.loading.target,
-                case.loading.steps
+                case.loading.steps,
+                case.rod.describe(),
+                case.discretisation.reference.name()
             ),
             Problem::Love(love) => format!(
-                "Love's helix: a rod of a0 = {} m, b0 = {} m held on b = {} m",
-                love.radius0, love.pitch0, love.pitch
+                "Love's helix: a rod of a0 = {} m, b0 = {} m held on b = {} m; {}, {} reference curvatures",
+                love.radius0,
+                love.pitch0,
+                love.pitch,
+                love.elasticity.describe(),
+                love.reference.name()
             ),
         }
     }
@@ -242,8 +250,14 @@ impl Problem {
             return None;
         };
         let k = love.curvature(Chirality::Right);
+        let source = match love.elasticity.energy {
+            crate::model::elasticity::Energy::Kirchhoff => "Love's helix, DESIGN.md §6",
+            crate::model::elasticity::Energy::Sadowsky(_) => {
+                "a uniform ribbon helix, DESIGN.md §7 (balance laws, m = ∂W/∂u)"
+            }
+        };
         Some(format!(
-            "Love's helix, DESIGN.md §6: Fz = {:.6} N, (κ1, κ2, Ω) = ({:.4}, 0, {:.4}) 1/m",
+            "{source}: Fz = {:.6} N, (κ1, κ2, Ω) = ({:.4}, 0, {:.4}) 1/m",
             love.force(),
             k[0],
             k[2]

@@ -1238,6 +1238,21 @@ fn boundary_line(app: &App) -> Line<'static> {
             m.estimated_error
         )));
     }
+    // the elastic hypotheses, when they are not the thesis's (issue 11)
+    let case = app.case();
+    let hypotheses = match (case.rod.stress_free, case.rod.energy) {
+        (_, crate::model::elasticity::Energy::Sadowsky(_)) => Some("Sadowsky ribbons"),
+        (crate::model::elasticity::StressFree::Straight, _) => Some("rods straight at rest"),
+        _ => None,
+    };
+    if let Some(h) = hypotheses {
+        line.push(sep());
+        line.push(Span::raw(h));
+    }
+    if case.discretisation.reference == crate::model::elasticity::Reference::Continuum {
+        line.push(sep());
+        line.push(Span::raw("continuum κ*"));
+    }
     if in_force != app.boundary {
         line.push(sep());
         line.push(Span::styled(
