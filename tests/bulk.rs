@@ -72,6 +72,8 @@ fn the_bulk_of_a_rod_held_on_a_perfect_helix_is_the_whole_rod_and_that_helix() {
                 length: 7.0 * PI * c0(),
                 stiffness: STIFFNESS,
                 pitch: b,
+                elasticity: Default::default(),
+                reference: spira::model::elasticity::Reference::Discrete,
             };
             let (f, m) = (love.force(), love.moment(rb.chirality));
             let lf = rb.love_force.expect("a helix has Love's force");
@@ -186,6 +188,8 @@ fn longer_tubes_approach_the_infinite_tube_of_loves_family() {
         length: 7.0 * PI * c0(),
         stiffness: STIFFNESS,
         pitch: B0 * (1.0 - eps),
+        elasticity: Default::default(),
+        reference: spira::model::elasticity::Reference::Discrete,
     };
     let mut last: Option<(f64, f64)> = None;
     for turns in [3.5, 7.0, 14.0] {
