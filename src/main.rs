@@ -124,6 +124,14 @@ enum Command {
         /// Measure a 16-case sweep instead: on every core, then one case after another.
         #[arg(long, conflicts_with = "tui")]
         sweep: bool,
+        /// Measure the scaling with n instead: cold `spira run` processes of the thesis
+        /// geometry for n = 8, 16, 32, 64, the symmetric pair and (up to n = FULL_MAX) the
+        /// full model, time and peak memory.
+        #[arg(long, conflicts_with_all = ["tui", "sweep"])]
+        scaling: bool,
+        /// With --scaling: the largest n solved as the full model too.
+        #[arg(long, default_value_t = 16)]
+        full_max: usize,
     },
     /// Run a sweep: the cases of a sweep file in parallel, each into its own folder, and one
     /// table, sweep.csv; or merge the tables of shard folders (--merge).
@@ -207,6 +215,11 @@ fn main() {
             })
         }),
         Some(Command::Bench { sweep: true, .. }) => bench_sweep(),
+        Some(Command::Bench {
+            scaling: true,
+            full_max,
+            ..
+        }) => bench_scaling(full_max),
         Some(Command::Bench { case, repeats, .. }) => {
             repeats_flag(repeats).and_then(|r| bench(case.as_deref(), r))
         }
@@ -288,6 +301,15 @@ struct Extras {
     figures: bool,
     /// A ParaView series.
     vtk: bool,
+}
+
+/// The peak resident memory of this process (MB), where the system tells it (Linux's
+/// `VmHWM`).
+fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
 }
 
 /// The command line as typed, the program named `spira`, for captions.
@@ -483,6 +505,9 @@ fn run(
         last.load[2],
         last.energy
     );
+    if let Some(mb) = peak_memory_mb() {
+        println!("peak memory {mb:.0} MB");
+    }
     if let Some(n) = &note {
         println!("{n}");
     }
@@ -622,7 +647,9 @@ fn replay(session: &Path, out: &Path) -> Result<()> {
 }
 
 fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
-    let (case, _) = resolve(load_case(path)?)?;
+    let (mut case, _) = resolve(load_case(path)?)?;
+    // the full model first, the symmetric pair (what "auto" solves) beside it
+    case.discretisation.symmetric = false;
     let eps = case.output_eps(case.loading.target, case.loading.steps);
     println!(
         "spira bench: case {} (n = {}, {} {:?} elements per rod), eps 0 -> {} in {} output steps, {} timed runs after a warm-up",
@@ -987,6 +1014,69 @@ loading.steps = 6
 "geometry.turns" = [2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 5.5]
 "boundary.tip" = [{ translation = "fixed", rotation = "clamped" }, { translation = "slide", rotation = "clamped" }]
 "#;
+
+/// `spira bench --scaling`: cold `spira run` processes of this binary on the thesis
+/// geometry (56 quadratic elements per rod, ε 0 → 0.5 in 10 output steps, stability of every
+/// step, lowest eigenvalue at every output step) for n = 8 … 64, pair and full model side by
+/// side, each process's wall time and peak memory (as it reports it).
+fn bench_scaling(full_max: usize) -> Result<()> {
+    let exe = std::env::current_exe().context("finding the spira binary")?;
+    let dir = tempfile::tempdir()?;
+    println!(
+        "spira bench --scaling: thesis geometry, 56 quadratic elements per rod, eps 0 -> 0.5 in 10 output steps, stability at every step, lowest eigenvalue at every output step; cold `spira run` processes"
+    );
+    println!(
+        "{:>4} {:>6} {:>10} {:>10} {:>12}",
+        "n", "model", "unknowns", "time (s)", "memory (MB)"
+    );
+    let run = |n: usize, pair: bool| -> Result<(f64, String, String)> {
+        let case = dir.path().join(format!("n{n}-{pair}.toml"));
+        std::fs::write(
+            &case,
+            format!(
+                "[geometry]\nhelices = {n}\n[discretisation]\nelements = 56\nsymmetric = {pair}\n"
+            ),
+        )?;
+        let t = Instant::now();
+        let output = std::process::Command::new(&exe)
+            .args(["run", &case.to_string_lossy(), "--force", "--out"])
+            .arg(dir.path().join(format!("out-{n}-{pair}")))
+            .output()
+            .context("running spira run")?;
+        let wall = t.elapsed().as_secs_f64();
+        let text = String::from_utf8_lossy(&output.stdout).into_owned();
+        if !output.status.success() {
+            bail!(
+                "n = {n}: spira run failed: {}",
+                String::from_utf8_lossy(&output.stderr)
+            );
+        }
+        let unknowns = text
+            .split(" unknowns;")
+            .next()
+            .and_then(|s| s.rsplit(' ').next())
+            .unwrap_or("?")
+            .to_string();
+        let memory = text
+            .lines()
+            .find_map(|l| l.strip_prefix("peak memory "))
+            .map_or("?".into(), |m| m.trim_end_matches(" MB").to_string());
+        Ok((wall, unknowns, memory))
+    };
+    for n in [8usize, 16, 32, 64] {
+        for pair in [true, false] {
+            if !pair && n > full_max {
+                continue;
+            }
+            let (wall, unknowns, memory) = run(n, pair)?;
+            println!(
+                "{n:>4} {:>6} {unknowns:>10} {wall:>10.2} {memory:>12}",
+                if pair { "pair" } else { "full" }
+            );
+        }
+    }
+    Ok(())
+}
 
 fn bench_sweep() -> Result<()> {
     use spira::sweep::{run_sweep, workers, RunOptions, Shard, Sweep};

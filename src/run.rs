@@ -3,7 +3,6 @@
 
 use crate::case::Case;
 use crate::discretisation::bulk;
-use crate::discretisation::fields;
 use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
@@ -147,7 +146,7 @@ pub fn run_path_steps(
     let modes = sim
         .critical_points()
         .iter()
-        .map(|c| fields::mode_shape(sim.model(), sim.system(), &c.state, c.eps, &c.mode))
+        .map(|c| sim.mode_shape(c))
         .collect();
     Ok(PathOutcome {
         bulk: bulks,

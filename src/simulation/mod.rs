@@ -13,7 +13,7 @@ use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
 use crate::model::loading::{Control, TipLoad};
-use crate::results::{CriticalPoint, LoadPoint, Snapshot, Stability};
+use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, Stability};
 use crate::solver::continuation::Critical;
 use crate::solver::continuation::{
     Continuation, ContinuationError, ContinuationSettings, Observer, StopReason,
@@ -49,6 +49,9 @@ pub struct Simulation {
     path: Continuation<RodProblem>,
     /// The engine's critical points, reported with the loads and compression there.
     critical: Vec<CriticalPoint>,
+    /// The symmetric pair and its system, once the path has left it for the full model
+    /// (its critical points' states are the pair's).
+    pair: Option<Box<(DiscreteModel, System)>>,
 }
 
 impl Simulation {
@@ -95,6 +98,7 @@ impl Simulation {
         Ok(Simulation {
             path,
             critical: Vec::new(),
+            pair: None,
         })
     }
 
@@ -347,11 +351,15 @@ impl Simulation {
                 None => mode.clone(),
             };
             let problem = RodProblem::new(full.clone(), system.clone(), control);
+            let pair = (self.model().clone(), self.system().clone());
             match self
                 .path
                 .switch_onto_problem(problem, x.clone(), cp.parameter, &along, sign, h)
             {
-                Ok(()) => return Ok(()),
+                Ok(()) => {
+                    self.pair = Some(Box::new(pair));
+                    return Ok(());
+                }
                 Err(e) => last = Some(e),
             }
         }
@@ -429,30 +437,72 @@ impl Simulation {
         fields::snapshot(self.model(), self.system(), self.state(), self.eps())
     }
 
+    /// For a critical point of a symmetric pair whose mode was rebuilt on the whole
+    /// assembly: the full model, its system and the critical state expanded onto it.
+    fn on_whole_assembly(
+        &self,
+        critical: &CriticalPoint,
+    ) -> Option<(DiscreteModel, System, Vec<f64>)> {
+        critical.assembly_mode.as_ref()?;
+        let (pair, system) = match &self.pair {
+            Some(p) => (&p.0, &p.1),
+            None => (self.model(), self.system()),
+        };
+        if critical.state.len() != system.n {
+            return None;
+        }
+        let full = pair.full_model()?;
+        let full_system = System::new(
+            &full,
+            system.bc,
+            &full.natural_state(),
+            TipLoad::Height(full.height0()),
+        );
+        let mut x = vec![0.0; full_system.n];
+        expand_state(pair, system, &critical.state, &full, &full_system, &mut x);
+        Some((full, full_system, x))
+    }
+
+    /// A critical mode on the geometry of its state (for a symmetric pair, on the whole
+    /// assembly, where its mode was rebuilt): for ParaView series.
+    pub fn mode_shape(&self, critical: &CriticalPoint) -> ModeShape {
+        match (self.on_whole_assembly(critical), &critical.assembly_mode) {
+            (Some((full, system, x)), Some(mode)) => {
+                fields::mode_shape(&full, &system, &x, critical.eps, mode)
+            }
+            _ if critical.state.len() == self.system().n => fields::mode_shape(
+                self.model(),
+                self.system(),
+                &critical.state,
+                critical.eps,
+                &critical.mode,
+            ),
+            // a critical point of the pair, which the path has left: drawn on the pair
+            _ => match &self.pair {
+                Some(p) => {
+                    fields::mode_shape(&p.0, &p.1, &critical.state, critical.eps, &critical.mode)
+                }
+                None => fields::mode_shape(
+                    self.model(),
+                    self.system(),
+                    &critical.state,
+                    critical.eps,
+                    &critical.mode,
+                ),
+            },
+        }
+    }
+
     /// Shape of a critical mode: the state displaced by `amplitude` times the mode (for a
     /// symmetric pair, the whole assembly displaced by the mode rebuilt on it).
     pub fn mode_snapshot(&self, critical: &CriticalPoint, amplitude: f64) -> Snapshot {
-        if let (Some(mode), Some(full)) = (&critical.assembly_mode, self.model().full_model()) {
-            let system = self.system();
-            let full_system = System::new(
-                &full,
-                system.bc,
-                &full.natural_state(),
-                TipLoad::Height(full.height0()),
-            );
-            let mut x = vec![0.0; full_system.n];
-            expand_state(
-                self.model(),
-                system,
-                &critical.state,
-                &full,
-                &full_system,
-                &mut x,
-            );
+        if let (Some((full, system, mut x)), Some(mode)) =
+            (self.on_whole_assembly(critical), &critical.assembly_mode)
+        {
             for (xi, mi) in x.iter_mut().zip(mode) {
                 *xi += amplitude * mi;
             }
-            return fields::snapshot(&full, &full_system, &x, critical.eps);
+            return fields::snapshot(&full, &system, &x, critical.eps);
         }
         let x: Vec<f64> = critical
             .state
@@ -460,7 +510,11 @@ impl Simulation {
             .zip(&critical.mode)
             .map(|(a, m)| a + amplitude * m)
             .collect();
-        fields::snapshot(self.model(), self.system(), &x, critical.eps)
+        match &self.pair {
+            // a critical point of the pair, which the path has left
+            Some(p) if x.len() != self.system().n => fields::snapshot(&p.0, &p.1, &x, critical.eps),
+            _ => fields::snapshot(self.model(), self.system(), &x, critical.eps),
+        }
     }
 }
 
