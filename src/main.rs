@@ -166,6 +166,13 @@ fn load_case(path: Option<&Path>) -> Result<Case> {
 }
 
 fn main() {
+    // Rust ignores SIGPIPE, so a closed pipe (`spira run … | head`) would make every
+    // further print fail; a command-line tool ends quietly there instead
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to its default before any thread is started
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         None => spira::tui::run(Case::default_case()).map_err(Into::into),

@@ -740,3 +740,35 @@ fn a_folder_in_the_way_fails_the_write_and_keeps_the_old_files() {
     );
     assert!(!out_dir.join("reactions.csv").exists());
 }
+
+#[test]
+fn a_closed_pipe_ends_the_run_quietly() {
+    use std::io::{BufRead as _, BufReader};
+    let dir = Scratch::new("pipe");
+    let case = dir.write("tiny.toml", TINY_CASE);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
+        .args([
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            dir.path("out").to_str().unwrap(),
+            // two lines per step: more than a pipe holds, so the writes go on after it
+            // is closed
+            "--steps",
+            "3000",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run spira");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .expect("a line");
+    // the reader is gone (as `| head -1` leaves): the rest of the output has nowhere to go
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    let _ = child.wait();
+    assert!(first.starts_with("spira run: case"), "{first}");
+    assert!(!err.contains("panicked"), "{err}");
+}

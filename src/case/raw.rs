@@ -145,11 +145,29 @@ pub(super) struct RawDiscretisation {
 }
 
 /// `discretisation.symmetric`: `true`, `false` or `"auto"`.
-#[derive(Deserialize, Clone, Debug, PartialEq)]
-#[serde(untagged)]
+#[derive(Clone, Debug, PartialEq)]
 pub(super) enum SymmetricKey {
     Flag(bool),
     Word(String),
+}
+
+impl<'de> Deserialize<'de> for SymmetricKey {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<SymmetricKey, D::Error> {
+        struct Key;
+        impl serde::de::Visitor<'_> for Key {
+            type Value = SymmetricKey;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("true, false or \"auto\"")
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<SymmetricKey, E> {
+                Ok(SymmetricKey::Flag(v))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<SymmetricKey, E> {
+                Ok(SymmetricKey::Word(v.to_string()))
+            }
+        }
+        d.deserialize_any(Key)
+    }
 }
 
 /// `[solver]`.
