@@ -1163,9 +1163,12 @@ fn readout_line(app: &App) -> Line<'static> {
 /// What the explorer is doing: solving (what, for how long, how far), running, or idle.
 fn activity(app: &App) -> Span<'static> {
     let solving = |job: &str| {
-        // a step drops "solving" so that the cancel key fits 80 columns
+        // a step, and the natural state (whose n the line shows already), drop "solving"
+        // so that the cancel key fits 80 columns
         let what = if job.starts_with('ε') {
             job.to_string()
+        } else if job.starts_with("natural state") {
+            "natural state".to_string()
         } else {
             format!("solving {job}")
         };
