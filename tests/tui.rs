@@ -906,7 +906,10 @@ fn screen_while_solving_the_natural_state() {
     let screen = text(&draw(&app, 80, 24));
     assert!(screen.contains("solving the natural state"));
     // the n is on the line already; the cancel key fits 80 columns
-    assert!(screen.contains("natural state… 0.0 s · c cancels"), "{screen}");
+    assert!(
+        screen.contains("natural state… 0.0 s · c cancels"),
+        "{screen}"
+    );
     assert_snapshot("solving_80x24", &screen);
 }
 
