@@ -485,32 +485,16 @@ impl<P: Problem> Continuation<P> {
     pub fn restart_with(
         &mut self,
         problem: P,
-        mut x: Vec<f64>,
+        x: Vec<f64>,
         lambda: f64,
     ) -> Result<(), ContinuationError> {
-        x.resize(problem.unknowns(), 0.0);
-        let mut newton = Newton::new(&problem);
-        newton.carry_count(self.newton.factorisations());
-        let old_problem = std::mem::replace(&mut self.problem, problem);
-        let mut old_newton = std::mem::replace(&mut self.newton, newton);
-        let old_state = self.state.clone();
-        self.state.x = x;
-        self.state.lambda = lambda;
-        self.state.arclength = false;
-        match self.correct_in_place() {
-            Ok(()) => {
-                self.state.step = self.settings.initial_step;
-                self.update_stability(true);
-                Ok(())
-            }
-            Err(e) => {
-                old_newton.carry_count(self.newton.factorisations());
-                self.problem = old_problem;
-                self.newton = old_newton;
-                self.state = old_state;
-                Err(e)
-            }
-        }
+        self.with_problem(problem, x, lambda, |this| {
+            this.state.arclength = false;
+            this.correct_in_place()?;
+            this.state.step = this.settings.initial_step;
+            this.update_stability(true);
+            Ok(())
+        })
     }
 
     /// Replaces the problem (e.g. the full model behind a reduced one) and leaves the
@@ -519,11 +503,47 @@ impl<P: Problem> Continuation<P> {
     pub fn switch_onto_problem(
         &mut self,
         problem: P,
-        mut x: Vec<f64>,
+        x: Vec<f64>,
         lambda: f64,
         mode: &[f64],
         sign: f64,
         h: f64,
+    ) -> Result<(), ContinuationError> {
+        self.with_problem(problem, x, lambda, |this| {
+            this.state.tangent = None;
+            // the new problem's multipliers (of supports and joints) are solved for first,
+            // at the critical state, where the Jacobian is nearly singular (as for the
+            // probes of a critical-point search)
+            let x0 = this.state.x.clone();
+            let step = StepEquation {
+                tx: None,
+                tl: 1.0,
+                x0: &x0,
+                l0: lambda,
+                ds: 0.0,
+            };
+            let settings = NewtonSettings {
+                singular_threshold: this.settings.newton.singular_threshold.max(1e-2),
+                ..this.settings.newton
+            };
+            let t = this
+                .correct(x0.clone(), lambda, &step, &settings)
+                .map_err(|cause| {
+                    this.error(lambda, 0.0, StopReason::Newton { step: 0.0, cause })
+                })?;
+            this.state.x.clone_from(&t.x);
+            this.switch_onto(&t.x, lambda, mode, sign, h)
+        })
+    }
+
+    /// Puts `problem` (with a Newton solver of its own) in place at `(x, λ)` and runs `f`;
+    /// if `f` fails, the old problem, solver and state come back. The statistics go on.
+    fn with_problem(
+        &mut self,
+        problem: P,
+        mut x: Vec<f64>,
+        lambda: f64,
+        f: impl FnOnce(&mut Self) -> Result<(), ContinuationError>,
     ) -> Result<(), ContinuationError> {
         x.resize(problem.unknowns(), 0.0);
         let mut newton = Newton::new(&problem);
@@ -533,39 +553,11 @@ impl<P: Problem> Continuation<P> {
         let old_state = self.state.clone();
         self.state.x = x;
         self.state.lambda = lambda;
-        self.state.tangent = None;
-        // the new problem's multipliers (of supports and joints) are solved for first, at
-        // the critical state, where the Jacobian is nearly singular (as for the probes of
-        // a critical-point search)
-        let solved = {
-            let x0 = self.state.x.clone();
-            let step = StepEquation {
-                tx: None,
-                tl: 1.0,
-                x0: &x0,
-                l0: lambda,
-                ds: 0.0,
-            };
-            let settings = NewtonSettings {
-                singular_threshold: self.settings.newton.singular_threshold.max(1e-2),
-                ..self.settings.newton
-            };
-            self.correct(x0.clone(), lambda, &step, &settings)
-                .map_err(|cause| self.error(lambda, 0.0, StopReason::Newton { step: 0.0, cause }))
-        };
-        let switched = solved.and_then(|t| {
-            self.state.x.clone_from(&t.x);
-            self.switch_onto(&t.x, lambda, mode, sign, h)
-        });
-        match switched {
-            Ok(()) => Ok(()),
-            Err(e) => {
-                old_newton.carry_count(self.newton.factorisations());
-                self.problem = old_problem;
-                self.newton = old_newton;
-                self.state = old_state;
-                Err(e)
-            }
-        }
+        f(self).inspect_err(|_| {
+            old_newton.carry_count(self.newton.factorisations());
+            self.problem = old_problem;
+            self.newton = old_newton;
+            self.state = old_state;
+        })
     }
 }
