@@ -88,9 +88,8 @@ pub fn run_path_steps(
     mut on_step: impl FnMut(&Step),
 ) -> Result<PathOutcome, SolveError> {
     let t0 = Instant::now();
-    let mut sim = Simulation::from_case(case)?;
-    sim.set_interrupt(interrupt);
-    sim.set_observer(observer);
+    // the interrupt is in force from the natural state's solve on
+    let mut sim = Simulation::from_case_with(case, interrupt, observer)?;
     let mut bulks: Vec<StepBulk> = Vec::new();
     let mut report = |sim: &Simulation, p: &LoadPoint, time: Duration| {
         let snapshot = sim.snapshot();

@@ -58,9 +58,29 @@ impl Simulation {
     /// The case's simulation at its natural state (`ε = 0`, solved), under the case's
     /// boundary conditions, control and solver settings.
     pub fn from_case(case: &Case) -> Result<Simulation, SolveError> {
+        Simulation::from_case_with(case, None, None)
+    }
+
+    /// As [`Simulation::from_case`], with `interrupt` in force from the natural state's
+    /// solve on (so that a long one can be cancelled, or stop at a deadline) and `observer`
+    /// told of every accepted internal step from then on.
+    pub fn from_case_with(
+        case: &Case,
+        interrupt: Option<Interrupt>,
+        observer: Option<Observer>,
+    ) -> Result<Simulation, SolveError> {
         let model = case.model();
         let x0 = model.natural_state();
-        Simulation::from_state(model, case.boundary, case.loading.control, x0, case.solver)
+        let control = case.loading.control;
+        Simulation::start(
+            model,
+            case.boundary,
+            control,
+            x0,
+            case.solver,
+            interrupt,
+            observer,
+        )
     }
 
     /// Starts from the natural state at `ε = 0` under displacement control and solves it.
@@ -81,8 +101,20 @@ impl Simulation {
         model: DiscreteModel,
         bc: BoundaryConditions,
         control: Control,
+        x: Vec<f64>,
+        settings: ContinuationSettings,
+    ) -> Result<Simulation, SolveError> {
+        Simulation::start(model, bc, control, x, settings, None, None)
+    }
+
+    fn start(
+        model: DiscreteModel,
+        bc: BoundaryConditions,
+        control: Control,
         mut x: Vec<f64>,
         settings: ContinuationSettings,
+        interrupt: Option<Interrupt>,
+        observer: Option<Observer>,
     ) -> Result<Simulation, SolveError> {
         x.truncate(model.n_primal);
         let eps = 1.0 - mean_tip_height(&model, &x) / model.height0();
@@ -93,7 +125,7 @@ impl Simulation {
         let tip = TipLoad::at(control, lambda, model.height0(), pcrit(&model));
         let system = System::new(&model, bc, &x, tip);
         let problem = RodProblem::new(model, system, control);
-        let path = Continuation::new(problem, x, lambda, settings)
+        let path = Continuation::new_with(problem, x, lambda, settings, interrupt, observer)
             .map_err(|e| solve_error(e, control, eps))?;
         Ok(Simulation {
             path,
@@ -138,6 +170,12 @@ impl Simulation {
     /// is `ε` under displacement control).
     pub fn set_observer(&mut self, observer: Option<Observer>) {
         self.path.set_observer(observer);
+    }
+
+    /// Sets the length of the next internal step (see
+    /// [`Continuation::set_step_length`]).
+    pub fn set_step_length(&mut self, step: f64) {
+        self.path.set_step_length(step);
     }
 
     fn rods(&self) -> &RodProblem {
@@ -307,6 +345,20 @@ impl Simulation {
             .get(index)
             .filter(|c| self.rods().is_symmetric_pair() && c.wavenumber != Some(0))
             .cloned();
+        // a critical point of a problem the path has left cannot be switched at
+        let left = self
+            .critical
+            .get(index)
+            .is_some_and(|c| c.state.len() != self.system().n && breaking.is_none());
+        if left {
+            let lambda = self.parameter();
+            return Err(self.error(ContinuationError {
+                reached: lambda,
+                target: lambda,
+                step: 0.0,
+                reason: StopReason::LeftProblem { index },
+            }));
+        }
         let Some(cp) = breaking else {
             return self
                 .path

@@ -65,6 +65,10 @@ pub enum StopReason {
     SymmetricPair,
     #[error("there is no critical point {index} to switch branch at")]
     NoCriticalPoint { index: usize },
+    /// The critical point's state is of another problem than the path's now (a symmetric
+    /// pair the path has left for the full model).
+    #[error("critical point {index} is of the symmetric pair, which the path has left for the whole assembly: start over to switch there")]
+    LeftProblem { index: usize },
     #[error("the solve was interrupted: {0}")]
     Interrupted(Interruption),
     /// The count of unstable directions changed more often than a path has critical
@@ -138,9 +142,23 @@ impl<P: Problem> Continuation<P> {
     /// solves there at fixed `λ`, then judges the stability of the solution.
     pub fn new(
         problem: P,
+        x: Vec<f64>,
+        lambda: f64,
+        settings: ContinuationSettings,
+    ) -> Result<Continuation<P>, ContinuationError> {
+        Continuation::new_with(problem, x, lambda, settings, None, None)
+    }
+
+    /// As [`Continuation::new`], with `interrupt` checked from the first solve on (so that
+    /// the solve at the start can be stopped too) and `observer` told of every accepted
+    /// step from then on.
+    pub fn new_with(
+        problem: P,
         mut x: Vec<f64>,
         lambda: f64,
         settings: ContinuationSettings,
+        interrupt: Option<Interrupt>,
+        observer: Option<Observer>,
     ) -> Result<Continuation<P>, ContinuationError> {
         x.resize(problem.unknowns(), 0.0);
         let newton = Newton::new(&problem);
@@ -151,8 +169,8 @@ impl<P: Problem> Continuation<P> {
             settings,
             stats: Statistics::default(),
             critical: Vec::new(),
-            interrupt: None,
-            observer: None,
+            interrupt,
+            observer,
         };
         path.correct_in_place()?;
         path.update_stability(true);
@@ -167,6 +185,14 @@ impl<P: Problem> Continuation<P> {
     /// `observer` is told of every accepted step from now on.
     pub fn set_observer(&mut self, observer: Option<Observer>) {
         self.observer = observer;
+    }
+
+    /// Sets the length of the next internal step (within the settings' bounds), e.g. to
+    /// resume a path exactly as a stopped solve left it.
+    pub fn set_step_length(&mut self, step: f64) {
+        if step.is_finite() && step > 0.0 {
+            self.state.step = step.clamp(self.settings.min_step, self.settings.max_step);
+        }
     }
 
     pub fn problem(&self) -> &P {
@@ -255,6 +281,11 @@ impl<P: Problem> Continuation<P> {
                 self.state.tangent = None;
                 self.state.previous = None;
                 Ok(())
+            }
+            // stopped from outside: said as such, as for a step
+            Err(NewtonError::Interrupted { why, .. }) => {
+                self.newton.discard_factorisation();
+                Err(self.error(l0, 0.0, StopReason::Interrupted(why)))
             }
             Err(cause) => Err(self.error(l0, 0.0, StopReason::Newton { step: 0.0, cause })),
         }
@@ -371,6 +402,9 @@ impl<P: Problem> Continuation<P> {
         let mut arclength_steps = 0;
         while (target - self.state.lambda).abs() > 1e-14 * (1.0 + target.abs()) {
             if let Some(why) = self.interrupt.as_ref().and_then(Interrupt::check) {
+                // as when a Newton iteration is interrupted, so that a path stopped here
+                // and one stopped inside the next step go on alike
+                self.newton.discard_factorisation();
                 return Err(self.error(target, 0.0, StopReason::Interrupted(why)));
             }
             let dir = (target - self.state.lambda).signum();
