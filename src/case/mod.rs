@@ -23,6 +23,7 @@ pub use limits::{
 };
 pub use settings::{Accuracy, Discretisation, Geometry, Loading};
 pub use size::{available_memory, SizeEstimate, TooLarge};
+pub use tables::FreeMotion;
 pub use target::TargetError;
 
 use crate::discretisation::model::DiscreteModel;
@@ -136,6 +137,12 @@ impl Case {
         c.discretisation.symmetric |= n >= 4 && n % 2 == 0;
         c.solver.lowest_eigenvalue = false;
         c
+    }
+
+    /// The rigid motion that supports `bc` would leave free on the case's assembly, if any
+    /// (the check the case reader refuses a file's `[boundary]` by).
+    pub fn free_motion(&self, bc: &BoundaryConditions) -> Option<FreeMotion> {
+        tables::free_motion_of(bc, self.geometry.helices)
     }
 
     /// The size of the case's problem, estimated from its mesh without building it.
