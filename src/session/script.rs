@@ -3,7 +3,7 @@
 //! ([`worker::run_jobs`]), so the replay writes the explorer's CSVs.
 
 use super::export::{self, SessionEvent};
-use super::worker::{self, Job, WorkerEvent};
+use super::worker::{self, Job, Part, WorkerEvent};
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{LoadPoint, Snapshot};
@@ -19,8 +19,27 @@ pub enum Action {
         helices: usize,
         boundary: BoundaryConditions,
     },
-    /// Continue the path to `ε = eps`.
-    Advance { eps: f64 },
+    /// Continue the path to `ε = eps`; with `steps`, stop after that many accepted
+    /// internal steps with the next one `step_length` long (a step the explorer's user
+    /// cancelled part of the way, replayed to the state it reached).
+    Advance {
+        eps: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        steps: Option<usize>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        step_length: Option<f64>,
+    },
+    /// Switch onto the branch of bifurcation `index` (of the critical points found since
+    /// the start, from 0) on the side `sign` (±1), and follow it to `ε = eps`.
+    Switch {
+        index: usize,
+        sign: f64,
+        eps: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        steps: Option<usize>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        step_length: Option<f64>,
+    },
     /// Change the boundary conditions at the current `ε`.
     Boundary { boundary: BoundaryConditions },
 }
@@ -70,21 +89,88 @@ impl Action {
                 helices: case.geometry.helices,
                 boundary: case.boundary,
             }),
-            Job::Advance(eps) => Some(Action::Advance { eps: *eps }),
+            Job::Advance(eps) => Some(Action::Advance {
+                eps: *eps,
+                steps: None,
+                step_length: None,
+            }),
+            Job::AdvancePart { eps, part } => Some(Action::Advance {
+                eps: *eps,
+                steps: Some(part.steps),
+                step_length: Some(part.step_length),
+            }),
+            Job::Switch {
+                index,
+                sign,
+                eps,
+                part,
+            } => Some(Action::Switch {
+                index: *index,
+                sign: *sign,
+                eps: *eps,
+                steps: part.map(|p| p.steps),
+                step_length: part.map(|p| p.step_length),
+            }),
             Job::SetBoundary(bc) => Some(Action::Boundary { boundary: *bc }),
             Job::Precision(_) => None,
         }
     }
 
+    /// The job that replays the action.
     fn job(&self, case: &Case) -> Job {
-        match self {
-            Action::Start { helices, boundary } => {
-                let mut c = case.with_helices(*helices);
+        let part = |steps: Option<usize>, step_length: Option<f64>| {
+            steps.map(|steps| Part {
+                steps,
+                step_length: step_length.unwrap_or(0.0),
+            })
+        };
+        match *self {
+            Action::Start {
+                helices,
+                ref boundary,
+            } => {
+                let mut c = case.with_helices(helices);
                 c.boundary = *boundary;
                 Job::Start(Box::new(c))
             }
-            Action::Advance { eps } => Job::Advance(*eps),
-            Action::Boundary { boundary } => Job::SetBoundary(*boundary),
+            Action::Advance {
+                eps,
+                steps,
+                step_length,
+            } => match part(steps, step_length) {
+                Some(part) => Job::AdvancePart { eps, part },
+                None => Job::Advance(eps),
+            },
+            Action::Switch {
+                index,
+                sign,
+                eps,
+                steps,
+                step_length,
+            } => Job::Switch {
+                index,
+                sign,
+                eps,
+                part: part(steps, step_length),
+            },
+            Action::Boundary { boundary } => Job::SetBoundary(boundary),
+        }
+    }
+
+    /// The action stopped from outside after `steps` accepted internal steps with the
+    /// next `step_length` long (see [`WorkerEvent::Stopped`]).
+    pub fn stopped_after(&mut self, at: usize, length: f64) {
+        match self {
+            Action::Advance {
+                steps, step_length, ..
+            }
+            | Action::Switch {
+                steps, step_length, ..
+            } => {
+                *steps = Some(at);
+                *step_length = Some(length);
+            }
+            Action::Start { .. } | Action::Boundary { .. } => {}
         }
     }
 }

@@ -17,14 +17,16 @@ use crate::case::Case;
 use crate::discretisation::bulk;
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{CriticalPoint, LoadPoint, Snapshot, StepBulk};
+use crate::run::BRANCH_STEP;
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
-use crate::solver::continuation::StopReason;
+use crate::solver::continuation::{Observer, StopReason};
 use crate::solver::interrupt::{Interrupt, Interruption};
 use crate::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem, Study, StudyError};
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::{self, JoinHandle};
@@ -53,6 +55,19 @@ pub enum Job {
     Start(Box<Case>),
     /// Continue the path to compression ratio `ε`.
     Advance(f64),
+    /// Continue the path towards `ε = eps` and stop after `steps` accepted internal steps,
+    /// leaving the next internal step `step_length` long: a step that was cancelled part
+    /// of the way, replayed to the state it reached.
+    AdvancePart { eps: f64, part: Part },
+    /// Leave the path at bifurcation `index` (of the simulation's critical points) onto
+    /// its branch, on the side `sign` (±1), and continue along it to `ε = eps` (with
+    /// `part`: only that part of the way, as [`Job::AdvancePart`]).
+    Switch {
+        index: usize,
+        sign: f64,
+        eps: f64,
+        part: Option<Part>,
+    },
     /// Change the boundary conditions and re-solve at the current `ε` from the current state.
     SetBoundary(BoundaryConditions),
     /// A work-precision study of `case`'s path (on the precision thread).
@@ -68,13 +83,24 @@ impl Job {
     pub fn describe(&self) -> String {
         match self {
             Job::Start(case) => format!("natural state, n = {}", case.geometry.helices),
-            Job::Advance(eps) => format!("ε → {eps:.5}"),
+            Job::Advance(eps) | Job::AdvancePart { eps, .. } => format!("ε → {eps:.5}"),
+            Job::Switch { index, eps, .. } => {
+                format!("branch of critical point {index}, ε → {eps:.5}")
+            }
             Job::SetBoundary(_) => "new boundary conditions".to_string(),
             Job::Precision(case) => {
                 format!("work-precision study, n = {}", case.geometry.helices)
             }
         }
     }
+}
+
+/// The part of the way a stopped solve got: `steps` accepted internal steps, and the
+/// length of the next one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Part {
+    pub steps: usize,
+    pub step_length: f64,
 }
 
 /// A job tagged with the app's generation (bumped by every [`Job::Start`]) and a sequence
@@ -132,6 +158,17 @@ pub enum WorkerEvent {
         steps: usize,
         elapsed: Duration,
     },
+    /// The job of request `seq` was stopped from outside (cancelled, or out of time) after
+    /// `steps` accepted internal steps of its continuation, with `step_length` the length
+    /// of the next one: what a replay needs to reach the same state. `steps` is `None`
+    /// when the job stopped before it changed anything (a branch switch that did not get
+    /// onto the branch). Sent before the job's [`WorkerEvent::Failed`].
+    Stopped {
+        generation: u64,
+        seq: u64,
+        steps: Option<usize>,
+        step_length: f64,
+    },
     /// The job failed; the last converged state (if any) stays, under `boundary`.
     /// `interrupted` says when it was stopped from outside (cancelled, or out of time).
     Failed {
@@ -168,6 +205,7 @@ impl WorkerEvent {
             WorkerEvent::Started { generation, .. }
             | WorkerEvent::Solved { generation, .. }
             | WorkerEvent::Unchanged { generation, .. }
+            | WorkerEvent::Stopped { generation, .. }
             | WorkerEvent::Failed { generation, .. }
             | WorkerEvent::Progress { generation, .. }
             | WorkerEvent::MeshChosen { generation, .. }
@@ -208,6 +246,8 @@ pub struct Worker {
 /// One lock, so a cancel can never fall between two jobs and be lost or hit the wrong one.
 #[derive(Debug, Default)]
 struct Cancel {
+    /// The time budget of the requests started from now on.
+    budget: Duration,
     running: Option<(u64, Interrupt)>,
     /// Requests up to this sequence number are cancelled (the running one is interrupted,
     /// queued ones are answered without a solve).
@@ -231,11 +271,14 @@ impl Worker {
         let (requests, rx) = mpsc::channel();
         let (tx, events) = mpsc::channel();
         let precision = Latest::spawn(PRECISION_THREAD_NAME, tx.clone(), run_precision)?;
-        let cancel = Arc::new(Mutex::new(Cancel::default()));
+        let cancel = Arc::new(Mutex::new(Cancel {
+            budget,
+            ..Cancel::default()
+        }));
         let shared = Arc::clone(&cancel);
         let thread = thread::Builder::new()
             .name(THREAD_NAME.to_string())
-            .spawn(move || serve(rx, tx, shared, budget))?;
+            .spawn(move || serve(rx, tx, shared))?;
         Ok(Worker {
             requests,
             cancel,
@@ -252,6 +295,12 @@ impl Worker {
             Job::Precision(_) => self.precision.submit(request),
             _ => self.requests.send(request).is_ok(),
         }
+    }
+
+    /// The time budget of the requests the solver starts from now on (the natural state
+    /// of a new simulation has one too).
+    pub fn set_budget(&self, budget: Duration) {
+        Cancel::lock(&self.cancel).budget = budget;
     }
 
     /// Cancels every request up to sequence number `through`: the solve running now stops
@@ -356,18 +405,15 @@ struct Solver {
     /// The interrupt and progress channel of the job in hand.
     interrupt: Option<Interrupt>,
     progress: Option<(Sender<WorkerEvent>, u64, u64)>,
+    /// Internal steps accepted by the job in hand (counted by its observer).
+    accepted: Arc<AtomicUsize>,
     generation: u64,
     points: usize,
     /// Critical points of the simulation already reported.
     critical: usize,
 }
 
-fn serve(
-    rx: Receiver<Request>,
-    tx: Sender<WorkerEvent>,
-    cancel: Arc<Mutex<Cancel>>,
-    budget: Duration,
-) {
+fn serve(rx: Receiver<Request>, tx: Sender<WorkerEvent>, cancel: Arc<Mutex<Cancel>>) {
     let mut solver = Solver::new();
     let mut queue = VecDeque::new();
     loop {
@@ -391,11 +437,11 @@ fn serve(
         let (generation, seq) = (request.generation, request.seq);
         let interrupt = {
             let mut c = Cancel::lock(&cancel);
-            if seq <= c.through && !matches!(request.job, Job::Start(_)) {
+            if seq <= c.through {
                 c.running = None;
                 None
             } else {
-                let i = Interrupt::new().with_deadline(Some(Instant::now() + budget));
+                let i = Interrupt::new().with_deadline(Some(Instant::now() + c.budget));
                 c.running = Some((seq, i.clone()));
                 Some(i)
             }
@@ -462,6 +508,7 @@ impl Solver {
             sim: None,
             interrupt: None,
             progress: None,
+            accepted: Arc::new(AtomicUsize::new(0)),
             generation: 0,
             points: 0,
             critical: 0,
@@ -480,9 +527,58 @@ impl Solver {
     ) {
         self.interrupt = Some(interrupt.clone());
         self.progress = Some((tx.clone(), generation, seq));
+        let counted = self.observer();
         if let Some(sim) = self.sim.as_mut() {
             sim.set_interrupt(Some(interrupt.clone()));
-            sim.set_observer(Some(observer(tx.clone(), generation, seq)));
+            sim.set_observer(Some(counted));
+        }
+    }
+
+    /// The observer of the job in hand: counts the accepted internal steps and reports
+    /// progress when a channel is set.
+    fn observer(&self) -> Observer {
+        self.accepted.store(0, Ordering::Relaxed);
+        let accepted = Arc::clone(&self.accepted);
+        let mut progress = self
+            .progress
+            .as_ref()
+            .map(|(tx, g, s)| observer(tx.clone(), *g, *s));
+        Box::new(move |state| {
+            accepted.fetch_add(1, Ordering::Relaxed);
+            if let Some(p) = progress.as_mut() {
+                p(state);
+            }
+        })
+    }
+
+    /// The job's interrupt (a new one when the job has none, as in a replay) raised once
+    /// `steps` (≥ 1) internal steps are accepted, and the job's observer, set on the
+    /// simulation; the interrupt is returned.
+    fn stop_after(&mut self, steps: usize) -> Interrupt {
+        let interrupt = self.interrupt.clone().unwrap_or_default();
+        let raise = interrupt.clone();
+        let mut inner = self.observer();
+        let mut count = 0;
+        let observer: Observer = Box::new(move |state| {
+            inner(state);
+            count += 1;
+            if count >= steps {
+                raise.raise();
+            }
+        });
+        if let Some(sim) = self.sim.as_mut() {
+            sim.set_interrupt(Some(interrupt.clone()));
+            sim.set_observer(Some(observer));
+        }
+        interrupt
+    }
+
+    /// After a job stopped by [`Solver::stop_after`]: the job's own interrupt and observer.
+    fn stop_after_done(&mut self) {
+        let observer = self.observer();
+        if let Some(sim) = self.sim.as_mut() {
+            sim.set_interrupt(self.interrupt.clone());
+            sim.set_observer(Some(observer));
         }
     }
 
@@ -529,10 +625,6 @@ impl Solver {
         let t0 = Instant::now();
         match job {
             Job::Start(case) => {
-                self.generation = generation;
-                self.points = 0;
-                self.critical = 0;
-                self.sim = None;
                 // an accuracy target becomes a mesh here, before the natural state
                 let (case, choice) = match resolve_accuracy(&case) {
                     Ok(resolved) => resolved,
@@ -554,26 +646,83 @@ impl Solver {
                     })
                     .into_iter()
                     .collect();
-                match Simulation::from_case(&case.for_explorer()) {
-                    Ok(mut sim) => {
-                        sim.set_interrupt(self.interrupt.clone());
-                        if let Some((tx, g, s)) = &self.progress {
-                            sim.set_observer(Some(observer(tx.clone(), *g, *s)));
-                        }
+                let case = case.for_explorer();
+                let observer = self.observer();
+                match Simulation::from_case_with(&case, self.interrupt.clone(), Some(observer)) {
+                    Ok(sim) => {
+                        self.generation = generation;
+                        self.points = 0;
+                        self.critical = 0;
                         self.sim = Some(sim);
                         events.extend(self.solved(seq, true, t0));
                     }
-                    Err(e) => events.push(WorkerEvent::Failed {
+                    // stopped from outside: the previous simulation stays, as it was
+                    Err(e) if interruption(&e).is_some() => events.push(WorkerEvent::Failed {
                         generation,
                         seq,
-                        reason: format!("no natural state: {e}"),
-                        boundary: None,
+                        reason: describe_failure(
+                            &e,
+                            Asked::Start(case.geometry.helices),
+                            t0.elapsed(),
+                        ),
+                        boundary: self.sim.as_ref().map(Simulation::boundary_conditions),
                         interrupted: interruption(&e),
                     }),
+                    Err(e) => {
+                        self.generation = generation;
+                        self.points = 0;
+                        self.critical = 0;
+                        self.sim = None;
+                        events.push(WorkerEvent::Failed {
+                            generation,
+                            seq,
+                            reason: format!("no natural state: {e}"),
+                            boundary: None,
+                            interrupted: None,
+                        })
+                    }
                 }
                 events
             }
             Job::Advance(eps) => self.move_on(seq, t0, Asked::Eps(eps), |sim| sim.advance_to(eps)),
+            Job::AdvancePart { eps, part } => {
+                let interrupt = self.stop_after(part.steps);
+                if part.steps == 0 {
+                    interrupt.raise();
+                }
+                let events = self.move_on(seq, t0, Asked::Eps(eps), |sim| {
+                    let outcome = sim.advance_to(eps);
+                    sim.set_step_length(part.step_length);
+                    outcome
+                });
+                self.stop_after_done();
+                events
+            }
+            Job::Switch {
+                index,
+                sign,
+                eps,
+                part,
+            } => {
+                let interrupt = part.map(|p| self.stop_after(p.steps));
+                let events = self.move_on(seq, t0, Asked::Switch(index, eps), |sim| {
+                    sim.switch_branch(index, sign, BRANCH_STEP)?;
+                    if let (Some(p), Some(i)) = (part, &interrupt) {
+                        if p.steps == 0 {
+                            i.raise();
+                        }
+                    }
+                    let outcome = sim.advance_to(eps);
+                    if let Some(p) = part {
+                        sim.set_step_length(p.step_length);
+                    }
+                    outcome
+                });
+                if part.is_some() {
+                    self.stop_after_done();
+                }
+                events
+            }
             Job::SetBoundary(bc) => {
                 if self
                     .sim
@@ -616,15 +765,26 @@ impl Solver {
             }];
         };
         let before = sim.eps();
+        let (state_before, lambda_before) = (sim.state().to_vec(), sim.parameter());
         match step(sim) {
             Ok(()) => self.solved(seq, true, t0).into_iter().collect(),
             Err(e) => {
                 let moved = sim.eps() != before;
                 let boundary = Some(sim.boundary_conditions());
+                // what a replay needs: the steps taken, or none when nothing changed
+                let changed = sim.parameter() != lambda_before || sim.state() != state_before;
+                let stopped = interruption(&e).map(|_| WorkerEvent::Stopped {
+                    generation,
+                    seq,
+                    steps: (changed || !matches!(asked, Asked::Switch(..)))
+                        .then(|| self.accepted.load(Ordering::Relaxed)),
+                    step_length: sim.step_length(),
+                });
                 let mut events = Vec::new();
                 if moved {
                     events.extend(self.solved(seq, false, t0));
                 }
+                events.extend(stopped);
                 events.push(WorkerEvent::Failed {
                     generation,
                     seq,
@@ -643,6 +803,10 @@ impl Solver {
 enum Asked {
     Eps(f64),
     Boundary,
+    /// A new simulation of `n` helices.
+    Start(usize),
+    /// The branch of critical point `index`, followed to `ε`.
+    Switch(usize, f64),
 }
 
 /// Why a solve stopped, if it was stopped from outside.
@@ -658,8 +822,15 @@ fn describe_failure(e: &SolveError, asked: Asked, elapsed: Duration) -> String {
     let what = match asked {
         Asked::Eps(eps) => format!("ε → {eps:.5}"),
         Asked::Boundary => "the new boundary conditions".to_string(),
+        Asked::Start(n) => format!("the natural state of n = {n}"),
+        Asked::Switch(index, eps) => {
+            format!("the switch onto the branch of critical point {index} (ε → {eps:.5})")
+        }
     };
-    let kept = format!("the last converged state (ε = {:.5}) is kept", e.eps);
+    let kept = match asked {
+        Asked::Start(_) => "the previous simulation is kept".to_string(),
+        _ => format!("the last converged state (ε = {:.5}) is kept", e.eps),
+    };
     match (interruption(e), asked) {
         (Some(Interruption::Cancelled), _) => {
             format!(
@@ -677,7 +848,7 @@ fn describe_failure(e: &SolveError, asked: Asked, elapsed: Duration) -> String {
                 e.reason
             )
         }
-        (None, Asked::Eps(_)) => format!("{what} failed: {}; {kept}", e.reason),
+        (None, _) => format!("{what} failed: {}; {kept}", e.reason),
     }
 }
 

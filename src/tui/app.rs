@@ -10,7 +10,7 @@ use crate::results::CriticalPoint;
 use crate::results::{LoadPoint, Snapshot};
 use crate::session::export::{self, SessionEvent};
 use crate::session::script::Script;
-use crate::session::worker::{Job, Request, Solved, WorkerEvent};
+use crate::session::worker::{Job, Part, Request, Solved, WorkerEvent};
 use crate::solver::interrupt::Interruption;
 use crate::study::{MeshChoice, Study};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
@@ -108,6 +108,24 @@ pub enum Message {
     Error(String),
 }
 
+/// What a new simulation replaces on screen, kept until its natural state arrives.
+#[derive(Debug)]
+struct Previous {
+    generation: u64,
+    helices: usize,
+    boundary: BoundaryConditions,
+    step: f64,
+    requested_eps: f64,
+    path: Vec<LoadPoint>,
+    conditions: Vec<BoundaryConditions>,
+    critical: Vec<CriticalPoint>,
+    state: Option<Solved>,
+    natural_k1: Option<f64>,
+    mesh: Option<MeshChoice>,
+    events: Vec<SessionEvent>,
+    ran: usize,
+}
+
 /// The explorer's state.
 #[derive(Debug)]
 pub struct App {
@@ -174,6 +192,17 @@ pub struct App {
     /// The jobs the solver ran for this session, in order, for a replay (by sequence).
     pub(crate) sent: Vec<(u64, Job)>,
     pub ran: Vec<Job>,
+    /// The sequence number of each job of [`App::ran`].
+    ran_seq: Vec<u64>,
+    /// The simulation on screen before a new one was asked for, until the new one's
+    /// natural state arrives: a cancelled natural state brings it back.
+    previous: Option<Box<Previous>>,
+    /// Sequence number of the new simulation's request while its natural state solves.
+    start_seq: Option<u64>,
+    /// Selected row of the critical-point list (`x`).
+    pub critical_cursor: usize,
+    /// Sequence number of the last branch switch asked for.
+    switch_seq: Option<u64>,
     /// Where the case came from (`None`: the built-in case), for a saved session.
     pub case_file: Option<PathBuf>,
     /// The terminal is smaller than the screen needs: keys other than quit do nothing.
@@ -227,6 +256,11 @@ impl App {
             conditions: Vec::new(),
             sent: Vec::new(),
             ran: Vec::new(),
+            ran_seq: Vec::new(),
+            previous: None,
+            start_seq: None,
+            critical_cursor: 0,
+            switch_seq: None,
             case_file: None,
             too_small: false,
             no_color: false,
@@ -344,6 +378,57 @@ impl App {
         self.restart()
     }
 
+    /// What is on screen now, for [`App::restart`] to bring back if the new simulation's
+    /// natural state is cancelled (taken before the change of `n` or the reset).
+    fn keep(&self) -> Box<Previous> {
+        Box::new(Previous {
+            generation: self.generation,
+            helices: self.helices,
+            boundary: self.boundary,
+            step: self.step,
+            requested_eps: self.requested_eps,
+            path: self.path.clone(),
+            conditions: self.conditions.clone(),
+            critical: self.critical.clone(),
+            state: self.state.clone(),
+            natural_k1: self.natural_k1,
+            mesh: self.mesh.clone(),
+            events: self.events.clone(),
+            ran: self.ran.len(),
+        })
+    }
+
+    /// The simulation the cancelled natural state was to replace, back on screen.
+    fn bring_back(&mut self, p: Box<Previous>) {
+        self.generation = p.generation;
+        self.helices = p.helices;
+        self.boundary = p.boundary;
+        self.step = p.step;
+        self.requested_eps = p.requested_eps;
+        self.path = p.path;
+        self.conditions = p.conditions;
+        self.critical = p.critical;
+        self.state = p.state;
+        self.natural_k1 = p.natural_k1;
+        self.mesh = p.mesh;
+        self.events = p.events;
+        self.ran.truncate(p.ran);
+        self.ran_seq.truncate(p.ran);
+        self.selected_rod = self.selected_rod.min(self.rods().saturating_sub(1));
+        self.critical_cursor = 0;
+    }
+
+    /// A new simulation with the current `n` and conditions, from `ε = 0`; `previous` is
+    /// what was on screen (brought back if its natural state is cancelled).
+    fn restart_from(&mut self, previous: Box<Previous>) -> Vec<Effect> {
+        // a new simulation asked for while another's natural state solves replaces that
+        // one: the simulation to come back to is still the one before
+        if self.previous.is_none() && previous.state.is_some() {
+            self.previous = Some(previous);
+        }
+        self.restart()
+    }
+
     /// A new simulation with the current `n` and conditions, from `ε = 0`.
     fn restart(&mut self) -> Vec<Effect> {
         // a solve of the old simulation in progress is of no more use: stop it
@@ -363,8 +448,24 @@ impl App {
         let mut case = self.case.with_helices(self.helices);
         case.boundary = self.boundary;
         self.mesh = None;
+        self.critical_cursor = 0;
+        // a large problem says so before it is solved, as `spira run` does
+        let estimate = case.for_explorer().size_estimate();
+        if estimate.is_large() {
+            let said = match &self.message {
+                Some(Message::Info(m)) => format!("{m}; "),
+                _ => String::new(),
+            };
+            self.message = Some(Message::Info(format!(
+                "{said}size estimate: {estimate}; c cancels"
+            )));
+        }
         let mut effects: Vec<Effect> = cancel.into_iter().collect();
-        effects.push(self.request(Job::Start(Box::new(case))));
+        let start = self.request(Job::Start(Box::new(case)));
+        if let Effect::Solve(r) = &start {
+            self.start_seq = Some(r.seq);
+        }
+        effects.push(start);
         effects.extend(self.precision_obsolete());
         effects
     }
@@ -412,6 +513,15 @@ impl App {
     }
 
     fn set_boundary(&mut self, bc: BoundaryConditions, what: String) -> Vec<Effect> {
+        // the case reader's check: supports that leave a rigid motion free are refused
+        if let Some(motion) = self.case.with_helices(self.helices).free_motion(&bc) {
+            self.message = Some(Message::Error(format!(
+                "{what} refused and undone: {}; the conditions stay {}",
+                motion.message,
+                self.boundary.label()
+            )));
+            return vec![];
+        }
         self.boundary = bc;
         self.record(what.clone());
         self.message = Some(Message::Info(format!(
@@ -474,8 +584,13 @@ impl App {
             Action::StepBack => self.step_by(-1.0),
             Action::DoubleStep => self.scale_step(2.0),
             Action::HalveStep => self.scale_step(0.5),
+            // in the critical-point list the rod keys choose a critical point
+            Action::PreviousRod if self.show_critical => self.move_critical_cursor(-1),
+            Action::NextRod if self.show_critical => self.move_critical_cursor(1),
             Action::PreviousRod => self.select_rod_by(-1),
             Action::NextRod => self.select_rod_by(1),
+            Action::SwitchBranch => self.switch_branch(1.0),
+            Action::SwitchBranchOther => self.switch_branch(-1.0),
             Action::RunPause => self.run_or_pause(),
             Action::BaseTranslation => self.cycle_base_translation(),
             Action::BaseRotation => self.cycle_base_rotation(),
@@ -514,6 +629,65 @@ impl App {
             Action::Export => vec![Effect::Export],
             Action::Precision => self.toggle_precision(),
         }
+    }
+
+    fn move_critical_cursor(&mut self, by: isize) -> Vec<Effect> {
+        let n = self.critical.len();
+        if n > 0 {
+            self.critical_cursor =
+                (self.critical_cursor as isize + by).clamp(0, n as isize - 1) as usize;
+        }
+        vec![]
+    }
+
+    /// Switches onto the branch of the bifurcation selected in the critical-point list, on
+    /// the side `sign`, and follows it to the `ε` of the state on screen (as `spira run`
+    /// with `branch = "switch"` does at its first bifurcation); stops continuous loading.
+    fn switch_branch(&mut self, sign: f64) -> Vec<Effect> {
+        use crate::results::CriticalKind;
+        if !self.show_critical {
+            self.message = Some(Message::Info(
+                "x lists the critical points; choose one with ↑↓ and switch onto its branch there"
+                    .into(),
+            ));
+            return vec![];
+        }
+        let Some(c) = self.critical.get(self.critical_cursor) else {
+            self.message = Some(Message::Info(
+                "no critical point crossed on this path yet".into(),
+            ));
+            return vec![];
+        };
+        if c.kind != CriticalKind::Bifurcation {
+            self.message = Some(Message::Error(format!(
+                "critical point {} is a {}, not a bifurcation: there is no other branch to switch onto",
+                self.critical_cursor,
+                c.kind.name()
+            )));
+            return vec![];
+        }
+        let (index, at) = (self.critical_cursor, c.eps);
+        let eps = self.requested_eps;
+        self.running = false;
+        self.show_critical = false;
+        self.record(format!(
+            "switch onto the branch of critical point {index} (ε = {at:.5}, side {sign:+})"
+        ));
+        self.message = Some(Message::Info(format!(
+            "switching onto the branch of critical point {index} at ε = {at:.5} (side {sign:+}), then along it to ε = {eps:.5}"
+        )));
+        let effect = self.request(Job::Switch {
+            index,
+            sign,
+            eps,
+            part: None,
+        });
+        if let Effect::Solve(r) = &effect {
+            self.switch_seq = Some(r.seq);
+        }
+        let mut effects = vec![effect];
+        effects.extend(self.precision_obsolete());
+        effects
     }
 
     /// One user step forward (`sign` 1) or back (−1); stops continuous loading.
@@ -653,24 +827,26 @@ impl App {
             return vec![];
         }
         self.confirm = None;
+        let previous = self.keep();
         self.helices = n;
         self.message = Some(Message::Info(format!(
             "n = {}: starting over from ε = 0",
             self.helices
         )));
         self.record(format!("n = {n}, start over"));
-        self.restart()
+        self.restart_from(previous)
     }
 
     /// Back to `ε = 0` under the case's conditions and step.
     fn reset(&mut self) -> Vec<Effect> {
+        let previous = self.keep();
         self.boundary = self.case.boundary;
         self.step = default_step(&self.case);
         self.message = Some(Message::Info(
             "reset: ε = 0 under the case's boundary conditions".into(),
         ));
         self.record("reset".into());
-        self.restart()
+        self.restart_from(previous)
     }
 
     /// Shows or hides the work-precision chart; the first time, asks for the study.
@@ -706,6 +882,41 @@ impl App {
                     .map(|(_, j)| j.clone())
                 {
                     self.ran.push(j);
+                    self.ran_seq.push(seq);
+                }
+                vec![]
+            }
+            WorkerEvent::Stopped {
+                seq,
+                steps,
+                step_length,
+                ..
+            } => {
+                // the session records the part of the way the job got, for its replay
+                if let Some(k) = self.ran_seq.iter().rposition(|&s| s == seq) {
+                    match steps {
+                        None => {
+                            self.ran.remove(k);
+                            self.ran_seq.remove(k);
+                        }
+                        Some(steps) => {
+                            let part = Part { steps, step_length };
+                            self.ran[k] = match self.ran[k].clone() {
+                                Job::Advance(eps) | Job::AdvancePart { eps, .. } => {
+                                    Job::AdvancePart { eps, part }
+                                }
+                                Job::Switch {
+                                    index, sign, eps, ..
+                                } => Job::Switch {
+                                    index,
+                                    sign,
+                                    eps,
+                                    part: Some(part),
+                                },
+                                other => other,
+                            };
+                        }
+                    }
                 }
                 vec![]
             }
@@ -729,6 +940,14 @@ impl App {
             WorkerEvent::Solved {
                 seq, done, state, ..
             } => {
+                if self.start_seq == Some(seq) {
+                    self.start_seq = None;
+                    self.previous = None;
+                }
+                if self.switch_seq == Some(seq) && seq >= self.last_sent {
+                    // the steps that follow go on from where the branch was reached
+                    self.requested_eps = state.point.parameter;
+                }
                 self.path.push(state.point.clone());
                 self.conditions.push(state.boundary);
                 for c in &state.critical {
@@ -792,21 +1011,38 @@ impl App {
                 } else {
                     self.message = Some(Message::Error(reason));
                 }
+                if self.start_seq == Some(seq) {
+                    self.start_seq = None;
+                    let previous = self.previous.take();
+                    // the solver keeps the simulation it had when a natural state is
+                    // stopped from outside: so does the screen
+                    if let (Some(p), Some(_)) = (previous, interrupted) {
+                        self.bring_back(p);
+                        let effects = self.precision_obsolete();
+                        self.finish_failed(seq);
+                        return effects;
+                    }
+                }
                 if let Some(bc) = boundary {
                     self.boundary_settled(bc, seq);
                 }
-                self.last_done = self.last_done.max(seq);
-                if !self.busy() {
-                    self.solving = None;
-                    self.progress = None;
-                    self.started_at = None;
-                    self.elapsed = None;
-                    // pending steps start again from the state on screen
-                    if let Some(eps) = self.eps() {
-                        self.requested_eps = eps;
-                    }
-                }
+                self.finish_failed(seq);
                 vec![]
+            }
+        }
+    }
+
+    /// After the failure of request `seq`: idle if nothing newer is asked for.
+    fn finish_failed(&mut self, seq: u64) {
+        self.last_done = self.last_done.max(seq);
+        if !self.busy() {
+            self.solving = None;
+            self.progress = None;
+            self.started_at = None;
+            self.elapsed = None;
+            // pending steps start again from the state on screen
+            if let Some(eps) = self.eps() {
+                self.requested_eps = eps;
             }
         }
     }

@@ -2,7 +2,7 @@
 //! ([`App::handle_key`](super::app::App::handle_key)) and by the help overlay
 //! ([`ui::KEYS`](super::ui::KEYS)), so the two cannot drift apart.
 
-use crossterm::event::KeyCode::{self, Char, Down, Esc, Left, Right, Up};
+use crossterm::event::KeyCode::{self, Char, Down, Enter, Esc, Left, Right, Up};
 
 /// What a key asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,6 +26,8 @@ pub enum Action {
     Precision,
     Cancel,
     CriticalPoints,
+    SwitchBranch,
+    SwitchBranchOther,
     CursorBack,
     CursorForward,
     PathCursorBack,
@@ -101,7 +103,7 @@ pub const BINDINGS: [Binding; 21] = {
                 (Down, NextRod),
                 (Char('j'), NextRod),
             ],
-            help: "select the previous / next rod",
+            help: "select the previous / next rod (in the x list: critical point)",
         },
         Binding {
             label: "b",
@@ -159,14 +161,23 @@ pub const BINDINGS: [Binding; 21] = {
             help: "critical points crossed so far (on/off)",
         },
         Binding {
-            label: ", .",
-            keys: &[(Char(','), CursorBack), (Char('.'), CursorForward)],
-            help: "move the s/L cursor of the curvature plot",
+            label: "⏎g G",
+            keys: &[
+                (Enter, SwitchBranch),
+                (Char('g'), SwitchBranch),
+                (Char('G'), SwitchBranchOther),
+            ],
+            help: "in the x list: onto the chosen bifurcation's branch (G: other side)",
         },
         Binding {
-            label: "< >",
-            keys: &[(Char('<'), PathCursorBack), (Char('>'), PathCursorForward)],
-            help: "move the cursor along the load path",
+            label: ", . <>",
+            keys: &[
+                (Char(','), CursorBack),
+                (Char('.'), CursorForward),
+                (Char('<'), PathCursorBack),
+                (Char('>'), PathCursorForward),
+            ],
+            help: "move the cursor of the curvature (, .) / of the load path (< >)",
         },
         Binding {
             label: "v",

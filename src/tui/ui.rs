@@ -101,23 +101,38 @@ pub fn draw(frame: &mut Frame, app: &App) {
     }
 }
 
-/// The critical points crossed so far, as a list over the screen.
+/// The critical points crossed so far, as a list over the screen, the chosen one
+/// highlighted (a bifurcation's branch is switched onto from here).
 fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
     let mut lines = vec![Line::from(Span::styled(
-        "  #  kind           ε         fz/(n Pcrit)  unstable",
+        "  #  kind           ε         fz/(n Pcrit)  unstable  p",
         Style::new().fg(DIM),
     ))];
     if app.critical.is_empty() {
         lines.push(Line::from(" none crossed on this path yet"));
     }
     for (i, c) in app.critical.iter().enumerate() {
-        lines.push(Line::from(format!(
-            " {i:>2}  {:<13} {:>9.5}  {:>12.5}  {} → {}",
+        let text = format!(
+            "{} {i:>2}  {:<13} {:>9.5}  {:>12.5}  {} → {}{}",
+            if i == app.critical_cursor { '▸' } else { ' ' },
             c.kind.name(),
             c.eps,
             c.load[2],
             c.unstable_before,
-            c.unstable_after
+            c.unstable_after,
+            c.wavenumber.map_or(String::new(), |p| format!("     {p}"))
+        );
+        let style = if i == app.critical_cursor {
+            Style::new().add_modifier(Modifier::REVERSED)
+        } else {
+            Style::new()
+        };
+        lines.push(Line::from(Span::styled(text, style)));
+    }
+    if !app.critical.is_empty() {
+        lines.push(Line::from(Span::styled(
+            " ↑↓ choose · ⏎/g switch onto its branch (G: other side)",
+            Style::new().fg(DIM),
         )));
     }
     draw_overlay(frame, area, lines, " critical points ", " x closes ");
@@ -1096,7 +1111,7 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
     ])
     .areas(area);
     frame.render_widget(Paragraph::new(case_line(app)), a);
-    frame.render_widget(Paragraph::new(readout_line(app)), r);
+    frame.render_widget(Paragraph::new(readout_line(app, r.width)), r);
     frame.render_widget(Paragraph::new(boundary_line(app)), b);
     frame.render_widget(Paragraph::new(solve_line(app)), c);
     frame.render_widget(
@@ -1105,12 +1120,66 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
     );
 }
 
-/// The numbers of the state on screen: ε, h, the loads, the selected rod's bulk (s/L),
-/// energy, stability, and the selected rod's tip reaction.
-fn readout_line(app: &App) -> Line<'static> {
-    let Some(s) = app.state.as_ref() else {
+/// The numbers of the state on screen: h, the loads, the selected rod's bulk (s/L),
+/// energy, stability, and the selected rod's tip reaction, in `width` columns: the loads
+/// and the stability (unstable directions, λmin) always, the others as they fit (the rod's
+/// tip reaction given up first, then h, which line 1's ε gives; then the labels are
+/// shortened; then E and last the bulk are given up).
+fn readout_line(app: &App, width: u16) -> Line<'static> {
+    let full = readout_fields(app, false);
+    let Some(mut fields) = full else {
         return Line::from(Span::styled("no converged state", Style::new().fg(DIM)));
     };
+    let fits = |fields: &[(u8, Vec<Span<'static>>)]| {
+        let line = join_fields(fields);
+        (line.width() <= width as usize).then_some(line)
+    };
+    let drop_above = |fields: &mut Vec<(u8, Vec<Span<'static>>)>, floor: u8| {
+        let worst = fields
+            .iter()
+            .enumerate()
+            .filter(|(_, (priority, _))| *priority > floor)
+            .max_by_key(|(_, (priority, _))| *priority)
+            .map(|(k, _)| k);
+        worst.map(|k| fields.remove(k)).is_some()
+    };
+    loop {
+        if let Some(line) = fits(&fields) {
+            return line;
+        }
+        if !drop_above(&mut fields, 3) {
+            break;
+        }
+    }
+    // shorter labels, then the lesser fields
+    let mut fields = readout_fields(app, true).unwrap_or_default();
+    fields.retain(|(priority, _)| *priority <= 3);
+    loop {
+        if let Some(line) = fits(&fields) {
+            return line;
+        }
+        if !drop_above(&mut fields, 0) {
+            return join_fields(&fields);
+        }
+    }
+}
+
+/// The fields joined by separators.
+fn join_fields(fields: &[(u8, Vec<Span<'static>>)]) -> Line<'static> {
+    let mut spans = Vec::new();
+    for (k, (_, f)) in fields.iter().enumerate() {
+        if k > 0 {
+            spans.push(sep());
+        }
+        spans.extend(f.iter().cloned());
+    }
+    Line::from(spans)
+}
+
+/// The readout's fields with the priority to keep each (0 always, higher given up
+/// first), with shorter labels when `short`; `None` without a converged state.
+fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)>> {
+    let s = app.state.as_ref()?;
     let p = &s.point;
     let (dirs, lowest) = match p.stability {
         Some(st) => (
@@ -1120,44 +1189,52 @@ fn readout_line(app: &App) -> Line<'static> {
         None => ("–".into(), "–".into()),
     };
     let big = p.load.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let mut spans = vec![
-        Span::raw(format!("h {} m", fmt_num(p.height))),
-        sep(),
-        Span::raw(format!(
-            "fx {} fy {} fz/nPc ",
-            fmt_short(p.load[0], big),
-            fmt_short(p.load[1], big)
-        )),
-        bold(fmt_short(p.load[2], big)),
+    // (priority to keep: 0 always, higher given up first; the spans)
+    let mut fields: Vec<(u8, Vec<Span<'static>>)> = vec![
+        (4, vec![Span::raw(format!("h {} m", fmt_num(p.height)))]),
+        (
+            0,
+            vec![
+                Span::raw(format!(
+                    "fx {} fy {} fz/nPc ",
+                    fmt_short(p.load[0], big),
+                    fmt_short(p.load[1], big)
+                )),
+                bold(fmt_short(p.load[2], big)),
+            ],
+        ),
     ];
-    // the selected rod's bulk (s/L), early in the line so that 80 columns show it
     if let Some(b) = s.bulk.rods.get(app.selected_rod) {
-        spans.push(sep());
-        spans.push(Span::raw(format!(
-            "bulk {:.2}–{:.2}",
-            b.start_over_l(),
-            b.end_over_l()
-        )));
+        fields.push((
+            2,
+            vec![Span::raw(format!(
+                "bulk {:.2}–{:.2}",
+                b.start_over_l(),
+                b.end_over_l()
+            ))],
+        ));
     }
-    spans.extend([
-        sep(),
-        Span::raw(format!("E {} J", fmt_num(p.energy))),
-        sep(),
-        Span::raw(format!("unstable {dirs} λmin {lowest}")),
-    ]);
+    fields.push((3, vec![Span::raw(format!("E {} J", fmt_num(p.energy)))]));
+    let unstable = if short { "unst." } else { "unstable" };
+    fields.push((
+        0,
+        vec![Span::raw(format!("{unstable} {dirs} λmin {lowest}"))],
+    ));
     if let Some(r) = p.reactions.get(app.selected_rod) {
         let f = r.tip.force;
         let big = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        spans.push(sep());
-        spans.push(Span::raw(format!(
-            "rod {} tip F ({}, {}, {}) N",
-            r.rod,
-            fmt_short(f[0], big),
-            fmt_short(f[1], big),
-            fmt_short(f[2], big)
-        )));
+        fields.push((
+            5,
+            vec![Span::raw(format!(
+                "rod {} tip F ({}, {}, {}) N",
+                r.rod,
+                fmt_short(f[0], big),
+                fmt_short(f[1], big),
+                fmt_short(f[2], big)
+            ))],
+        ));
     }
-    Line::from(spans)
+    Some(fields)
 }
 
 /// What the explorer is doing: solving (what, for how long, how far), running, or idle.
