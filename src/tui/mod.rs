@@ -76,9 +76,8 @@ pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Res
     // SIGTERM and SIGHUP (a dropped SSH connection) end the explorer through the event
     // loop, which restores the terminal on its way out
     let stop = Arc::new(AtomicBool::new(false));
-    for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
-        signal_hook::flag::register(signal, Arc::clone(&stop)).map_err(TuiError::Setup)?;
-    }
+    let done = Arc::new(AtomicBool::new(false));
+    watch_signals(Arc::clone(&stop), Arc::clone(&done)).map_err(TuiError::Setup)?;
     let mut terminal = TerminalGuard::enter().map_err(TuiError::Setup)?;
     let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
@@ -86,10 +85,50 @@ pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Res
     app.no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
     let result = event_loop(&mut terminal.terminal, &mut app, &worker, &stop);
     drop(terminal);
+    done.store(true, Ordering::Relaxed);
     // stop a solve in progress at its next check, then let the thread go
     worker.cancel(u64::MAX);
     drop(worker);
     result
+}
+
+/// How long after SIGTERM or SIGHUP the event loop has to end by itself before the signal
+/// thread restores the terminal and ends the process.
+const SIGNAL_GRACE: Duration = Duration::from_millis(500);
+
+/// SIGTERM and SIGHUP raise `stop`, which the event loop checks between polls. A hung-up
+/// terminal can keep the loop from getting there: after a dropped connection every read
+/// of the terminal fails, and crossterm's reader retries such a read for ever (a core
+/// busy, seen after `tmux kill-session`). So a thread of its own waits for the signals and,
+/// if the loop has not ended (`done`) within [`SIGNAL_GRACE`], restores the terminal as
+/// far as it still can and exits the process.
+fn watch_signals(stop: Arc<AtomicBool>, done: Arc<AtomicBool>) -> io::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP])?;
+    std::thread::Builder::new()
+        .name("spira-signals".into())
+        .spawn(move || {
+            if signals.forever().next().is_none() {
+                return;
+            }
+            stop.store(true, Ordering::Relaxed);
+            let t0 = Instant::now();
+            while t0.elapsed() < SIGNAL_GRACE {
+                if done.load(Ordering::Relaxed) {
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            // not through `io::stdout()`, whose lock the stuck loop may hold
+            let _ = terminal::disable_raw_mode();
+            let restore = b"\x1b[?1049l\x1b[?25h";
+            // SAFETY: writes a byte string of the given length to the standard output
+            unsafe {
+                libc::write(libc::STDOUT_FILENO, restore.as_ptr().cast(), restore.len());
+            }
+            std::process::exit(0);
+        })?;
+    Ok(())
 }
 
 /// The value of `TERM` when it names a terminal without cursor addressing.
