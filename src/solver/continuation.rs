@@ -174,6 +174,11 @@ impl<P: Problem> Continuation<P> {
         };
         path.correct_in_place()?;
         path.update_stability(true);
+        // the stability count cannot be stopped part of the way: a stop asked for while it
+        // ran is honoured when it ends (the start is then not made)
+        if let Some(why) = path.interrupt.as_ref().and_then(Interrupt::check) {
+            return Err(path.error(lambda, 0.0, StopReason::Interrupted(why)));
+        }
         Ok(path)
     }
 

@@ -27,6 +27,8 @@ pub const MIN_STEP: f64 = STEPS[0];
 /// A change of `n` that would discard a path of more converged points than this asks
 /// first (the same key again confirms).
 pub const CONFIRM_DISCARD: usize = 4;
+/// The message while a cancel is on its way to the solver.
+const CANCELLING: &str = "cancelling…";
 /// Positions of the curvature plot's cursor along `s/L`: `0, 1/CURSOR_STEPS, …, 1`.
 pub const CURSOR_STEPS: usize = 32;
 
@@ -493,7 +495,7 @@ impl App {
             ));
             return vec![];
         }
-        self.message = Some(Message::Info("cancelling…".into()));
+        self.message = Some(Message::Info(CANCELLING.into()));
         vec![Effect::Cancel(self.last_sent)]
     }
 
@@ -947,6 +949,17 @@ impl App {
                 if self.switch_seq == Some(seq) && seq >= self.last_sent {
                     // the steps that follow go on from where the branch was reached
                     self.requested_eps = state.point.parameter;
+                    if done {
+                        self.message = Some(Message::Info(format!(
+                            "on the bifurcated branch at ε = {:.5}: fz/(n Pcrit) = {:.4}, {}; steps go on along it",
+                            state.point.eps,
+                            state.point.load[2],
+                            state.point.stability.map_or("stability not computed".to_string(), |s| format!(
+                                "unstable directions {}",
+                                s.unstable_directions
+                            ))
+                        )));
+                    }
                 }
                 self.path.push(state.point.clone());
                 self.conditions.push(state.boundary);
@@ -1059,6 +1072,12 @@ impl App {
         self.last_done = self.last_done.max(seq);
         if self.busy() {
             return vec![];
+        }
+        if self.message == Some(Message::Info(CANCELLING.into())) {
+            self.message = Some(Message::Info(
+                "the solve had finished before the cancel reached it; its result is on screen"
+                    .into(),
+            ));
         }
         self.solving = None;
         self.progress = None;
