@@ -97,9 +97,7 @@ impl Case {
         if discretisation.symmetric_auto && loading.branch == Branch::Switch {
             discretisation.symmetric = false;
         }
-        let mut solver = tables::solver(&raw.solver, &ck)?;
-        // Newton's balance rows in units of the stiffness (scale-free convergence)
-        solver.newton.force_scale = stiffness.b1;
+        let solver = tables::solver(&raw.solver, &ck)?;
         Ok(Case {
             name: raw.name.unwrap_or_else(|| stem.to_string()),
             geometry,

@@ -38,6 +38,13 @@ pub trait Problem {
         jacobian: &mut [f64],
     ) -> f64;
 
+    /// Weights `w` that make each row of `R` a pure number for Newton's convergence test
+    /// (`max_i |w_i R_i| ≤ tolerance`), so that the test does not depend on the units the
+    /// problem is written in: 1 by default (a problem already dimensionless).
+    fn residual_weights(&self, weights: &mut [f64]) {
+        weights.fill(1.0);
+    }
+
     /// `∂R/∂λ` at `(x, λ)` into `out`.
     fn load_derivative(&mut self, x: &[f64], lambda: f64, out: &mut [f64]);
 
