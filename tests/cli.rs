@@ -622,6 +622,73 @@ fn a_case_far_beyond_memory_is_refused_at_once_with_its_estimate() {
     assert_no_outputs(&dir.path("out"));
 }
 
+/// The first line `spira run` prints on `case` (then the run is stopped) and, when that is
+/// empty, what it said on stderr.
+fn first_line_of_run(dir: &Scratch, case: &Path) -> (String, String) {
+    use std::io::{BufRead as _, BufReader};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
+        .args([
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            dir.path("out").to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run spira");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .expect("a line");
+    let _ = child.kill();
+    let _ = child.wait();
+    let mut err = String::new();
+    if first.is_empty() {
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    }
+    (first, err)
+}
+
+/// A symmetric pair standing for 512 helices (the default `symmetric = "auto"`) is small in
+/// unknowns but factorises 129 Bloch blocks per stability check: `spira run` prints that
+/// estimate first; a pair whose block factorisations exceed the memory is refused at once
+/// with its estimate and the key.
+#[test]
+fn a_pair_of_many_helices_prints_its_bloch_work_and_one_beyond_memory_is_refused() {
+    let dir = Scratch::new("bloch-size");
+    let case = dir.write("n512.toml", "[geometry]\nhelices = 512\n");
+    let (first, err) = first_line_of_run(&dir, &case);
+    if first.is_empty() {
+        assert!(err.contains("would need about"), "{err}");
+    } else {
+        assert!(first.starts_with("size estimate: 2 rods"), "{first}");
+        assert!(first.contains("129 Bloch blocks per check"), "{first}");
+        assert!(first.contains("per load step"), "{first}");
+    }
+    let huge = dir.write(
+        "n512-fine.toml",
+        "[geometry]\nhelices = 512\n[discretisation]\nelements = 30000\n",
+    );
+    let estimate = spira::case::Case::from_file(&huge).unwrap().size_estimate();
+    let fits = spira::case::available_memory().is_none_or(|a| estimate.memory_bytes() <= a);
+    if !fits {
+        let err = assert_failure(&spira_run(&dir, &huge, &dir.path("out"), &[]));
+        for fragment in [
+            "would need about",
+            "Bloch blocks",
+            "`discretisation.elements`",
+            "--force",
+        ] {
+            assert!(err.contains(fragment), "`{fragment}` missing: {err}");
+        }
+        assert_no_outputs(&dir.path("out"));
+    } else {
+        let (first, _) = first_line_of_run(&dir, &huge);
+        assert!(first.contains("Bloch blocks"), "{first}");
+    }
+}
+
 #[test]
 fn a_long_case_prints_its_size_before_solving() {
     use std::io::{BufRead as _, BufReader};

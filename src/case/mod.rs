@@ -22,7 +22,7 @@ pub use limits::{
     PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
 };
 pub use settings::{Accuracy, Discretisation, Geometry, Loading};
-pub use size::{available_memory, SizeEstimate, TooLarge};
+pub use size::{available_memory, SizeEstimate, TooLarge, LONG_STEP_SECONDS};
 pub use target::TargetError;
 
 use crate::discretisation::model::DiscreteModel;
