@@ -174,8 +174,9 @@ fn end_between_writes(signal: i32) -> ! {
     std::process::exit(128 + signal)
 }
 
-/// For the commands that write files and do not stop by themselves on a signal (`plot`,
-/// `precision`, `replay`): a signal ends them between writes ([`end_between_writes`]).
+/// For the commands that do not stop by themselves on a signal (`plot`, `precision`,
+/// `replay`, `bench`): a signal ends them between writes ([`end_between_writes`]), with
+/// the status a shell expects.
 fn end_on_signal_between_writes() {
     if let Ok(mut signals) = signal_hook::iterator::Signals::new(ENDING_SIGNALS) {
         std::thread::spawn(move || {
@@ -689,6 +690,7 @@ fn replay(session: &Path, out: &Path) -> Result<()> {
 }
 
 fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
+    end_on_signal_between_writes();
     let (mut case, _) = resolve(load_case(path)?)?;
     // the full model first, the symmetric pair (what "auto" solves) beside it
     case.discretisation.symmetric = false;
