@@ -158,6 +158,35 @@ enum Command {
     },
 }
 
+/// The signals that end a command: Ctrl-C, `kill` and a closed terminal.
+const ENDING_SIGNALS: [i32; 3] = [
+    signal_hook::consts::SIGINT,
+    signal_hook::consts::SIGTERM,
+    signal_hook::consts::SIGHUP,
+];
+
+/// Ends the process as `signal` would (status 128 + signal), once no file or folder is
+/// being written: a write under way finishes first (it is bounded work), so the staging
+/// folder of a run is never left behind and its target holds the old files or the whole
+/// new set.
+fn end_between_writes(signal: i32) -> ! {
+    let _no_write = spira::output::files::hold_writes();
+    std::process::exit(128 + signal)
+}
+
+/// For the commands that do not stop by themselves on a signal (`plot`, `precision`,
+/// `replay`, `bench`): a signal ends them between writes ([`end_between_writes`]), with
+/// the status a shell expects.
+fn end_on_signal_between_writes() {
+    if let Ok(mut signals) = signal_hook::iterator::Signals::new(ENDING_SIGNALS) {
+        std::thread::spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                end_between_writes(signal);
+            }
+        });
+    }
+}
+
 fn load_case(path: Option<&Path>) -> Result<Case> {
     Ok(match path {
         Some(p) => Case::from_file(p)?,
@@ -378,15 +407,20 @@ fn run(
     );
     let eps = case.output_eps(target, steps);
     let t0 = Instant::now();
-    // Ctrl-C stops the path at its last converged state; the files are written as after
-    // a failure
+    // Ctrl-C (or SIGTERM, SIGHUP) stops the path at its last converged state; the files
+    // are written as after a failure. A second signal ends the process, but never while
+    // the files are being written
     let interrupt = Interrupt::new();
     let raise = interrupt.clone();
-    if let Ok(mut signals) = signal_hook::iterator::Signals::new([signal_hook::consts::SIGINT]) {
+    if let Ok(mut signals) = signal_hook::iterator::Signals::new(ENDING_SIGNALS) {
         std::thread::spawn(move || {
-            if signals.forever().next().is_some() {
+            let mut signals = signals.forever();
+            if signals.next().is_some() {
                 eprintln!("spira run: interrupted; stopping at the last converged state");
                 raise.raise();
+            }
+            if let Some(signal) = signals.next() {
+                end_between_writes(signal);
             }
         });
     }
@@ -534,6 +568,7 @@ fn run(
 
 /// `spira plot`: the figures of run folders `dirs` into `out` (default: the one run folder).
 fn plot(dirs: &[PathBuf], out: Option<&Path>, eps: &str, rod: &str, only: &str) -> Result<()> {
+    end_on_signal_between_writes();
     let mut kinds = Kinds {
         load: false,
         curvature: false,
@@ -640,6 +675,7 @@ fn bulk_line(bulk: &spira::results::StepBulk) -> String {
 const PROGRESS_EVERY: std::time::Duration = std::time::Duration::from_secs(2);
 
 fn replay(session: &Path, out: &Path) -> Result<()> {
+    end_on_signal_between_writes();
     let script = Script::read(session)?;
     let case = load_case(script.case.as_deref())?;
     let files = replay_into(&script, &case, out)?;
@@ -654,6 +690,7 @@ fn replay(session: &Path, out: &Path) -> Result<()> {
 }
 
 fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
+    end_on_signal_between_writes();
     let (mut case, _) = resolve(load_case(path)?)?;
     // the full model first, the symmetric pair (what "auto" solves) beside it
     case.discretisation.symmetric = false;
@@ -797,6 +834,7 @@ fn response(case: &Case, point: &spira::results::LoadPoint) -> f64 {
 }
 
 fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result<()> {
+    end_on_signal_between_writes();
     let case = Case::from_file(path)?;
     check_size(&case, force)?;
     let problem = Problem::Path(Box::new(case.clone()));

@@ -111,6 +111,10 @@ pub enum CriticalKind {
     LimitPoint,
     /// Another branch crosses the path.
     Bifurcation,
+    /// A neutral direction: an eigenvalue zero to rounding along the path, not a crossing
+    /// (a buckled isotropic rod turning about its axis). Recorded once, where the count
+    /// of unstable directions first flipped on it; it counts as stable.
+    Neutral,
 }
 
 impl CriticalKind {
@@ -118,6 +122,7 @@ impl CriticalKind {
         match self {
             CriticalKind::LimitPoint => "limit-point",
             CriticalKind::Bifurcation => "bifurcation",
+            CriticalKind::Neutral => "neutral",
         }
     }
 }

@@ -967,3 +967,61 @@ fn an_unknown_hypothesis_lists_the_names() {
         &["`discrete` or `continuum`"],
     );
 }
+
+/// A symmetric pair of n = 2m rods judges stability by ⌊m/2⌋ + 1 Bloch blocks (p = 0 ..=
+/// m/2, DESIGN.md §7), of which p = 0 and, for even m, p = m/2 are real and the others
+/// complex (realified: twice the unknowns, about four times the entries): the size estimate
+/// counts that work, so that a pair of many helices is long (its estimate printed) and one
+/// whose block factorisations exceed the memory is refused naming the key.
+#[test]
+fn the_size_estimate_counts_the_bloch_blocks_of_a_symmetric_pair() {
+    let parse =
+        |text: &str| Case::parse(text, "pair.toml", "pair").unwrap_or_else(|e| panic!("{e}"));
+    for (n, blocks, real) in [
+        (4usize, 2.0, 2.0),
+        (6, 2.0, 1.0),
+        (8, 3.0, 2.0),
+        (512, 129.0, 2.0),
+    ] {
+        let pair = parse(&format!("[geometry]\nhelices = {n}\n"));
+        assert!(pair.discretisation.symmetric, "n = {n}: auto is the pair");
+        let size = pair.size_estimate();
+        assert_eq!(size.blocks, blocks, "n = {n}");
+        let complex = blocks - real;
+        assert!(
+            (size.block_entries - (real + 4.0 * complex) * size.factor_entries).abs()
+                <= 1e-9 * size.block_entries,
+            "n = {n}"
+        );
+        // the full model has no blocks, and the pair's blocks cost memory and time
+        let full = parse(&format!(
+            "[geometry]\nhelices = {n}\n[discretisation]\nsymmetric = false\n"
+        ))
+        .size_estimate();
+        assert_eq!(full.blocks, 0.0);
+        assert_eq!(full.block_seconds_per_step(), 0.0);
+        assert!(size.block_seconds_per_step() > 0.0);
+    }
+    // 512 helices under auto: 2304 joints per rod, a pair of 88 k unknowns whose 129
+    // blocks per check make each load step long; its estimate says so
+    let n512 = parse("[geometry]\nhelices = 512\n").size_estimate();
+    assert!(n512.is_large());
+    assert!(n512.block_seconds_per_step() > spira::case::LONG_STEP_SECONDS);
+    let said = n512.to_string();
+    assert!(said.contains("129 Bloch blocks per check"), "{said}");
+    assert!(said.contains("per load step"), "{said}");
+    // a small pair is not long
+    let n8 = parse("[geometry]\nhelices = 8\n").size_estimate();
+    assert!(!n8.is_large(), "{n8}");
+    // a pair whose blocks exceed the memory is refused with the key to change
+    let fine = parse("[geometry]\nhelices = 512\n[discretisation]\nelements = 30000\n");
+    let est = fine.size_estimate();
+    let e = est
+        .check_fits(Some(8e9))
+        .expect_err("more than 8 GB of block factorisations");
+    let msg = e.to_string();
+    assert!(msg.contains("`discretisation.elements`"), "{msg}");
+    assert!(msg.contains("Bloch blocks"), "{msg}");
+    // without the blocks it would have fitted: the pair's own solve is a few GB
+    assert!(est.memory_bytes() - 2.0 * 16.0 * 5.0 * est.factor_entries < 8e9);
+}

@@ -622,6 +622,73 @@ fn a_case_far_beyond_memory_is_refused_at_once_with_its_estimate() {
     assert_no_outputs(&dir.path("out"));
 }
 
+/// The first line `spira run` prints on `case` (then the run is stopped) and, when that is
+/// empty, what it said on stderr.
+fn first_line_of_run(dir: &Scratch, case: &Path) -> (String, String) {
+    use std::io::{BufRead as _, BufReader};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
+        .args([
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            dir.path("out").to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run spira");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .expect("a line");
+    let _ = child.kill();
+    let _ = child.wait();
+    let mut err = String::new();
+    if first.is_empty() {
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    }
+    (first, err)
+}
+
+/// A symmetric pair standing for 512 helices (the default `symmetric = "auto"`) is small in
+/// unknowns but factorises 129 Bloch blocks per stability check: `spira run` prints that
+/// estimate first; a pair whose block factorisations exceed the memory is refused at once
+/// with its estimate and the key.
+#[test]
+fn a_pair_of_many_helices_prints_its_bloch_work_and_one_beyond_memory_is_refused() {
+    let dir = Scratch::new("bloch-size");
+    let case = dir.write("n512.toml", "[geometry]\nhelices = 512\n");
+    let (first, err) = first_line_of_run(&dir, &case);
+    if first.is_empty() {
+        assert!(err.contains("would need about"), "{err}");
+    } else {
+        assert!(first.starts_with("size estimate: 2 rods"), "{first}");
+        assert!(first.contains("129 Bloch blocks per check"), "{first}");
+        assert!(first.contains("per load step"), "{first}");
+    }
+    let huge = dir.write(
+        "n512-fine.toml",
+        "[geometry]\nhelices = 512\n[discretisation]\nelements = 30000\n",
+    );
+    let estimate = spira::case::Case::from_file(&huge).unwrap().size_estimate();
+    let fits = spira::case::available_memory().is_none_or(|a| estimate.memory_bytes() <= a);
+    if !fits {
+        let err = assert_failure(&spira_run(&dir, &huge, &dir.path("out"), &[]));
+        for fragment in [
+            "would need about",
+            "Bloch blocks",
+            "`discretisation.elements`",
+            "--force",
+        ] {
+            assert!(err.contains(fragment), "`{fragment}` missing: {err}");
+        }
+        assert_no_outputs(&dir.path("out"));
+    } else {
+        let (first, _) = first_line_of_run(&dir, &huge);
+        assert!(first.contains("Bloch blocks"), "{first}");
+    }
+}
+
 #[test]
 fn a_long_case_prints_its_size_before_solving() {
     use std::io::{BufRead as _, BufReader};
@@ -771,4 +838,169 @@ fn a_closed_pipe_ends_the_run_quietly() {
     let _ = child.wait();
     assert!(first.starts_with("spira run: case"), "{first}");
     assert!(!err.contains("panicked"), "{err}");
+}
+
+/// The run files a folder holds, by name.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+/// Whether `dir` holds the whole set of files of one run with `--states --vtk`: the tables,
+/// and a `state-<k>.csv` and a `step-<k>.vtp` for exactly the steps of its `load.csv`.
+fn is_whole_run(dir: &Path) -> Result<(), String> {
+    let names = listing(dir);
+    for name in [
+        "load.csv",
+        "reactions.csv",
+        "state.csv",
+        "joints.csv",
+        "bulk.csv",
+        "series.pvd",
+    ] {
+        if !names.iter().any(|n| n == name) {
+            return Err(format!("{name} missing: {names:?}"));
+        }
+    }
+    let load = Csv::read(&dir.join("load.csv"));
+    let steps: Vec<String> = load.rows.iter().map(|r| r[0].clone()).collect();
+    let numbered = |prefix: &str, suffix: &str| -> Vec<String> {
+        let mut k: Vec<u64> = names
+            .iter()
+            .filter_map(|n| n.strip_prefix(prefix)?.strip_suffix(suffix)?.parse().ok())
+            .collect();
+        k.sort_unstable();
+        k.iter().map(u64::to_string).collect()
+    };
+    for (prefix, suffix) in [("state-", ".csv"), ("step-", ".vtp")] {
+        if numbered(prefix, suffix) != steps {
+            return Err(format!(
+                "{prefix}<k>{suffix} for {:?}, load.csv has steps {steps:?}",
+                numbered(prefix, suffix)
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// SIGTERM or SIGINT, once or twice, at moments spread over the solve and the write phase of
+/// a run with many files (`--states --vtk`, 40 steps: about 90 files): a first signal stops
+/// the solve at its last converged state and the files are written; a second ends the
+/// process, but not while they are written. Asserted after every attempt: no staging folder
+/// beside the output folder or in it, no temporary file, the exit status a clean stop or
+/// the signal's 128 + n (never a panic's 101 or a death by the signal), and the output
+/// folder holding either the previous run's files untouched or a whole new set. The
+/// moments are found by the run's own output (the line of a given step), then a delay of
+/// 0 to 40 ms and a second signal 0.2 or 10 ms later: a schedule, not a measurement (the
+/// binary before this test, which SIGTERM killed at once, left its staging folder behind
+/// at delays of 20 and 40 ms after the last step's line on this machine).
+#[test]
+fn a_signal_during_the_write_phase_leaves_the_old_files_or_the_whole_new_set() {
+    use std::io::{BufRead as _, BufReader};
+    let dir = Scratch::new("signal-write");
+    let steps = 40;
+    let case = dir.write(
+        "many.toml",
+        &TINY_CASE.replace("steps = 2", &format!("steps = {steps}")),
+    );
+    let old_case = dir.write("old.toml", TINY_CASE);
+    let out = dir.path("out");
+    let mut tally = std::collections::BTreeMap::new();
+    for attempt in 0..16u32 {
+        // the previous run's files: a whole set of 2 steps, and a file of the user's
+        let _ = std::fs::remove_dir_all(&out);
+        assert_success(&spira_run(&dir, &old_case, &out, &["--states", "--vtk"]));
+        std::fs::write(out.join("notes.txt"), "mine").expect("write");
+        let old_load = std::fs::read(out.join("load.csv")).expect("old load.csv");
+        let old_names = listing(&out);
+        let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
+            .args([
+                "run",
+                case.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--states",
+                "--vtk",
+            ])
+            .current_dir(&dir.0)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("run spira");
+        // the signal after the line of this step (the last one: the write phase follows)
+        let at_step = if attempt % 4 == 3 { steps / 2 } else { steps };
+        let delay = std::time::Duration::from_millis([0, 5, 20, 40][(attempt / 4) as usize]);
+        let signal = if attempt % 2 == 0 {
+            libc::SIGTERM
+        } else {
+            libc::SIGINT
+        };
+        let twice = attempt % 3 != 2;
+        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        for line in lines.by_ref() {
+            let line = line.expect("stdout");
+            let step = line
+                .split_whitespace()
+                .next()
+                .and_then(|w| w.parse::<usize>().ok());
+            if step == Some(at_step) {
+                break;
+            }
+        }
+        std::thread::sleep(delay);
+        let pid = child.id() as libc::pid_t;
+        // SAFETY: kill(2) on the child's pid, which is not reaped before `wait` below
+        unsafe { libc::kill(pid, signal) };
+        if twice {
+            let gap = if attempt % 2 == 0 { 200 } else { 10_000 };
+            std::thread::sleep(std::time::Duration::from_micros(gap));
+            // SAFETY: as above
+            unsafe { libc::kill(pid, signal) };
+        }
+        let drain = std::thread::spawn(move || lines.count());
+        let status = child.wait().expect("wait");
+        drain.join().expect("stdout drained");
+        use std::os::unix::process::ExitStatusExt as _;
+        assert_eq!(
+            status.signal(),
+            None,
+            "attempt {attempt}: killed by a signal"
+        );
+        let code = status.code().expect("an exit code");
+        assert!(
+            [0, 1, 128 + signal].contains(&code),
+            "attempt {attempt}: exit status {code}"
+        );
+        // nothing temporary beside the folder or in it
+        assert_eq!(
+            listing(&dir.0),
+            ["many.toml", "old.toml", "out"],
+            "attempt {attempt}"
+        );
+        let names = listing(&out);
+        assert!(
+            names.iter().all(|n| !n.starts_with(".spira")),
+            "attempt {attempt}: {names:?}"
+        );
+        assert!(names.iter().any(|n| n == "notes.txt"));
+        let new_load = std::fs::read(out.join("load.csv")).expect("load.csv");
+        let kept = if new_load == old_load {
+            // untouched: the old set, all of it
+            assert_eq!(names, old_names, "attempt {attempt}");
+            "old set"
+        } else {
+            "new set"
+        };
+        if let Err(e) = is_whole_run(&out) {
+            panic!("attempt {attempt} ({kept}, exit {code}): {e}");
+        }
+        *tally.entry((kept, code)).or_insert(0) += 1;
+    }
+    eprintln!("outcomes (set kept, exit status): {tally:?}");
 }

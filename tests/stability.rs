@@ -286,3 +286,81 @@ fn a_duplicated_joint_is_reported_as_a_singular_system() {
     }
     assert!(err.to_string().contains("singular"), "{err}");
 }
+
+/// Euler's pinned column switched onto its buckled branch: with B1 = B2 the buckled plane
+/// may turn about the axis at no cost (a neutral direction, eigenvalue zero to rounding),
+/// which used to flip the unstable count at every step and stop the path after 16
+/// "bifurcations". It is counted once, as neutral, and the path reaches its target, on the
+/// pinned elastica: P/(π²B/L²) = (2K(m)/π)² at δ/L = 2(1 − E(m)/K(m)) (closed form above;
+/// over spira's Pcrit = 4π²B/L² that is a quarter of the clamped column's `elastica_load`).
+#[test]
+fn a_buckled_isotropic_column_has_one_neutral_direction_and_reaches_its_target() {
+    let mut c = case("euler-pinned");
+    c.loading.branch = spira::model::loading::Branch::Switch;
+    let target = 0.3;
+    let targets = c.output_eps(target, 3);
+    let out = run_path(&c, &targets, |_, _| {}).expect("path");
+    assert!(out.error.is_none(), "{:?}", out.error);
+    let last = out.points.last().expect("points");
+    assert!(
+        (last.parameter - target).abs() < 1e-12,
+        "{}",
+        last.parameter
+    );
+    // the Euler load, to the tolerance of the fundamental-path test
+    let first = &out.critical[0];
+    assert_eq!(first.kind, CriticalKind::Bifurcation);
+    assert!(
+        (first.parameter - 0.25).abs() < 1e-5 * 0.25,
+        "{}",
+        first.parameter
+    );
+    assert_eq!(out.switched_at, Some(0));
+    let neutral: Vec<_> = out
+        .critical
+        .iter()
+        .filter(|c| c.kind == CriticalKind::Neutral)
+        .collect();
+    assert_eq!(
+        neutral.len(),
+        1,
+        "{:?}",
+        out.critical
+            .iter()
+            .map(|c| (c.kind, c.parameter))
+            .collect::<Vec<_>>()
+    );
+    // nothing else: the neutral direction is no bifurcation
+    assert_eq!(out.critical.len(), 2);
+    assert!(neutral[0].parameter > 0.25 && neutral[0].parameter <= target);
+    // the buckled branch is stable, the neutral direction counted as stable
+    for p in out.points.iter().filter(|p| p.parameter > 0.25) {
+        assert_eq!(
+            p.stability.map(|s| s.unstable_directions),
+            Some(0),
+            "{}",
+            p.parameter
+        );
+        let expected = elastica_load(p.eps) / 4.0;
+        assert!(
+            (p.parameter - expected).abs() < 1e-3 * expected,
+            "δ/L = {}: P/Pcrit = {} vs the pinned elastica's {expected}",
+            p.eps,
+            p.parameter
+        );
+    }
+    // critical.csv names it
+    let files =
+        spira::output::run_files(&spira::output::RunFiles::of(&c.name, None, &out)).expect("files");
+    let critical = &files
+        .iter()
+        .find(|(n, _)| n == "critical.csv")
+        .expect("critical.csv")
+        .1;
+    let kinds: Vec<&str> = critical
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("index"))
+        .map(|l| l.split(',').nth(1).expect("kind"))
+        .collect();
+    assert_eq!(kinds, ["bifurcation", "neutral"]);
+}

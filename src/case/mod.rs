@@ -22,7 +22,7 @@ pub use limits::{
     PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
 };
 pub use settings::{Accuracy, Discretisation, Geometry, Loading};
-pub use size::{available_memory, SizeEstimate, TooLarge};
+pub use size::{available_memory, SizeEstimate, TooLarge, LONG_STEP_SECONDS};
 pub use tables::FreeMotion;
 pub use target::TargetError;
 
@@ -98,9 +98,7 @@ impl Case {
         if discretisation.symmetric_auto && loading.branch == Branch::Switch {
             discretisation.symmetric = false;
         }
-        let mut solver = tables::solver(&raw.solver, &ck)?;
-        // Newton's balance rows in units of the stiffness (scale-free convergence)
-        solver.newton.force_scale = stiffness.b1;
+        let solver = tables::solver(&raw.solver, &ck)?;
         Ok(Case {
             name: raw.name.unwrap_or_else(|| stem.to_string()),
             geometry,

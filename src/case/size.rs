@@ -10,6 +10,18 @@ use std::fmt;
 /// Cases of more unknowns than this print their size before solving.
 pub const LARGE_UNKNOWNS: f64 = 50_000.0;
 
+/// Cases whose stability checks are estimated to take longer than this per load step
+/// (s) print their size before solving.
+pub const LONG_STEP_SECONDS: f64 = 10.0;
+
+/// Seconds per factorised entry of the Bloch blocks in one load step (its stability
+/// checks, the critical-point search and the lowest eigenvalue's iterations included),
+/// fitted on this 2-core machine to symmetric pairs of thesis assemblies of n = 16, 32, 64
+/// and 128 helices (4 steps to ε = 0.05 took 1.1, 2.6, 7.8, 24 s, 3.7e-8 to 1.5e-8 s per
+/// estimated entry, falling as the blocks take over from the fixed cost of a step): an
+/// upper value where the blocks dominate.
+const SECONDS_PER_BLOCK_ENTRY: f64 = 2e-8;
+
 /// An estimate of the size of a case's problem: upper bounds, within a factor of about 2
 /// of the unknowns and the peak memory measured on thesis assemblies of 8 to 32 helices.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +38,14 @@ pub struct SizeEstimate {
     pub nonzeros: f64,
     /// Entries of one sparse factorisation (LU, or the LDLᵀ of the stability count).
     pub factor_entries: f64,
+    /// Bloch blocks factorised per stability check: `⌊m/2⌋ + 1` for a symmetric pair of
+    /// `n = 2m` rods (wavenumbers `p = 0 ..= m/2`), 0 for the full model, whose stability
+    /// is the LDLᵀ already counted.
+    pub blocks: f64,
+    /// Entries of the factorisations of all Bloch blocks of one stability check: the real
+    /// blocks (`p = 0`, and `p = m/2` for even `m`) as large as the pair's LDLᵀ, the complex
+    /// ones, realified, of twice the unknowns and about four times the entries.
+    pub block_entries: f64,
     /// The key that sets the size most directly.
     pub key: &'static str,
 }
@@ -63,6 +83,16 @@ impl SizeEstimate {
         // 46, 122 and 675 MB for 7652, 15976 and 63312 unknowns, within a factor 2.2 above)
         let front = per_element * (8.0 + if g.helices >= 2 { 0.5 * rods } else { 0.0 });
         let factor_entries = unknowns * front;
+        // the Bloch blocks of a pair, judged two at a time (two threads)
+        let (blocks, block_entries) = if discretisation.symmetric && g.helices >= 4 {
+            let m = (g.helices / 2) as f64;
+            let blocks = (m / 2.0).floor() + 1.0;
+            let real = if g.helices % 4 == 0 { 2.0 } else { 1.0 };
+            let complex = (blocks - real).max(0.0);
+            (blocks, (real + 4.0 * complex) * factor_entries)
+        } else {
+            (0.0, 0.0)
+        };
         let key = if g.helices >= 16 && joints_per_rod > discretisation.elements as f64 {
             "geometry.helices"
         } else {
@@ -75,19 +105,40 @@ impl SizeEstimate {
             unknowns,
             nonzeros,
             factor_entries,
+            blocks,
+            block_entries,
             key,
         }
     }
 
-    /// Memory of a solve (bytes): the matrix, two factorisations (the Newton LU and the
-    /// LDLᵀ of the stability count) at a value and an index each, and the state vectors.
-    pub fn memory_bytes(&self) -> f64 {
-        16.0 * self.nonzeros + 2.0 * 16.0 * self.factor_entries + 8.0 * 40.0 * self.unknowns
+    /// Estimated time (s) of the stability checks of one load step: the Bloch blocks'
+    /// factorisations of a symmetric pair (0 for the full model, whose cost the unknowns
+    /// say).
+    pub fn block_seconds_per_step(&self) -> f64 {
+        SECONDS_PER_BLOCK_ENTRY * self.block_entries
     }
 
-    /// Whether the case is long enough to say its size before solving.
+    /// Memory of a solve (bytes): the matrix, two factorisations (the Newton LU and the
+    /// LDLᵀ of the stability count) at a value and an index each, and the state vectors;
+    /// for a symmetric pair also the block factorisations held at once (two threads, each
+    /// with a real and a realified complex one, about 1 + 4 times the pair's entries) and
+    /// the warm start of every block's eigenvalue iteration (a realified vector each).
+    pub fn memory_bytes(&self) -> f64 {
+        let blocks = if self.blocks > 0.0 {
+            2.0 * 16.0 * 5.0 * self.factor_entries + self.blocks * 8.0 * 2.0 * self.unknowns
+        } else {
+            0.0
+        };
+        16.0 * self.nonzeros
+            + 2.0 * 16.0 * self.factor_entries
+            + 8.0 * 40.0 * self.unknowns
+            + blocks
+    }
+
+    /// Whether the case is long enough to say its size before solving: many unknowns, or
+    /// stability checks of many Bloch blocks.
     pub fn is_large(&self) -> bool {
-        self.unknowns > LARGE_UNKNOWNS
+        self.unknowns > LARGE_UNKNOWNS || self.block_seconds_per_step() > LONG_STEP_SECONDS
     }
 
     /// Refuses a problem whose memory exceeds `available` bytes (when known).
@@ -106,15 +157,24 @@ impl fmt::Display for SizeEstimate {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{} rods of about {} elements, {} joints: about {} unknowns, {} nonzeros, {} per factorisation, memory about {}",
+            "{} rods of about {} elements, {} joints: about {} unknowns, {} nonzeros, {} per factorisation",
             self.rods,
             num(self.elements_per_rod.round()),
             num(self.joints.round()),
             num(self.unknowns.round()),
             num(self.nonzeros.round()),
             entries(self.factor_entries),
-            bytes(self.memory_bytes())
-        )
+        )?;
+        if self.blocks > 0.0 {
+            write!(
+                f,
+                ", stability by {} Bloch blocks per check ({} factorised, about {} per load step)",
+                num(self.blocks),
+                entries(self.block_entries),
+                seconds(self.block_seconds_per_step())
+            )?;
+        }
+        write!(f, ", memory about {}", bytes(self.memory_bytes()))
     }
 }
 
@@ -125,6 +185,17 @@ pub struct TooLarge {
     pub estimate: SizeEstimate,
     /// Bytes available.
     pub available: f64,
+}
+
+/// A duration in s, min or h.
+fn seconds(t: f64) -> String {
+    if t < 120.0 {
+        format!("{t:.1} s")
+    } else if t < 7200.0 {
+        format!("{:.0} min", t / 60.0)
+    } else {
+        format!("{} h", num((t / 3600.0).round()))
+    }
 }
 
 fn entries(x: f64) -> String {

@@ -205,6 +205,48 @@ impl System {
         self.assemble(model, x, residual, &mut Null)
     }
 
+    /// Weights that make every row of the residual dimensionless, for Newton's
+    /// convergence test (`max_i |w_i R_i| ≤ tolerance`), in the problem's own scales: the
+    /// stiffness `B1` (N m²) and the rod length `L` (m), the length `Pcrit = B1 (2π/L)²` is
+    /// measured in. Balance rows of a quaternion unknown are moments (J): `w = L/B1`; of a
+    /// position unknown, forces (N): `w = L²/B1`; inextensibility rows and linear
+    /// constraints on positions (supports, tip height, joints) are lengths (m): `w = 1/L`;
+    /// unit norms and constraints on quaternions (held orientations) are pure numbers:
+    /// `w = 1`. Changing the units of length or force (every length ×s, every stiffness
+    /// ×f s²) therefore leaves every weighted row, and so the path, unchanged.
+    pub fn residual_weights(&self, model: &DiscreteModel, weights: &mut [f64]) {
+        let b1 = model.stiffness.b1;
+        let l = model.length();
+        weights.fill(1.0);
+        // primal rows: quaternions first marked as moments, positions as forces
+        let mut is_position = vec![false; model.n_primal];
+        for rod in &model.rods {
+            for node in 0..rod.mesh.quaternion_nodes() {
+                for k in 0..4 {
+                    weights[rod.q_dof(node, k)] = l / b1;
+                }
+            }
+            for vertex in 0..=rod.mesh.elements() {
+                for k in 0..3 {
+                    weights[rod.r_dof(vertex, k)] = l * l / b1;
+                    is_position[rod.r_dof(vertex, k)] = true;
+                }
+            }
+        }
+        for (id, rod) in model.rods.iter().enumerate() {
+            for e in 0..rod.mesh.elements() {
+                for k in 0..3 {
+                    weights[self.compat_row(id, e) + k] = 1.0 / l;
+                }
+            }
+        }
+        for (i, c) in self.linear.iter().enumerate() {
+            if c.terms.iter().any(|&(dof, _)| is_position[dof]) {
+                weights[self.linear_row(i)] = 1.0 / l;
+            }
+        }
+    }
+
     /// Row of the inextensibility multiplier of element `e` of rod `rod` (its first component).
     pub fn compat_row(&self, rod: RodId, e: usize) -> usize {
         self.compat_rows[rod] + 3 * e

@@ -160,7 +160,7 @@ pub fn load_csv(case: &str, points: &[LoadPoint]) -> String {
 #[derive(Serialize, Default)]
 struct CriticalRow {
     index: usize,
-    /// `limit-point` or `bifurcation`.
+    /// `limit-point`, `bifurcation` or `neutral`.
     kind: &'static str,
     /// Control of the path (`displacement` or `force`).
     control: &'static str,
@@ -186,7 +186,7 @@ struct CriticalRow {
 pub fn critical_csv(case: &str, critical: &[CriticalPoint]) -> String {
     let comments = [
         format!("spira critical points, case {case}"),
-        "kind: limit-point or bifurcation; parameter: load parameter (eps, or P/Pcrit under load control); fx,fy,fz: sum of tip reactions / (n Pcrit); unstable_before/after: unstable directions either side (each mode of a multiple point counted); wavenumber: circumferential wavenumber p of the mode when the stability of a symmetric pair is judged by Bloch blocks (the mode repeats with phase 2 pi p/m from sector to sector; empty for the full model); multiplicity: modes crossing together (2 for 0 < p < m/2); mode shapes, on the whole assembly, in mode-<index>.csv".to_string(),
+        "kind: limit-point, bifurcation, or neutral (a direction of zero energy to rounding along the path, such as a buckled isotropic rod turning about its axis: counted once, where it first flipped the count, and as stable); parameter: load parameter (eps, or P/Pcrit under load control); fx,fy,fz: sum of tip reactions / (n Pcrit); unstable_before/after: unstable directions either side (each mode of a multiple point counted); wavenumber: circumferential wavenumber p of the mode when the stability of a symmetric pair is judged by Bloch blocks (the mode repeats with phase 2 pi p/m from sector to sector; empty for the full model); multiplicity: modes crossing together (2 for 0 < p < m/2); mode shapes, on the whole assembly, in mode-<index>.csv".to_string(),
     ];
     let rows = critical.iter().enumerate().map(|(i, c)| CriticalRow {
         index: i,

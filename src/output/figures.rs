@@ -230,7 +230,8 @@ fn load_panel(
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], line));
             }
         }
-        for c in &run.critical {
+        // a neutral direction is not a point of the path where stability changes
+        for c in run.critical.iter().filter(|c| c.kind != "neutral") {
             let at = (c.eps, c.load[k]);
             if c.kind == "limit-point" {
                 chart

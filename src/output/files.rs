@@ -14,11 +14,26 @@ use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::run::PathOutcome;
 use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+/// Held while a file or a folder of files is written ([`write_atomic`], [`write_folder`]).
+static WRITING: Mutex<()> = Mutex::new(());
+
+/// Waits until no write is under way and keeps new ones from starting while the guard
+/// lives: what a signal handler takes before it ends the process, so that a signal during
+/// the write phase leaves no staging folder or temporary file, and the target holds
+/// either its previous files or the whole new set. (Writes from several threads are
+/// serialised by it too.)
+pub fn hold_writes() -> MutexGuard<'static, ()> {
+    WRITING.lock().unwrap_or_else(|e| e.into_inner())
+}
 
 /// Writes `contents` to `path` atomically: into a temporary file of the same folder (removed
 /// again if anything fails), then renamed to `path`. The file gets the permissions a newly
 /// created file has (`0o666` less the umask on Unix), not the temporary file's private ones.
 pub fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
+    // declared first, dropped last: after the temporary file is gone
+    let _writing = hold_writes();
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -219,6 +234,8 @@ pub fn write_folder(
     files: &[(String, String)],
     own: impl Fn(&str) -> bool,
 ) -> io::Result<Vec<PathBuf>> {
+    // declared first, dropped last: after the staging folder is removed
+    let _writing = hold_writes();
     std::fs::create_dir_all(dir)?;
     for (name, _) in files {
         let p = dir.join(name);

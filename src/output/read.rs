@@ -161,7 +161,7 @@ pub struct PathPoint {
 /// A critical point of a path (a row of `critical.csv`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CriticalMark {
-    /// `limit-point` or `bifurcation`.
+    /// `limit-point`, `bifurcation` or `neutral`.
     pub kind: String,
     pub parameter: f64,
     pub eps: f64,

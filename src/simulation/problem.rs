@@ -475,6 +475,14 @@ impl Problem for RodProblem {
             .energy
     }
 
+    fn eigenvalue_scale(&self) -> f64 {
+        self.model.stiffness.b1 / self.model.length().powi(2)
+    }
+
+    fn residual_weights(&self, weights: &mut [f64]) {
+        self.system.residual_weights(&self.model, weights);
+    }
+
     fn load_derivative(&mut self, _x: &[f64], _lambda: f64, out: &mut [f64]) {
         out.copy_from_slice(&self.load_derivative);
     }

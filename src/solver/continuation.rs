@@ -12,7 +12,7 @@ use super::newton::{Newton, NewtonError, NewtonReport, NewtonSettings, StepEquat
 use super::path_state::PathState;
 use super::problem::Problem;
 use super::stats::Statistics;
-use crate::results::CriticalKind;
+use crate::results::{CriticalKind, Stability};
 use std::time::Instant;
 
 /// Step-length control of the continuation.
@@ -80,6 +80,15 @@ pub enum StopReason {
 /// Critical points located on one path before it stops (bounds the critical-point search).
 pub const MAX_CRITICAL_POINTS: usize = 16;
 
+/// A count of unstable directions that changes across a step while the eigenvalue nearest
+/// zero stays below this fraction of [`Problem::eigenvalue_scale`] at both its ends is a
+/// neutral direction flipping the count by rounding, not a crossing: a real crossing in a
+/// step moves the eigenvalue by its slope times the step (for Euler's column, about
+/// `Pcrit Δλ`, 1e-2 to 1 of the scale), a neutral one stays at rounding level. Tested on
+/// the buckled pinned column (one neutral entry) and on the thesis paths (their
+/// bifurcations unchanged).
+pub const NEUTRAL_FRACTION: f64 = 1e-6;
+
 /// The continuation could not go on; the last converged state is kept.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error("continuation stopped at parameter {reached:.6} (target {target:.6}): {reason}")]
@@ -128,6 +137,8 @@ pub struct Continuation<P: Problem> {
     pub(super) settings: ContinuationSettings,
     pub(super) stats: Statistics,
     pub(super) critical: Vec<Critical>,
+    /// Whether a neutral direction has been recorded (once) on this path.
+    neutral_found: bool,
     /// Checked between Newton iterations and between steps.
     interrupt: Option<Interrupt>,
     /// Told of every accepted step.
@@ -169,6 +180,7 @@ impl<P: Problem> Continuation<P> {
             settings,
             stats: Statistics::default(),
             critical: Vec::new(),
+            neutral_found: false,
             interrupt,
             observer,
         };
@@ -454,7 +466,11 @@ impl<P: Problem> Continuation<P> {
                         observe(&self.state);
                     }
                     if let (Some(b), Some(a)) = (stability_before, self.state.stability) {
-                        if a.unstable_directions != b.unstable_directions {
+                        if a.unstable_directions != b.unstable_directions
+                            && self.is_neutral_flip(&x_before, l_before)
+                        {
+                            self.settle_neutral(b, a);
+                        } else if a.unstable_directions != b.unstable_directions {
                             if self.critical.len() >= MAX_CRITICAL_POINTS {
                                 return Err(self.error(
                                     target,
@@ -501,9 +517,71 @@ impl<P: Problem> Continuation<P> {
         // the count is that of the last accepted step; the lowest eigenvalue is added at
         // output points only
         if s.track_stability && s.lowest_eigenvalue {
+            let before = self.state.stability;
             self.update_stability(true);
+            // the same state counted again: a neutral direction may flip it by rounding
+            if let (Some(b), Some(a)) = (before, self.state.stability) {
+                if a.unstable_directions != b.unstable_directions && self.neutral_found {
+                    let (x, l) = (self.state.x.clone(), self.state.lambda);
+                    if self.is_neutral_at(&x, l) {
+                        self.state.stability = Some(Stability {
+                            unstable_directions: b.unstable_directions,
+                            ..a
+                        });
+                    }
+                }
+            }
         }
         Ok(())
+    }
+
+    /// Whether the eigenvalue nearest zero at `(x, λ)` is zero to rounding
+    /// ([`NEUTRAL_FRACTION`] of the problem's eigenvalue scale). Leaves the problem at the
+    /// current state.
+    fn is_neutral_at(&mut self, x: &[f64], lambda: f64) -> bool {
+        let scale = self.problem.eigenvalue_scale();
+        let mu = self.problem.eigenvalue_nearest_zero(x, lambda);
+        self.problem.restore(&self.state.x, self.state.lambda);
+        mu.is_some_and(|m| m.abs() <= NEUTRAL_FRACTION * scale)
+    }
+
+    /// Whether the change of the count across the accepted step from `(x0, λ0)` to the
+    /// current state is a neutral direction's: zero to rounding at both ends, so that no
+    /// eigenvalue crossed.
+    fn is_neutral_flip(&mut self, x0: &[f64], l0: f64) -> bool {
+        let (x, l) = (self.state.x.clone(), self.state.lambda);
+        self.is_neutral_at(&x, l) && self.is_neutral_at(x0, l0)
+    }
+
+    /// A neutral direction flipped the count from `before` to `after`: it counts as stable
+    /// (the lower count is kept), and the first time it is recorded as a critical point of
+    /// kind [`CriticalKind::Neutral`] with its mode, at the current state.
+    fn settle_neutral(&mut self, before: Stability, after: Stability) {
+        let kept = before.unstable_directions.min(after.unstable_directions);
+        self.state.stability = Some(Stability {
+            unstable_directions: kept,
+            ..after
+        });
+        if self.neutral_found {
+            return;
+        }
+        self.neutral_found = true;
+        let (x, l) = (self.state.x.clone(), self.state.lambda);
+        let n = x.len();
+        let mode = self
+            .newton
+            .null_vector(&mut self.problem, &x, l)
+            .unwrap_or_else(|| vec![0.0; n]);
+        self.problem.restore(&x, l);
+        self.critical.push(Critical {
+            block: 0,
+            kind: CriticalKind::Neutral,
+            parameter: l,
+            unstable_before: before.unstable_directions,
+            unstable_after: after.unstable_directions,
+            state: x,
+            mode,
+        });
     }
 
     /// Counts unstable directions at the current state (and the lowest eigenvalue when

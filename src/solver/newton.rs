@@ -9,14 +9,11 @@ use faer::sparse::SparseColMatRef;
 /// Newton settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonSettings {
-    /// Converged when the scaled residual falls below this: the balance equations' rows
-    /// (the primal unknowns') over [`NewtonSettings::force_scale`], the constraints' rows
-    /// as they are (m, and dimensionless for unit norms).
+    /// Converged when the weighted residual `max_i |w_i R_i|` falls below this, with the
+    /// weights of [`Problem::residual_weights`] that make every row a pure number (for the
+    /// rods: moments over `B1/L`, forces over `B1/L²`, lengths over `L`), so that changing
+    /// the units of force or length changes nothing.
     pub tolerance: f64,
-    /// The problem's stiffness scale the balance rows are measured in (`B1` in N m² for
-    /// the rods, so that multiplying every stiffness by a factor changes nothing but the
-    /// units of the forces); 1 by default.
-    pub force_scale: f64,
     /// Iterations before giving up.
     pub max_iterations: usize,
     /// A linear solve whose relative residual exceeds this marks the matrix singular.
@@ -27,7 +24,6 @@ impl Default for NewtonSettings {
     fn default() -> Self {
         NewtonSettings {
             tolerance: 1e-9,
-            force_scale: 1.0,
             max_iterations: 12,
             singular_threshold: 1e-6,
         }
@@ -110,6 +106,8 @@ impl StepEquation<'_> {
 /// allocates nothing.
 pub struct Newton {
     residual: Vec<f64>,
+    /// The problem's weights of the residual rows for the convergence test.
+    weights: Vec<f64>,
     /// Jacobian values in the problem's pattern, of the last factorisation.
     values: Vec<f64>,
     delta: Vec<f64>,
@@ -132,6 +130,7 @@ impl Newton {
         let n = problem.unknowns();
         Newton {
             residual: vec![0.0; n],
+            weights: vec![1.0; n],
             values: vec![0.0; problem.pattern().row_idx().len()],
             delta: vec![0.0; n],
             rhs: vec![0.0; n],
@@ -321,14 +320,16 @@ impl Newton {
         let mut previous = f64::INFINITY;
         let mut stale = false; // the factorisation is not of the current iterate
         let mut last = f64::NAN;
+        // the problem's constraints (and so its rows) may have changed since the last solve
+        problem.residual_weights(&mut self.weights);
         for it in 0..=settings.max_iterations {
             if let Some(why) = interrupt.and_then(Interrupt::check) {
                 return Err(NewtonError::Interrupted { iteration: it, why });
             }
             let energy = problem.residual(x, *lambda, &mut self.residual);
             let reported = norm_inf(&self.residual);
-            // the convergence test, free of the stiffness scale
-            let r = scaled_norm(&self.residual, np, settings.force_scale);
+            // the convergence test, free of the units of force and length
+            let r = weighted_norm(&self.residual, &self.weights);
             if it == 0 {
                 first = r;
             }
@@ -418,21 +419,15 @@ impl Newton {
     }
 }
 
-/// `max(‖R[..np]‖∞ / scale, ‖R[np..]‖∞)`: the balance rows in units of the stiffness
-/// scale, the constraint rows as they are. With `scale = 1` it is `‖R‖∞`.
-fn scaled_norm(r: &[f64], np: usize, scale: f64) -> f64 {
-    let np = np.min(r.len());
-    let balance = norm_inf(&r[..np]);
-    let constraints = norm_inf(&r[np..]);
-    if scale == 1.0 {
-        return norm_inf(r);
-    }
-    let b = balance / scale;
-    if b.is_nan() || constraints.is_nan() {
-        f64::NAN
-    } else {
-        b.max(constraints)
-    }
+/// `max_i |w_i r_i|` (NaN if any row is).
+fn weighted_norm(r: &[f64], w: &[f64]) -> f64 {
+    r.iter().zip(w).fold(0.0f64, |m, (x, w)| {
+        if x.is_nan() {
+            f64::NAN
+        } else {
+            m.max((w * x).abs())
+        }
+    })
 }
 
 fn norm_inf(v: &[f64]) -> f64 {

@@ -38,6 +38,13 @@ pub trait Problem {
         jacobian: &mut [f64],
     ) -> f64;
 
+    /// Weights `w` that make each row of `R` a pure number for Newton's convergence test
+    /// (`max_i |w_i R_i| ≤ tolerance`), so that the test does not depend on the units the
+    /// problem is written in: 1 by default (a problem already dimensionless).
+    fn residual_weights(&self, weights: &mut [f64]) {
+        weights.fill(1.0);
+    }
+
     /// `∂R/∂λ` at `(x, λ)` into `out`.
     fn load_derivative(&mut self, x: &[f64], lambda: f64, out: &mut [f64]);
 
@@ -54,6 +61,14 @@ pub trait Problem {
 
     /// The lowest eigenvalue of that constrained Hessian, where it can be computed.
     fn lowest_eigenvalue(&mut self, x: &[f64], lambda: f64) -> Option<f64>;
+
+    /// The scale of that constrained Hessian's eigenvalues, in their units (for the rods
+    /// `B1/L²`, N: energy per squared rotation per arc length): an eigenvalue below
+    /// [`crate::solver::continuation::NEUTRAL_FRACTION`] of it at both ends of a step whose
+    /// count changed is a neutral direction, not a crossing. 1 by default.
+    fn eigenvalue_scale(&self) -> f64 {
+        1.0
+    }
 
     /// The eigenvalue of that constrained Hessian nearest zero: it crosses zero at a
     /// critical point, so a secant on it places the point.
