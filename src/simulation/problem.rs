@@ -185,12 +185,17 @@ impl RodProblem {
             } => {
                 self.system.evaluate(&self.model, x, residual, values);
                 let pattern = self.system.pattern();
-                let unstable_directions = stability.unstable_directions(pattern, values)?;
                 let lowest_eigenvalue = if eigenvalue {
                     stability.lowest_eigenvalue(pattern, values)
                 } else {
                     None
                 };
+                let unstable_directions =
+                    if clearly_stable(stability, pattern, values, lowest_eigenvalue)? {
+                        0
+                    } else {
+                        stability.unstable_directions(pattern, values)?
+                    };
                 return Ok(vec![BlockStability {
                     wavenumber: 0,
                     multiplicity: 1,
@@ -217,11 +222,7 @@ impl RodProblem {
         let [(_, head)] = b
             .run(pattern, &[first], |_, pat, v, s| {
                 let lowest = s.lowest_eigenvalue(pat, v);
-                let clearly_stable = match lowest {
-                    Some(l) => l > s.rounding_band(pat, v)?,
-                    None => false,
-                };
-                let count = if clearly_stable {
+                let count = if clearly_stable(s, pat, v, lowest)? {
                     0
                 } else {
                     s.unstable_directions(pat, v)?
@@ -331,6 +332,22 @@ impl RodProblem {
             Judge::Blocks(b) => Some(&b.bloch),
             Judge::Own { .. } => None,
         }
+    }
+}
+
+/// Whether a state whose lowest eigenvalue is `lowest` has no unstable direction without
+/// a count: the count is of the eigenvalues below `−τ` (its rounding band), and none is
+/// below the lowest. (Near a critical point the lowest eigenvalue, from unregularised
+/// Rayleigh quotients, is the sharper of the two: the count's pivots round at about `τ`.)
+fn clearly_stable(
+    stability: &mut KktStability,
+    pattern: &SymbolicSparseColMat<usize>,
+    values: &[f64],
+    lowest: Option<f64>,
+) -> Result<bool, InertiaError> {
+    match lowest {
+        Some(l) => Ok(l > -stability.rounding_band(pattern, values)?),
+        None => Ok(false),
     }
 }
 

@@ -417,6 +417,8 @@ impl<P: Problem> Continuation<P> {
     pub fn advance_to(&mut self, target: f64) -> Result<(), ContinuationError> {
         let s = self.settings;
         let mut arclength_steps = 0;
+        // whether the stability of the state on the target has its lowest eigenvalue
+        let mut lowest_done = false;
         while (target - self.state.lambda).abs() > 1e-14 * (1.0 + target.abs()) {
             if let Some(why) = self.interrupt.as_ref().and_then(Interrupt::check) {
                 // as when a Newton iteration is interrupted, so that a path stopped here
@@ -461,7 +463,12 @@ impl<P: Problem> Continuation<P> {
                             ));
                         }
                     }
-                    self.update_stability(false);
+                    // on the target, one evaluation gives the count and the lowest
+                    // eigenvalue (the count alone would factorise the blocks twice)
+                    let on_target =
+                        (target - self.state.lambda).abs() <= 1e-14 * (1.0 + target.abs());
+                    lowest_done = on_target && s.track_stability && s.lowest_eigenvalue;
+                    self.update_stability(lowest_done);
                     if let Some(observe) = self.observer.as_mut() {
                         observe(&self.state);
                     }
@@ -516,7 +523,7 @@ impl<P: Problem> Continuation<P> {
         self.problem.restore(&self.state.x, self.state.lambda);
         // the count is that of the last accepted step; the lowest eigenvalue is added at
         // output points only
-        if s.track_stability && s.lowest_eigenvalue {
+        if s.track_stability && s.lowest_eigenvalue && !lowest_done {
             let before = self.state.stability;
             self.update_stability(true);
             // the same state counted again: a neutral direction may flip it by rounding
@@ -631,25 +638,44 @@ impl<P: Problem> Continuation<P> {
             // the new problem's multipliers (of supports and joints) are solved for first,
             // at the critical state, where the Jacobian is nearly singular (as for the
             // probes of a critical-point search)
+            // the more exactly the critical point is placed, the more nearly singular
+            // the Jacobian there: when its solve fails, the state is re-solved a little
+            // before the critical load (relative offsets 1e-7, 1e-6 of the load
+            // parameter, far below the accuracy of any branch followed from it)
             let x0 = this.state.x.clone();
-            let step = StepEquation {
-                tx: None,
-                tl: 1.0,
-                x0: &x0,
-                l0: lambda,
-                ds: 0.0,
-            };
             let settings = NewtonSettings {
                 singular_threshold: this.settings.newton.singular_threshold.max(1e-2),
                 ..this.settings.newton
             };
-            let t = this
-                .correct(x0.clone(), lambda, &step, &settings)
-                .map_err(|cause| {
-                    this.error(lambda, 0.0, StopReason::Newton { step: 0.0, cause })
-                })?;
+            let mut solved = None;
+            for offset in [0.0, 1e-7, 1e-6] {
+                let l0 = lambda - offset * lambda.abs().max(1e-3);
+                let step = StepEquation {
+                    tx: None,
+                    tl: 1.0,
+                    x0: &x0,
+                    l0,
+                    ds: 0.0,
+                };
+                match this.correct(x0.clone(), l0, &step, &settings) {
+                    Ok(t) => {
+                        solved = Some((t, l0));
+                        break;
+                    }
+                    Err(_) if offset < 1e-6 => {}
+                    Err(cause) => {
+                        return Err(this.error(
+                            lambda,
+                            0.0,
+                            StopReason::Newton { step: 0.0, cause },
+                        ))
+                    }
+                }
+            }
+            let (t, l0) = solved.expect("the last offset returns or fails above");
             this.state.x.clone_from(&t.x);
-            this.switch_onto(&t.x, lambda, mode, sign, h)
+            this.state.lambda = l0;
+            this.switch_onto(&t.x, l0, mode, sign, h)
         })
     }
 

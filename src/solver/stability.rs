@@ -22,7 +22,46 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{c64, Conj, MatMut, Par, Side};
+
+/// The entries of the matrices whose inertia is counted: real (symmetric) or complex
+/// (Hermitian, the Bloch blocks of wavenumbers `0 < p < m/2`, factorised as `LDLᴴ`).
+pub trait Scalar:
+    faer::traits::ComplexField<Real = f64>
+    + Copy
+    + PartialEq
+    + std::ops::AddAssign
+    + std::ops::SubAssign
+    + std::ops::Mul<Output = Self>
+{
+    fn from_real(x: f64) -> Self;
+    fn conjugate(self) -> Self;
+    fn real_part(self) -> f64;
+}
+
+impl Scalar for f64 {
+    fn from_real(x: f64) -> f64 {
+        x
+    }
+    fn conjugate(self) -> f64 {
+        self
+    }
+    fn real_part(self) -> f64 {
+        self
+    }
+}
+
+impl Scalar for c64 {
+    fn from_real(x: f64) -> c64 {
+        c64::new(x, 0.0)
+    }
+    fn conjugate(self) -> c64 {
+        self.conj()
+    }
+    fn real_part(self) -> f64 {
+        self.re
+    }
+}
 
 /// Counts of the signs of the pivots of `K_ρδ`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,8 +79,9 @@ pub enum InertiaError {
     OutOfMemory,
 }
 
-/// The augmented KKT pattern of one [`System`], its symbolic `LDLᵀ` and value maps.
-pub struct InertiaCounter {
+/// The augmented KKT pattern of one [`System`], its symbolic `LDLᵀ` (`LDLᴴ` for complex
+/// entries) and value maps.
+pub struct InertiaCounter<T: Scalar = f64> {
     /// Number of constraint rows.
     pub constraints: usize,
     pattern: SymbolicSparseColMat<usize>,
@@ -50,7 +90,7 @@ pub struct InertiaCounter {
     k_slots: Vec<usize>,
     /// For each stored entry of `K`, its (row, column).
     k_entry: Vec<(usize, usize)>,
-    /// Products `(k value a, k value b, slot)` making `JᵀJ`.
+    /// Products `(k value a, k value b, slot)` making `JᴴJ`: `conj(a) b` into `slot`.
     jtj: Vec<(usize, usize, usize)>,
     /// Slots of the dual diagonal.
     dual_diagonal: Vec<usize>,
@@ -58,15 +98,20 @@ pub struct InertiaCounter {
     primal_diagonal: Vec<usize>,
     /// Indices of the primal diagonal in the KKT values.
     k_diagonal: Vec<usize>,
-    values: Vec<f64>,
-    l_values: Vec<f64>,
+    values: Vec<T>,
+    /// The KKT values `loaded` and their `JᴴJ`, in the augmented pattern.
+    base: Vec<T>,
+    gram: Vec<T>,
+    loaded: Vec<T>,
+    l_values: Vec<T>,
     /// Penalty of the last factorisation: the mean magnitude of the Hessian's diagonal.
     pub rho: f64,
     /// The last mode found by inverse iteration (primal unknowns), to start the next search
     /// from; empty until one is found.
     last_mode: Vec<f64>,
-    /// The last lowest eigenvalue found, to place the next shift just below it.
-    last_lowest: Option<f64>,
+    /// The last lowest eigenvalues found (oldest first, at most four), to place the next
+    /// shift just below the lowest eigenvalue they extrapolate to.
+    lowest_history: Vec<f64>,
     /// The last mode nearest zero found (critical-point searches).
     nearest_zero_mode: Vec<f64>,
     /// Whether the last inverse iteration met its tolerance.
@@ -90,13 +135,13 @@ fn slot(pattern: &SymbolicSparseColMat<usize>, row: usize, col: usize) -> usize 
             .expect("entry in the augmented pattern")
 }
 
-impl InertiaCounter {
+impl<T: Scalar> InertiaCounter<T> {
     /// Builds the augmented pattern and its symbolic factorisation for a KKT matrix of
     /// pattern `k` whose first `n_primal` unknowns are primal.
     pub fn new(
         k: &SymbolicSparseColMat<usize>,
         n_primal: usize,
-    ) -> Result<InertiaCounter, InertiaError> {
+    ) -> Result<InertiaCounter<T>, InertiaError> {
         let n = k.ncols();
         let (cp, ri) = (k.col_ptr(), k.row_idx());
         // constraint rows of J: (column, index into K's values), from the lower-left block
@@ -155,15 +200,18 @@ impl InertiaCounter {
         .map_err(|_| InertiaError::OutOfMemory)?;
         let par = Par::Seq;
         let req = symbolic
-            .factorize_numeric_ldlt_scratch::<f64>(par, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+            .factorize_numeric_ldlt_scratch::<T>(par, Default::default())
+            .or(symbolic.solve_in_place_scratch::<T>(1, par));
         let buffer = MemBuffer::try_new(req).map_err(|_| InertiaError::OutOfMemory)?;
         Ok(InertiaCounter {
             constraints: n - n_primal,
-            values: vec![0.0; pattern.row_idx().len()],
+            values: vec![T::from_real(0.0); pattern.row_idx().len()],
+            base: vec![T::from_real(0.0); pattern.row_idx().len()],
+            gram: vec![T::from_real(0.0); pattern.row_idx().len()],
+            loaded: Vec::new(),
             rho: 1.0,
             last_mode: Vec::new(),
-            last_lowest: None,
+            lowest_history: Vec::new(),
             nearest_zero_mode: Vec::new(),
             converged: false,
             rhs: vec![0.0; n],
@@ -171,7 +219,7 @@ impl InertiaCounter {
             refinement: vec![0.0; n],
             iterate: vec![0.0; n_primal],
             product: vec![0.0; n_primal],
-            l_values: vec![0.0; symbolic.len_val()],
+            l_values: vec![T::from_real(0.0); symbolic.len_val()],
             pattern,
             symbolic,
             k_slots,
@@ -185,11 +233,11 @@ impl InertiaCounter {
     }
 
     /// Mean magnitude of the diagonal of the Hessian block of the KKT values `kkt`.
-    pub fn hessian_scale(&self, kkt: &[f64]) -> f64 {
+    pub fn hessian_scale(&self, kkt: &[T]) -> f64 {
         let nz: Vec<f64> = self
             .k_diagonal
             .iter()
-            .map(|&p| kkt[p].abs())
+            .map(|&p| kkt[p].real_part().abs())
             .filter(|&v| v > 0.0)
             .collect();
         if nz.is_empty() {
@@ -205,23 +253,19 @@ impl InertiaCounter {
     /// `(H, M)` below `σ`.
     pub fn inertia(
         &mut self,
-        kkt: &[f64],
+        kkt: &[T],
         sigma: f64,
         metric: &[f64],
     ) -> Result<Inertia, InertiaError> {
-        // penalty scaled to the Hessian's diagonal
-        let mut diag = 0.0;
-        let mut count = 0;
-        let kp = &self.k_slots;
-        self.values.iter_mut().for_each(|v| *v = 0.0);
-        for (p, &s) in kp.iter().enumerate() {
-            self.values[s] += kkt[p];
+        if self.loaded.as_slice() != kkt {
+            self.load(kkt);
         }
+        // the shifted Hessian's diagonal, and the penalty scaled to it
+        self.values.copy_from_slice(&self.base);
+        let (mut diag, mut count) = (0.0, 0);
         for (i, &s) in self.primal_diagonal.iter().enumerate() {
-            self.values[s] -= sigma * metric[i];
-        }
-        for &s in &self.primal_diagonal {
-            let v = self.values[s].abs();
+            self.values[s] -= T::from_real(sigma * metric[i]);
+            let v = self.values[s].real_part().abs();
             if v > 0.0 {
                 diag += v;
                 count += 1;
@@ -230,11 +274,11 @@ impl InertiaCounter {
         let rho = if count > 0 { diag / count as f64 } else { 1.0 };
         self.rho = rho;
         let delta = 1e-8 / rho;
-        for &(a, b, s) in &self.jtj {
-            self.values[s] += rho * kkt[a] * kkt[b];
+        for (v, &g) in self.values.iter_mut().zip(&self.gram) {
+            *v += T::from_real(rho) * g;
         }
         for &s in &self.dual_diagonal {
-            self.values[s] = -delta;
+            self.values[s] = T::from_real(-delta);
         }
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
         self.symbolic
@@ -269,7 +313,7 @@ impl InertiaCounter {
                 for s in 0..sn.n_supernodes() {
                     let m = l.supernode(s).val();
                     for j in 0..m.ncols() {
-                        count(m[(j, j)])?;
+                        count(m[(j, j)].real_part())?;
                     }
                 }
             }
@@ -277,13 +321,37 @@ impl InertiaCounter {
             // stored on the diagonal of the unit lower factor, first in each column
             SymbolicCholeskyRaw::Simplicial(s) => {
                 for &start in &s.col_ptr()[..s.ncols()] {
-                    count(self.l_values[start])?;
+                    count(self.l_values[start].real_part())?;
                 }
             }
         }
         Ok(inertia)
     }
 
+    /// Scatters the KKT values `kkt` into `self.base` and their `JᴴJ` into `self.gram` (in
+    /// the augmented pattern), and keeps `kkt` to know when the next factorisation can
+    /// start from them.
+    fn load(&mut self, kkt: &[T]) {
+        let zero = T::from_real(0.0);
+        self.base.iter_mut().for_each(|v| *v = zero);
+        self.gram.iter_mut().for_each(|v| *v = zero);
+        for (p, &s) in self.k_slots.iter().enumerate() {
+            self.base[s] += kkt[p];
+        }
+        for &(a, b, s) in &self.jtj {
+            self.gram[s] += kkt[a].conjugate() * kkt[b];
+        }
+        self.loaded.clear();
+        self.loaded.extend_from_slice(kkt);
+    }
+
+    /// Negative directions of the constrained Hessian: negative pivots less constraints.
+    pub fn unstable_directions(&self, inertia: Inertia) -> isize {
+        inertia.negative as isize - self.constraints as isize
+    }
+}
+
+impl InertiaCounter<f64> {
     /// Solves `K(σ) z = b` with the last factorisation, for `b` in `self.rhs` whose
     /// constraint part is zero, into `self.solution`, refining up to `refinements` times
     /// (until the correction is at rounding) against the unregularised `K_ρ0(σ)` (which has
@@ -337,8 +405,12 @@ impl InertiaCounter {
     /// primal unknowns), by shift-and-invert iteration whose shifts are kept below the
     /// spectrum by inertia counts. `kkt` are the KKT values at the state.
     ///
-    /// From a shift `lo` below the spectrum (just below the last lowest eigenvalue when the
-    /// count confirms it, otherwise 0, −1, −4, …) a few iterations give a Rayleigh quotient
+    /// Along a path the last lowest eigenvalues are extrapolated: when the count confirms a
+    /// shift just below the extrapolation to be below the spectrum, iteration from it
+    /// converges in two or three solves and the eigenvalue found within `CERTIFIED` above
+    /// the shift is the lowest (one factorisation in all). Otherwise, from a shift `lo`
+    /// below the spectrum (just below the last lowest eigenvalue when the count confirms
+    /// it, otherwise 0, −1, −4, …) a few iterations give a Rayleigh quotient
     /// `μ ≥ λ1`. If the count puts no eigenvalue below `σ = μ − 10⁻⁴|μ|`, the shift `σ`
     /// lies within 10⁻⁴ of `λ1` and iteration from it converges in a few steps; otherwise an
     /// eigenvalue below `σ` was missed (clustered eigenvalues, or a warm start without a
@@ -346,9 +418,27 @@ impl InertiaCounter {
     /// a new `lo` before iterating again. Clustered spectra thus cost a few factorisations
     /// instead of hundreds of slowly converging iterations.
     pub fn lowest_eigenvalue(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
-        let mut lo = self.shift_below_spectrum(kkt, metric)?;
+        // along a path: one factorisation at a shift just below the extrapolated lowest
+        // eigenvalue, which the count confirms to be below the spectrum
+        let mut start = None;
+        if let Some(sigma) = self.predicted_shift() {
+            if self.count(kkt, sigma, metric)? == 0 {
+                let mu = self.inverse_iteration(kkt, metric, LOWEST)?;
+                if self.converged && mu - sigma <= CERTIFIED * mu.abs().max(1e-12) {
+                    self.record_lowest(mu);
+                    return Some(mu);
+                }
+                start = Some((sigma, mu));
+            }
+        }
+        let (mut lo, mut mu) = match start {
+            Some(s) => s,
+            None => {
+                let lo = self.shift_below_spectrum(kkt, metric)?;
+                (lo, self.inverse_iteration(kkt, metric, ROUGH)?)
+            }
+        };
         let mut hi = f64::INFINITY;
-        let mut mu = self.inverse_iteration(kkt, metric, ROUGH)?;
         // relative distance below `mu` of the next shift: closer once `mu` is accurate
         let mut gap = 1e-4;
         for _ in 0..64 {
@@ -360,7 +450,7 @@ impl InertiaCounter {
                     let l = self.inverse_iteration(kkt, metric, LOWEST);
                     let lowest = l.map_or(mu, |l| l.min(mu));
                     if self.converged || gap <= 1e-8 {
-                        self.last_lowest = Some(lowest);
+                        self.record_lowest(lowest);
                         return Some(lowest);
                     }
                     // still converging (the next eigenvalue is within the gap): shift closer
@@ -375,7 +465,7 @@ impl InertiaCounter {
                 let lowest = self
                     .inverse_iteration(kkt, metric, LOWEST)
                     .map_or(mu, |l| l.min(mu));
-                self.last_lowest = Some(lowest);
+                self.record_lowest(lowest);
                 return Some(lowest);
             }
             // an eigenvalue below `hi` that the iteration has not reached: bisect the
@@ -395,8 +485,40 @@ impl InertiaCounter {
             self.perturb_iterate(metric);
             mu = self.inverse_iteration(kkt, metric, ROUGH)?.min(mu);
         }
-        self.last_lowest = Some(mu);
+        self.record_lowest(mu);
         Some(mu)
+    }
+
+    /// A shift just below the lowest eigenvalue that the last ones extrapolate to
+    /// (quadratically from three), by twice the extrapolation's error estimate (the third
+    /// difference of the last four, or the difference of the quadratic and the linear
+    /// extrapolation) and `CERTIFIED / 4` of the eigenvalue; `None` before two are known.
+    fn predicted_shift(&self) -> Option<f64> {
+        let h = &self.lowest_history;
+        let (predicted, error) = match h.len() {
+            0 | 1 => return None,
+            2 => (2.0 * h[1] - h[0], (h[1] - h[0]).abs()),
+            k => {
+                let [a, b, c] = [h[k - 3], h[k - 2], h[k - 1]];
+                let quadratic = 3.0 * c - 3.0 * b + a;
+                let error = if k >= 4 {
+                    (c - 3.0 * b + 3.0 * a - h[k - 4]).abs()
+                } else {
+                    (quadratic - (2.0 * c - b)).abs()
+                };
+                (quadratic, error)
+            }
+        };
+        let margin = 2.0 * error + 0.25 * CERTIFIED * predicted.abs().max(1e-12);
+        Some(predicted - margin)
+    }
+
+    /// Appends `lowest` to the history that places the next shift.
+    fn record_lowest(&mut self, lowest: f64) {
+        if self.lowest_history.len() == 4 {
+            self.lowest_history.remove(0);
+        }
+        self.lowest_history.push(lowest);
     }
 
     /// Eigenvalues of the constrained pencil below `sigma` (factorises at `sigma`).
@@ -409,7 +531,7 @@ impl InertiaCounter {
     /// the inertia count confirms it (along a path it moves little), otherwise 0 if
     /// nothing is below 0, else −1, −4, −16, …
     fn shift_below_spectrum(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
-        if let Some(last) = self.last_lowest {
+        if let Some(&last) = self.lowest_history.last() {
             let sigma = last - 0.1 * last.abs().max(1e-12);
             if self.count(kkt, sigma, metric) == Some(0) {
                 return Some(sigma);
@@ -501,14 +623,28 @@ impl InertiaCounter {
             for i in 0..n_primal {
                 u[i] = v[i] / norm;
             }
-            // Rayleigh quotient vᵀ H v / vᵀ M v with H the primal block of the KKT values
+            // Rayleigh quotient of the Lagrangian, (uᵀ H u + 2 yᵀ J u) / uᵀ M u with H the
+            // primal block of the KKT values and y the multipliers of the solve (scaled
+            // with u): stationary at a constrained eigenpair for every variation of u, so
+            // the solve's small constraint residual (the regularisation's δ) enters it
+            // only to second order
             hv.iter_mut().for_each(|h| *h = 0.0);
+            let mut lagrange = 0.0;
             for (p, &(row, col)) in self.k_entry.iter().enumerate() {
-                if row < n_primal && col < n_primal {
-                    hv[row] += kkt[p] * u[col];
+                if col < n_primal {
+                    if row < n_primal {
+                        hv[row] += kkt[p] * u[col];
+                    } else {
+                        lagrange += v[row] / norm * kkt[p] * u[col];
+                    }
                 }
             }
-            let rq: f64 = (0..n_primal).map(|i| u[i] * hv[i]).sum();
+            // (refined solves keep the constraint residual at rounding: the plain
+            // quotient, as the critical-point searches have always used)
+            if accuracy.refinements > 0 {
+                lagrange = 0.0;
+            }
+            let rq: f64 = (0..n_primal).map(|i| u[i] * hv[i]).sum::<f64>() + 2.0 * lagrange;
             let done = (rq - estimate).abs() <= accuracy.tolerance * rq.abs().max(1e-12);
             estimate = rq;
             if done {
@@ -524,11 +660,6 @@ impl InertiaCounter {
         self.iterate = u;
         self.product = hv;
         (found && estimate.is_finite()).then_some(estimate)
-    }
-
-    /// Negative directions of the constrained Hessian: negative pivots less constraints.
-    pub fn unstable_directions(&self, inertia: Inertia) -> isize {
-        inertia.negative as isize - self.constraints as isize
     }
 }
 
@@ -546,14 +677,15 @@ fn cold_start(metric: &[f64]) -> Vec<f64> {
 #[derive(Clone, Debug, Default)]
 pub struct WarmStart {
     mode: Vec<f64>,
-    lowest: Option<f64>,
+    lowest: Vec<f64>,
     nearest_zero: Vec<f64>,
 }
 
 /// How far inverse iteration goes: the relative change of the Rayleigh quotient at which
 /// it stops, and the steps of iterative refinement of each regularised solve against the
-/// unregularised matrix (each divides the constraint residual, which spoils a Rayleigh
-/// quotient, by about `δ/ρ`).
+/// unregularised matrix (each divides the constraint residual by about `δ/ρ`; the
+/// Lagrangian Rayleigh quotient is insensitive to it to first order, so the eigenvalue
+/// searches need none, the modes of critical points keep two).
 #[derive(Clone, Copy, Debug)]
 struct Accuracy {
     tolerance: f64,
@@ -562,10 +694,15 @@ struct Accuracy {
     iterations: usize,
 }
 
+/// A lowest eigenvalue found from a shift `σ` confirmed below the spectrum is accepted
+/// without a further count when it lies within this relative distance above `σ` (no
+/// eigenvalue is below it by more).
+const CERTIFIED: f64 = 2e-3;
+
 /// A first estimate, an upper bound of the lowest eigenvalue that places the next shift.
 const ROUGH: Accuracy = Accuracy {
     tolerance: 1e-4,
-    refinements: 1,
+    refinements: 0,
     iterations: 8,
 };
 
@@ -573,7 +710,7 @@ const ROUGH: Accuracy = Accuracy {
 /// full model needs the tighter setting where eigenvalues cluster).
 const LOWEST: Accuracy = Accuracy {
     tolerance: 1e-11,
-    refinements: 8,
+    refinements: 0,
     iterations: 16,
 };
 
@@ -586,8 +723,8 @@ const NEAREST_ZERO: Accuracy = Accuracy {
 
 /// The stability of the states of one KKT pattern: the inertia counter (built on first
 /// use) and the metric of its eigenproblem, with the count's rounding band.
-pub struct KktStability {
-    counter: Option<Box<InertiaCounter>>,
+pub struct KktStability<T: Scalar = f64> {
+    counter: Option<Box<InertiaCounter<T>>>,
     /// Diagonal metric `M` of the eigenproblem over the primal unknowns.
     metric: Vec<f64>,
     /// Mean of the metric's non-zero weights.
@@ -598,17 +735,17 @@ pub struct KktStability {
     copies: usize,
 }
 
-impl KktStability {
+impl<T: Scalar> KktStability<T> {
     /// For KKT matrices whose first `metric.len()` unknowns are primal, with the eigenvalue
     /// problem `H v = μ M v`, `M = diag(metric)`.
-    pub fn new(metric: Vec<f64>) -> KktStability {
+    pub fn new(metric: Vec<f64>) -> KktStability<T> {
         KktStability::with_copies(metric, 1)
     }
 
     /// As [`KktStability::new`] for a matrix in which every eigenvalue appears `copies`
     /// times (a complex Hermitian matrix written as a real one of twice its size has
     /// `copies = 2`): counts are of distinct eigenvalues.
-    pub fn with_copies(metric: Vec<f64>, copies: usize) -> KktStability {
+    pub fn with_copies(metric: Vec<f64>, copies: usize) -> KktStability<T> {
         let mean_metric =
             metric.iter().sum::<f64>() / metric.iter().filter(|&&m| m > 0.0).count().max(1) as f64;
         KktStability {
@@ -618,27 +755,6 @@ impl KktStability {
             mean_metric,
             copies: copies.max(1),
         }
-    }
-
-    /// Exchanges the warm start of inverse iteration (the last mode and lowest eigenvalue)
-    /// with `warm` (so that one factorisation pattern can serve several matrices, each with
-    /// its own warm start).
-    pub fn swap_warm_start(&mut self, warm: &mut WarmStart) {
-        if let Some(c) = self.counter.as_mut() {
-            std::mem::swap(&mut c.last_mode, &mut warm.mode);
-            std::mem::swap(&mut c.last_lowest, &mut warm.lowest);
-            std::mem::swap(&mut c.nearest_zero_mode, &mut warm.nearest_zero);
-        }
-    }
-
-    fn counter(
-        &mut self,
-        pattern: &SymbolicSparseColMat<usize>,
-    ) -> Result<&mut InertiaCounter, InertiaError> {
-        if self.counter.is_none() {
-            self.counter = Some(Box::new(InertiaCounter::new(pattern, self.n_primal)?));
-        }
-        Ok(self.counter.as_mut().expect("built above"))
     }
 
     /// Counts the eigenvalues of the constrained Hessian below `−τ`, `τ = 1e-9 ρ / m̄` (`ρ`
@@ -651,7 +767,7 @@ impl KktStability {
     pub fn unstable_directions(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
+        kkt: &[T],
     ) -> Result<usize, InertiaError> {
         let mean_metric = self.mean_metric;
         let metric = std::mem::take(&mut self.metric);
@@ -673,7 +789,7 @@ impl KktStability {
     pub fn unstable_and_below(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
+        kkt: &[T],
         sigma: f64,
     ) -> Result<(usize, usize), InertiaError> {
         let tau = self.rounding_band(pattern, kkt)?;
@@ -697,26 +813,18 @@ impl KktStability {
     pub fn rounding_band(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
+        kkt: &[T],
     ) -> Result<f64, InertiaError> {
         let mean_metric = self.mean_metric;
         let counter = self.counter(pattern)?;
         Ok(1e-9 * counter.hessian_scale(kkt) / mean_metric)
     }
 
-    /// The mode (primal unknowns, unit norm in the metric) of the last eigenvalue nearest
-    /// zero found; empty before one is found.
-    pub fn nearest_zero_mode(&self) -> &[f64] {
-        self.counter
-            .as_ref()
-            .map_or(&[], |c| c.nearest_zero_mode.as_slice())
-    }
-
     /// Number of eigenvalues of the constrained Hessian below `sigma`.
     pub fn count_below(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
+        kkt: &[T],
         sigma: f64,
     ) -> Result<usize, InertiaError> {
         let metric = std::mem::take(&mut self.metric);
@@ -727,6 +835,37 @@ impl KktStability {
         self.metric = metric;
         let copies = self.copies;
         counted.map(|c| c.div_ceil(copies))
+    }
+
+    fn counter(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+    ) -> Result<&mut InertiaCounter<T>, InertiaError> {
+        if self.counter.is_none() {
+            self.counter = Some(Box::new(InertiaCounter::new(pattern, self.n_primal)?));
+        }
+        Ok(self.counter.as_mut().expect("built above"))
+    }
+}
+
+impl KktStability<f64> {
+    /// Exchanges the warm start of inverse iteration (the last mode and lowest eigenvalue)
+    /// with `warm` (so that one factorisation pattern can serve several matrices, each with
+    /// its own warm start).
+    pub fn swap_warm_start(&mut self, warm: &mut WarmStart) {
+        if let Some(c) = self.counter.as_mut() {
+            std::mem::swap(&mut c.last_mode, &mut warm.mode);
+            std::mem::swap(&mut c.lowest_history, &mut warm.lowest);
+            std::mem::swap(&mut c.nearest_zero_mode, &mut warm.nearest_zero);
+        }
+    }
+
+    /// The mode (primal unknowns, unit norm in the metric) of the last eigenvalue nearest
+    /// zero found; empty before one is found.
+    pub fn nearest_zero_mode(&self) -> &[f64] {
+        self.counter
+            .as_ref()
+            .map_or(&[], |c| c.nearest_zero_mode.as_slice())
     }
 
     /// Lowest eigenvalue of the constrained Hessian (J/m in the rods' metric).
