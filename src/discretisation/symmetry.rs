@@ -6,6 +6,7 @@ use super::model::DiscreteModel;
 use super::system::System;
 use crate::model::quaternion::Quat;
 use crate::model::symmetry::TurnZ;
+use faer::c64;
 use faer::sparse::{Pair, SymbolicSparseColMat};
 use std::f64::consts::PI;
 
@@ -226,6 +227,20 @@ impl BlochBlocks {
                     out[s[3]] -= b;
                 }
             }
+        }
+    }
+
+    /// The complex Hermitian block `p` (`0 < p < m/2`) itself, in the pair's pattern, from
+    /// the pair's KKT values `pair`: each phased coupling times `e^{±2πipr/m}`.
+    pub fn hermitian_block(&self, p: usize, pair: &[f64], out: &mut [c64]) {
+        for ((o, &v), phase) in out.iter_mut().zip(pair).zip(&self.phase) {
+            *o = match *phase {
+                None => c64::new(v, 0.0),
+                Some((sign, r)) => {
+                    let (sin, cos) = (sign * self.angle(p, r)).sin_cos();
+                    c64::new(v * cos, v * sin)
+                }
+            };
         }
     }
 

@@ -14,6 +14,7 @@ use crate::model::loading::{Control, TipLoad};
 use crate::results::Stability;
 use crate::solver::problem::Problem;
 use crate::solver::stability::{InertiaError, KktStability, WarmStart};
+use faer::c64;
 use faer::sparse::SymbolicSparseColMat;
 
 /// A discrete model under boundary conditions and a control of its tips.
@@ -56,12 +57,108 @@ struct Blocks {
 }
 
 /// What one thread needs to judge a block: the stability of the real blocks (the pair's
-/// pattern) and of the complex ones (the realified pattern), each built on first use, and
-/// the block's values.
+/// pattern), of the complex ones written as real ones (the realified pattern, for their
+/// eigenvalues) and of the complex ones themselves (the pair's pattern, `LDLᴴ`, for their
+/// counts: half the size), each built on first use, and the block's values.
 struct Worker {
     real: KktStability,
     complex: KktStability,
+    hermitian: KktStability<c64>,
     values: Vec<f64>,
+    hermitian_values: Vec<c64>,
+}
+
+/// One Bloch block as a task on a worker sees it: counts of a complex block from the block
+/// itself, eigenvalues from its real form; the values of each form assembled when first
+/// asked for.
+struct BlockView<'a> {
+    p: usize,
+    bloch: &'a BlochBlocks,
+    pattern: &'a SymbolicSparseColMat<usize>,
+    pair: &'a [f64],
+    worker: &'a mut Worker,
+    real_ready: bool,
+    hermitian_ready: bool,
+}
+
+impl BlockView<'_> {
+    /// Whether the block is complex (`0 < p < m/2`).
+    fn is_complex(&self) -> bool {
+        !self.bloch.is_real(self.p)
+    }
+
+    /// The block as a real matrix: its pattern, values and stability.
+    fn real_form(&mut self) -> (&SymbolicSparseColMat<usize>, &[f64], &mut KktStability) {
+        let w = &mut *self.worker;
+        if self.p == 0 {
+            return (self.pattern, self.pair, &mut w.real);
+        }
+        if self.bloch.is_real(self.p) {
+            if !self.real_ready {
+                w.values.resize(self.pair.len(), 0.0);
+                self.bloch.real_block(self.p, self.pair, &mut w.values);
+                self.real_ready = true;
+            }
+            return (self.pattern, &w.values[..], &mut w.real);
+        }
+        let realified = self.bloch.realified_pattern();
+        if !self.real_ready {
+            w.values.resize(realified.row_idx().len(), 0.0);
+            self.bloch.complex_block(self.p, self.pair, &mut w.values);
+            self.real_ready = true;
+        }
+        (realified, &w.values[..], &mut w.complex)
+    }
+
+    /// A complex block itself: the pair's pattern, its values and stability.
+    fn hermitian_form(&mut self) -> (&SymbolicSparseColMat<usize>, &[c64], &mut KktStability<c64>) {
+        let w = &mut *self.worker;
+        if !self.hermitian_ready {
+            w.hermitian_values
+                .resize(self.pair.len(), c64::new(0.0, 0.0));
+            self.bloch
+                .hermitian_block(self.p, self.pair, &mut w.hermitian_values);
+            self.hermitian_ready = true;
+        }
+        (self.pattern, &w.hermitian_values[..], &mut w.hermitian)
+    }
+
+    fn unstable_directions(&mut self) -> Result<usize, InertiaError> {
+        if self.is_complex() {
+            let (pat, v, s) = self.hermitian_form();
+            s.unstable_directions(pat, v)
+        } else {
+            let (pat, v, s) = self.real_form();
+            s.unstable_directions(pat, v)
+        }
+    }
+
+    fn unstable_and_below(&mut self, sigma: f64) -> Result<(usize, usize), InertiaError> {
+        if self.is_complex() {
+            let (pat, v, s) = self.hermitian_form();
+            s.unstable_and_below(pat, v, sigma)
+        } else {
+            let (pat, v, s) = self.real_form();
+            s.unstable_and_below(pat, v, sigma)
+        }
+    }
+
+    fn rounding_band(&mut self) -> Result<f64, InertiaError> {
+        let (pat, v, s) = self.real_form();
+        s.rounding_band(pat, v)
+    }
+
+    fn lowest_eigenvalue(&mut self) -> Option<f64> {
+        let (pat, v, s) = self.real_form();
+        s.lowest_eigenvalue(pat, v)
+    }
+
+    /// The eigenvalue nearest zero and its mode (primal unknowns of the real form).
+    fn nearest_zero(&mut self) -> Option<(f64, Vec<f64>)> {
+        let (pat, v, s) = self.real_form();
+        s.eigenvalue_nearest_zero(pat, v)
+            .map(|mu| (mu, s.nearest_zero_mode().to_vec()))
+    }
 }
 
 /// The stability of one Bloch block of a state.
@@ -127,7 +224,9 @@ impl RodProblem {
                 let worker = || Worker {
                     real: KktStability::new(metric.clone()),
                     complex: KktStability::with_copies(realified_metric.clone(), 2),
+                    hermitian: KktStability::new(metric.clone()),
                     values: Vec::new(),
+                    hermitian_values: Vec::new(),
                 };
                 Judge::Blocks(Box::new(Blocks {
                     workers: [worker(), worker()],
@@ -191,7 +290,8 @@ impl RodProblem {
                     None
                 };
                 let unstable_directions =
-                    if clearly_stable(stability, pattern, values, lowest_eigenvalue)? {
+                    if clearly_stable(lowest_eigenvalue, stability.rounding_band(pattern, values)?)
+                    {
                         0
                     } else {
                         stability.unstable_directions(pattern, values)?
@@ -211,8 +311,8 @@ impl RodProblem {
         let all: Vec<usize> = b.bloch.wavenumbers().collect();
         if !eigenvalue {
             return b
-                .run(pattern, &all, |_, pat, v, s| {
-                    s.unstable_directions(pat, v).map(|c| (c, None))
+                .run(pattern, &all, |b| {
+                    b.unstable_directions().map(|c| (c, None))
                 })
                 .into_iter()
                 .map(|(p, r)| r.map(|(c, l)| b.stability_of(p, c, l)))
@@ -220,12 +320,12 @@ impl RodProblem {
         }
         let first = b.lowest_wavenumber;
         let [(_, head)] = b
-            .run(pattern, &[first], |_, pat, v, s| {
-                let lowest = s.lowest_eigenvalue(pat, v);
-                let count = if clearly_stable(s, pat, v, lowest)? {
+            .run(pattern, &[first], |b| {
+                let lowest = b.lowest_eigenvalue();
+                let count = if clearly_stable(lowest, b.rounding_band()?) {
                     0
                 } else {
-                    s.unstable_directions(pat, v)?
+                    b.unstable_directions()?
                 };
                 Ok((count, lowest))
             })
@@ -235,18 +335,18 @@ impl RodProblem {
         let mut out = vec![b.stability_of(first, count, lowest)];
         let others: Vec<usize> = all.into_iter().filter(|&p| p != first).collect();
         let Some(best) = lowest else {
-            for (p, r) in b.run(pattern, &others, |_, pat, v, s| {
-                s.unstable_directions(pat, v).map(|c| (c, None))
+            for (p, r) in b.run(pattern, &others, |b| {
+                b.unstable_directions().map(|c| (c, None))
             }) {
                 let (c, l) = r?;
                 out.push(b.stability_of(p, c, l));
             }
             return Ok(out);
         };
-        for (p, r) in b.run(pattern, &others, |_, pat, v, s| {
-            let (count, below) = s.unstable_and_below(pat, v, best)?;
+        for (p, r) in b.run(pattern, &others, |b| {
+            let (count, below) = b.unstable_and_below(best)?;
             let lowest = if below > 0 {
-                s.lowest_eigenvalue(pat, v)
+                b.lowest_eigenvalue()
             } else {
                 None
             };
@@ -294,10 +394,7 @@ impl RodProblem {
             Some(p) => vec![p],
             None => b.bloch.wavenumbers().collect(),
         };
-        let found = b.run(pattern, &ps, |_, pat, v, s| {
-            Ok(s.eigenvalue_nearest_zero(pat, v)
-                .map(|mu| (mu, s.nearest_zero_mode().to_vec())))
-        });
+        let found = b.run(pattern, &ps, |b| Ok(b.nearest_zero()));
         let mut nearest: Option<(f64, usize, Vec<f64>)> = None;
         for (p, r) in found {
             let (mu, mode) = r.ok()??;
@@ -336,19 +433,11 @@ impl RodProblem {
 }
 
 /// Whether a state whose lowest eigenvalue is `lowest` has no unstable direction without
-/// a count: the count is of the eigenvalues below `−τ` (its rounding band), and none is
-/// below the lowest. (Near a critical point the lowest eigenvalue, from unregularised
+/// a count: the count is of the eigenvalues below `−τ` (`tau`, its rounding band), and none
+/// is below the lowest. (Near a critical point the lowest eigenvalue, from unregularised
 /// Rayleigh quotients, is the sharper of the two: the count's pivots round at about `τ`.)
-fn clearly_stable(
-    stability: &mut KktStability,
-    pattern: &SymbolicSparseColMat<usize>,
-    values: &[f64],
-    lowest: Option<f64>,
-) -> Result<bool, InertiaError> {
-    match lowest {
-        Some(l) => Ok(l > -stability.rounding_band(pattern, values)?),
-        None => Ok(false),
-    }
+fn clearly_stable(lowest: Option<f64>, tau: f64) -> bool {
+    lowest.is_some_and(|l| l > -tau)
 }
 
 /// The lowest computed eigenvalue over `blocks`, with its wavenumber.
@@ -360,9 +449,7 @@ fn lowest_of(blocks: &[BlockStability]) -> Option<(f64, usize)> {
 }
 
 /// A task on one block: the wavenumber, the block's pattern and values, its stability.
-type BlockTask<'a, T> = dyn Fn(usize, &SymbolicSparseColMat<usize>, &[f64], &mut KktStability) -> Result<T, InertiaError>
-    + Sync
-    + 'a;
+type BlockTask<'a, T> = dyn Fn(&mut BlockView) -> Result<T, InertiaError> + Sync + 'a;
 
 impl Blocks {
     fn stability_of(&self, p: usize, count: usize, lowest: Option<f64>) -> BlockStability {
@@ -381,13 +468,7 @@ impl Blocks {
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
         ps: &[usize],
-        task: impl Fn(
-                usize,
-                &SymbolicSparseColMat<usize>,
-                &[f64],
-                &mut KktStability,
-            ) -> Result<T, InertiaError>
-            + Sync,
+        task: impl Fn(&mut BlockView) -> Result<T, InertiaError> + Sync,
     ) -> Vec<(usize, Result<T, InertiaError>)> {
         let task: &BlockTask<T> = &task;
         let mut jobs: [Vec<(usize, WarmStart)>; 2] = [Vec::new(), Vec::new()];
@@ -418,6 +499,15 @@ impl Blocks {
 }
 
 impl Worker {
+    /// The stability that searches the eigenvalues of a real (or complex) block.
+    fn eigen(&mut self, real: bool) -> &mut KktStability {
+        if real {
+            &mut self.real
+        } else {
+            &mut self.complex
+        }
+    }
+
     /// `task` on each block of `jobs` (wavenumber and warm start), the warm start put in
     /// place for the task and taken back after it.
     fn run<T>(
@@ -430,21 +520,20 @@ impl Worker {
     ) -> Vec<(usize, WarmStart, Result<T, InertiaError>)> {
         jobs.into_iter()
             .map(|(p, mut warm)| {
-                let (pat, values, stability) = if p == 0 {
-                    (pattern, pair, &mut self.real)
-                } else if bloch.is_real(p) {
-                    self.values.resize(pair.len(), 0.0);
-                    bloch.real_block(p, pair, &mut self.values);
-                    (pattern, &self.values[..], &mut self.real)
-                } else {
-                    let realified = bloch.realified_pattern();
-                    self.values.resize(realified.row_idx().len(), 0.0);
-                    bloch.complex_block(p, pair, &mut self.values);
-                    (realified, &self.values[..], &mut self.complex)
+                // the warm start is that of the eigenvalue searches, on the real form
+                let real = bloch.is_real(p);
+                self.eigen(real).swap_warm_start(&mut warm);
+                let mut view = BlockView {
+                    p,
+                    bloch,
+                    pattern,
+                    pair,
+                    worker: self,
+                    real_ready: false,
+                    hermitian_ready: false,
                 };
-                stability.swap_warm_start(&mut warm);
-                let result = task(p, pat, values, stability);
-                stability.swap_warm_start(&mut warm);
+                let result = task(&mut view);
+                self.eigen(real).swap_warm_start(&mut warm);
                 (p, warm, result)
             })
             .collect()
