@@ -392,21 +392,46 @@ impl Simulation {
         // the branches of a double point leave it along particular directions of its
         // plane (where the symmetry's higher-order terms are extremal, at multiples of
         // π/2m for a wavenumber-1 mode): the directions φ = jπ/2m are tried in turn
+        // — the one in which the energy falls most first (the block eigenvector's complex
+        // phase, which fixes φ = 0, is arbitrary; the energy of the first step is not)
         let m = full.rods.len() / 2;
         let tries = if cp.second_mode.is_some() { 2 * m } else { 1 };
+        let directions: Vec<Vec<f64>> = (0..tries)
+            .map(|j| {
+                let phi = j as f64 * std::f64::consts::PI / (2 * m) as f64;
+                let (c, s) = (phi.cos(), phi.sin());
+                match &cp.second_mode {
+                    Some(b) => mode.iter().zip(b).map(|(a, b)| c * a + s * b).collect(),
+                    None => mode.clone(),
+                }
+            })
+            .collect();
+        let mut order: Vec<(f64, usize)> = {
+            let mut probe = RodProblem::new(full.clone(), system.clone(), control);
+            let mut residual = vec![0.0; x.len()];
+            directions
+                .iter()
+                .enumerate()
+                .map(|(j, d)| {
+                    let moved: Vec<f64> = x
+                        .iter()
+                        .enumerate()
+                        .map(|(i, v)| v + sign * h * d.get(i).copied().unwrap_or(0.0))
+                        .collect();
+                    let e = probe.residual(&moved, cp.parameter, &mut residual);
+                    (if e.is_finite() { e } else { f64::INFINITY }, j)
+                })
+                .collect()
+        };
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut last = None;
-        for j in 0..tries {
-            let phi = j as f64 * std::f64::consts::PI / (2 * m) as f64;
-            let (c, s) = (phi.cos(), phi.sin());
-            let along: Vec<f64> = match &cp.second_mode {
-                Some(b) => mode.iter().zip(b).map(|(a, b)| c * a + s * b).collect(),
-                None => mode.clone(),
-            };
+        for (_, j) in order {
+            let along = &directions[j];
             let problem = RodProblem::new(full.clone(), system.clone(), control);
             let pair = (self.model().clone(), self.system().clone());
             match self
                 .path
-                .switch_onto_problem(problem, x.clone(), cp.parameter, &along, sign, h)
+                .switch_onto_problem(problem, x.clone(), cp.parameter, along, sign, h)
             {
                 Ok(()) => {
                     self.pair = Some(Box::new(pair));
