@@ -327,10 +327,6 @@ fn switching_onto_the_sway_from_the_pair_follows_the_full_models_branch() {
         f64::hypot(x, y)
     };
     let (sa, sb) = (sway(&full), sway(&pair));
-    eprintln!(
-        "SWAY {sa} {sb} full {:?} pair {:?} E {} {}",
-        a.load, b.load, a.energy, b.energy
-    );
     assert!(sa > 1e-4, "the branch sways: {sa} m");
     assert!((sa - sb).abs() < 1e-5 * sa, "{sa} vs {sb}");
     assert!(
