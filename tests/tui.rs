@@ -70,6 +70,7 @@ fn solved(sim: &Simulation, step: usize) -> Box<Solved> {
         step_length: sim.step_length(),
         time: Duration::from_millis(42),
         critical: Vec::new(),
+        pair: sim.solves_pair(),
     })
 }
 
@@ -1871,4 +1872,24 @@ fn the_readout_fits_80_columns_with_the_lowest_eigenvalue() {
         assert!(line.contains("λmin"), "{width} columns: {line}");
         assert!(line.contains("unstable"), "{width} columns: {line}");
     }
+}
+
+/// The model named on the status line is the one of the state on screen: a symmetric
+/// pair's path that a branch switch moved onto the whole assembly is labelled `full`, not
+/// what the case asks for.
+#[test]
+fn the_model_named_is_the_one_of_the_state_on_screen() {
+    let case = small_case(8);
+    let (mut app, sim) = started(case.clone());
+    assert!(sim.solves_pair(), "n = 8 is solved as the pair by default");
+    assert!(app.solves_pair());
+    // the same case's state on the whole assembly, as a switch onto a mode of wavenumber
+    // p ≠ 0 leaves it
+    let mut full_case = case.clone();
+    full_case.discretisation.symmetric = false;
+    let full = Simulation::from_case(&full_case).expect("natural state");
+    assert!(!full.solves_pair());
+    let step = only_request(&app.handle_key(key(KeyCode::Right)));
+    app.on_worker_event(answer(&step, solved(&full, 1)));
+    assert!(!app.solves_pair());
 }

@@ -127,6 +127,8 @@ pub struct Solved {
     pub time: Duration,
     /// Critical points crossed on the way to this state (without their state and mode).
     pub critical: Vec<CriticalPoint>,
+    /// Whether the state is of the symmetric pair (else of the whole assembly).
+    pub pair: bool,
 }
 
 /// What the solver thread reports.
@@ -606,6 +608,7 @@ impl Solver {
             boundary: sim.boundary_conditions(),
             step_length: sim.step_length(),
             time: t0.elapsed(),
+            pair: sim.solves_pair(),
         };
         self.points += 1;
         Some(WorkerEvent::Solved {

@@ -178,6 +178,12 @@ impl Simulation {
         self.path.set_step_length(step);
     }
 
+    /// Whether the model solved is a symmetric pair standing for the whole assembly (false
+    /// for the full model, and after a switch has moved a pair's path onto it).
+    pub fn solves_pair(&self) -> bool {
+        self.rods().is_symmetric_pair()
+    }
+
     fn rods(&self) -> &RodProblem {
         self.path.problem()
     }

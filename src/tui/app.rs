@@ -290,6 +290,11 @@ impl App {
     /// Whether the explorer solves one symmetric pair for the current `n` (its Bloch blocks
     /// judging the whole assembly's stability), rather than the full assembly.
     pub fn solves_pair(&self) -> bool {
+        // the model of the state on screen (a switch moves a pair's path onto the whole
+        // assembly), else the one the case asks for
+        if let Some(s) = &self.state {
+            return s.pair;
+        }
         self.case
             .with_helices(self.helices)
             .for_explorer()
