@@ -647,9 +647,10 @@ impl<P: Problem> Continuation<P> {
                 singular_threshold: this.settings.newton.singular_threshold.max(1e-2),
                 ..this.settings.newton
             };
-            let mut solved = None;
-            for offset in [0.0, 1e-7, 1e-6] {
-                let l0 = lambda - offset * lambda.abs().max(1e-3);
+            const OFFSETS: [f64; 3] = [0.0, 1e-7, 1e-6];
+            let mut k = 0;
+            let (t, l0) = loop {
+                let l0 = lambda - OFFSETS[k] * lambda.abs().max(1e-3);
                 let step = StepEquation {
                     tx: None,
                     tl: 1.0,
@@ -658,11 +659,8 @@ impl<P: Problem> Continuation<P> {
                     ds: 0.0,
                 };
                 match this.correct(x0.clone(), l0, &step, &settings) {
-                    Ok(t) => {
-                        solved = Some((t, l0));
-                        break;
-                    }
-                    Err(_) if offset < 1e-6 => {}
+                    Ok(t) => break (t, l0),
+                    Err(_) if k + 1 < OFFSETS.len() => k += 1,
                     Err(cause) => {
                         return Err(this.error(
                             lambda,
@@ -671,8 +669,7 @@ impl<P: Problem> Continuation<P> {
                         ))
                     }
                 }
-            }
-            let (t, l0) = solved.expect("the last offset returns or fails above");
+            };
             this.state.x.clone_from(&t.x);
             this.state.lambda = l0;
             this.switch_onto(&t.x, l0, mode, sign, h)

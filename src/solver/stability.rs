@@ -627,22 +627,19 @@ impl InertiaCounter<f64> {
             // primal block of the KKT values and y the multipliers of the solve (scaled
             // with u): stationary at a constrained eigenpair for every variation of u, so
             // the solve's small constraint residual (the regularisation's δ) enters it
-            // only to second order
+            // only to second order (refined solves keep that residual at rounding: they
+            // take the plain quotient, as the critical-point searches always have)
             hv.iter_mut().for_each(|h| *h = 0.0);
+            let lagrangian = accuracy.refinements == 0;
             let mut lagrange = 0.0;
             for (p, &(row, col)) in self.k_entry.iter().enumerate() {
                 if col < n_primal {
                     if row < n_primal {
                         hv[row] += kkt[p] * u[col];
-                    } else {
+                    } else if lagrangian {
                         lagrange += v[row] / norm * kkt[p] * u[col];
                     }
                 }
-            }
-            // (refined solves keep the constraint residual at rounding: the plain
-            // quotient, as the critical-point searches have always used)
-            if accuracy.refinements > 0 {
-                lagrange = 0.0;
             }
             let rq: f64 = (0..n_primal).map(|i| u[i] * hv[i]).sum::<f64>() + 2.0 * lagrange;
             let done = (rq - estimate).abs() <= accuracy.tolerance * rq.abs().max(1e-12);
