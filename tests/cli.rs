@@ -1,6 +1,8 @@
 //! The `spira run` command end to end: the real binary on small cases, its output files,
 //! its exit status and its messages.
 
+mod common;
+
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -14,18 +16,6 @@ const OUTPUTS: [&str; 3] = ["load.csv", "reactions.csv", "state.csv"];
 /// Thesis geometry: h0 = 7 π b, L = 7 π c.
 const H0: f64 = 7.0 * PI * 0.025;
 const LENGTH: f64 = 7.0 * PI * 0.065;
-
-/// Two thesis helices on a coarse mesh: quick to solve, still pin-jointed.
-const TINY_CASE: &str = "\
-name = \"tiny\"
-[geometry]
-helices = 2
-[loading]
-target = 0.1
-steps = 2
-[discretisation]
-elements = 6
-";
 
 /// A scratch folder under the system's temporary folder, removed when dropped.
 struct Scratch(PathBuf);
@@ -206,7 +196,7 @@ fn check_load_path(dir: &Path, target: f64, steps: usize) -> Csv {
 #[test]
 fn run_writes_the_three_files_with_their_columns() {
     let dir = Scratch::new("files");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let outdir = dir.path("out");
     assert_success(&spira_run(&dir, &case, &outdir, &[]));
     for name in OUTPUTS {
@@ -285,7 +275,7 @@ fn run_writes_the_three_files_with_their_columns() {
 #[test]
 fn to_and_steps_override_the_case() {
     let dir = Scratch::new("override");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
 
     let out1 = dir.path("compress");
     let out = spira_run(&dir, &case, &out1, &["--to", "0.06", "--steps", "3"]);
@@ -363,7 +353,7 @@ fn toml_syntax_error_is_refused_with_its_line() {
 #[test]
 fn target_outside_the_geometric_range_is_refused() {
     let dir = Scratch::new("target");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let out_dir = dir.path("out");
     for (to, why) in [
         ("1.2", "below the base"),
@@ -383,7 +373,7 @@ fn target_outside_the_geometric_range_is_refused() {
 #[test]
 fn zero_steps_on_the_command_line_is_refused() {
     let dir = Scratch::new("steps");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let out_dir = dir.path("out");
     let out = spira_run(&dir, &case, &out_dir, &["--steps", "0"]);
     let err = assert_failure(&out);
@@ -528,7 +518,7 @@ fn ctrl_c_stops_run_keeping_what_was_reached() {
 #[test]
 fn steps_on_the_command_line_are_bounded_like_the_case_files() {
     let dir = Scratch::new("steps-bound");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let out_dir = dir.path("out");
     for steps in ["18446744073709551615", "1000000000", "100001"] {
         let out = spira_run(&dir, &case, &out_dir, &["--steps", steps]);
@@ -552,7 +542,7 @@ fn steps_on_the_command_line_are_bounded_like_the_case_files() {
 #[test]
 fn a_non_finite_to_is_refused_naming_the_flag() {
     let dir = Scratch::new("to-inf");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let out_dir = dir.path("out");
     for to in ["-inf", "inf", "NaN", "1e308"] {
         let out = spira_run(&dir, &case, &out_dir, &["--to", to]);
@@ -588,7 +578,7 @@ fn a_bad_target_in_the_case_does_not_blame_to() {
 #[test]
 fn repeats_are_bounded() {
     let dir = Scratch::new("repeats");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let c = case.to_str().unwrap();
     for args in [
         ["precision", c, "--repeats", "18446744073709551615"],
@@ -733,7 +723,7 @@ fn a_name_with_line_breaks_stays_in_its_comment_lines() {
     let dir = Scratch::new("name");
     let case = dir.write(
         "named.toml",
-        &TINY_CASE.replace("name = \"tiny\"", "name = \"x\\n1,2,3\\r4\""),
+        &common::TINY_CASE.replace("name = \"tiny\"", "name = \"x\\n1,2,3\\r4\""),
     );
     let out_dir = dir.path("out");
     assert_success(&spira_run(&dir, &case, &out_dir, &[]));
@@ -753,7 +743,7 @@ fn a_name_with_line_breaks_stays_in_its_comment_lines() {
 #[test]
 fn a_run_replaces_the_previous_runs_files_and_leaves_nothing_temporary() {
     let dir = Scratch::new("replace");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let out_dir = dir.path("out");
     std::fs::create_dir_all(&out_dir).unwrap();
     for old in [
@@ -795,7 +785,7 @@ fn a_run_replaces_the_previous_runs_files_and_leaves_nothing_temporary() {
 #[test]
 fn a_folder_in_the_way_fails_the_write_and_keeps_the_old_files() {
     let dir = Scratch::new("in-the-way");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let out_dir = dir.path("out");
     std::fs::create_dir_all(out_dir.join("state.csv")).unwrap();
     std::fs::write(out_dir.join("load.csv"), "old run").unwrap();
@@ -812,7 +802,7 @@ fn a_folder_in_the_way_fails_the_write_and_keeps_the_old_files() {
 fn a_closed_pipe_ends_the_run_quietly() {
     use std::io::{BufRead as _, BufReader};
     let dir = Scratch::new("pipe");
-    let case = dir.write("tiny.toml", TINY_CASE);
+    let case = dir.write("tiny.toml", common::TINY_CASE);
     let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
         .args([
             "run",
@@ -907,9 +897,9 @@ fn a_signal_during_the_write_phase_leaves_the_old_files_or_the_whole_new_set() {
     let steps = 40;
     let case = dir.write(
         "many.toml",
-        &TINY_CASE.replace("steps = 2", &format!("steps = {steps}")),
+        &common::TINY_CASE.replace("steps = 2", &format!("steps = {steps}")),
     );
-    let old_case = dir.write("old.toml", TINY_CASE);
+    let old_case = dir.write("old.toml", common::TINY_CASE);
     let out = dir.path("out");
     let mut tally = std::collections::BTreeMap::new();
     for attempt in 0..16u32 {

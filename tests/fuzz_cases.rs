@@ -9,8 +9,10 @@
 //! Longer runs: `SPIRA_FUZZ_CASES=200000 SPIRA_FUZZ_SEED=7 cargo test --release --test
 //! fuzz_cases` (defaults 3000 cases, seed 12).
 
+mod common;
+
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
+use proptest::test_runner::TestCaseError;
 use spira::case::{Case, CaseError};
 
 const BASES: [&str; 7] = [
@@ -232,27 +234,10 @@ fn check_accepted(case: &Case) -> Result<(), TestCaseError> {
     Ok(())
 }
 
-fn env_or(name: &str, default: u64) -> u64 {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
 #[test]
 fn mutated_case_files_are_refused_well_or_accepted_with_finite_quantities() {
-    let cases = env_or("SPIRA_FUZZ_CASES", 3000) as u32;
-    let seed = env_or("SPIRA_FUZZ_SEED", 12);
-    let mut bytes = [0u8; 32];
-    bytes[..8].copy_from_slice(&seed.to_le_bytes());
-    let config = Config {
-        cases,
-        failure_persistence: None,
-        max_shrink_iters: 2000,
-        ..Config::default()
-    };
-    let mut runner =
-        TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &bytes));
+    let mut runner = common::seeded_runner("SPIRA_FUZZ_CASES", 3000, 2000);
+    let seed = common::env_or("SPIRA_FUZZ_SEED", 12);
     let (refused, accepted) = (std::cell::Cell::new(0), std::cell::Cell::new(0));
     let result = runner.run(&case_text(), |text| {
         match Case::parse(&text, "fuzz.toml", "fuzz") {

@@ -23,30 +23,20 @@
 //! -- --nocapture` (defaults 60 command lines, seed 12: a few seconds; `SPIRA_FUZZ_PATIENCE`
 //! the seconds before a command is stopped).
 
+mod common;
+
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
+use proptest::test_runner::TestCaseError;
 use std::os::unix::process::ExitStatusExt as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Two thesis helices on a coarse mesh: quick to solve.
-const TINY_CASE: &str = "\
-name = \"tiny\"
-[geometry]
-helices = 2
-[loading]
-target = 0.1
-steps = 2
-[discretisation]
-elements = 6
-";
-
 /// A command still running after this long (s; `SPIRA_FUZZ_PATIENCE`, default 2) is stopped
 /// by SIGTERM and counted as long: a work-precision study or a long path is long by design,
 /// and its clean end on a signal is checked instead.
 fn patience() -> Duration {
-    Duration::from_secs(env_or("SPIRA_FUZZ_PATIENCE", 2))
+    Duration::from_secs(common::env_or("SPIRA_FUZZ_PATIENCE", 2))
 }
 
 /// The scratch folder: the files the command lines name, and a run folder to plot.
@@ -58,7 +48,7 @@ impl Scratch {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(dir.join("folder.toml")).expect("scratch");
         std::fs::create_dir_all(dir.join("empty-run")).expect("scratch");
-        std::fs::write(dir.join("tiny.toml"), TINY_CASE).expect("write");
+        std::fs::write(dir.join("tiny.toml"), common::TINY_CASE).expect("write");
         std::fs::write(dir.join("empty.toml"), "").expect("write");
         std::fs::write(dir.join("bytes.toml"), [0xff, 0xfe, 0x00, 0x80, b'\n']).expect("write");
         std::fs::write(
@@ -66,7 +56,7 @@ impl Scratch {
             "[geometry]\nhelices = 3\nradios = 1\n",
         )
         .expect("write");
-        std::fs::write(dir.join("ünïcødé ✓.toml"), TINY_CASE).expect("write");
+        std::fs::write(dir.join("ünïcødé ✓.toml"), common::TINY_CASE).expect("write");
         std::fs::write(
             dir.join("sweep.toml"),
             "base = \"tiny.toml\"\n[axes]\n\"loading.steps\" = [1, 2]\n",
@@ -451,28 +441,11 @@ fn check(dir: &Path, args: &[String]) -> Result<Outcome, TestCaseError> {
     Ok(Outcome::Refused)
 }
 
-fn env_or(name: &str, default: u64) -> u64 {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
 #[test]
 fn mutated_command_lines_never_panic_and_fail_naming_what_is_wrong() {
-    let cases = env_or("SPIRA_FUZZ_CLI", 60) as u32;
-    let seed = env_or("SPIRA_FUZZ_SEED", 12);
-    let mut bytes = [0u8; 32];
-    bytes[..8].copy_from_slice(&seed.to_le_bytes());
-    let config = Config {
-        cases,
-        failure_persistence: None,
-        max_shrink_iters: 200,
-        ..Config::default()
-    };
+    let mut runner = common::seeded_runner("SPIRA_FUZZ_CLI", 60, 200);
+    let (cases, seed) = (runner.config().cases, common::env_or("SPIRA_FUZZ_SEED", 12));
     let scratch = Scratch::new();
-    let mut runner =
-        TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &bytes));
     let tally = std::cell::RefCell::new(std::collections::BTreeMap::new());
     let result = runner.run(&command_line(), |args| {
         let outcome = check(&scratch.0, &args)?;
