@@ -57,7 +57,7 @@ impl Fold {
     fn new() -> Fold {
         Fold {
             pattern: pattern(&[vec![0]]),
-            stability: KktStability::new(vec![1.0]),
+            stability: KktStability::new(vec![1.0], 1.0),
         }
     }
     fn values_at(&self, x: &[f64], lambda: f64) -> Vec<f64> {
@@ -141,7 +141,7 @@ impl Pitchfork {
     fn new() -> Pitchfork {
         Pitchfork {
             pattern: pattern(&[vec![0], vec![1]]),
-            stability: KktStability::new(vec![1.0, 1.0]),
+            stability: KktStability::new(vec![1.0, 1.0], 1.0),
         }
     }
     fn values_at(&self, x: &[f64], lambda: f64) -> Vec<f64> {
@@ -251,7 +251,7 @@ impl Bratu {
             n,
             h: 1.0 / (n + 1) as f64,
             pattern: pattern(&columns),
-            stability: KktStability::new(vec![1.0; n]),
+            stability: KktStability::new(vec![1.0; n], 1.0),
         }
     }
     fn values_at(&self, x: &[f64], lambda: f64) -> Vec<f64> {

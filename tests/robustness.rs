@@ -68,6 +68,18 @@ fn every_stiffness_times_1e5_gives_the_thesis_n1_path_scaled_by_1e5() {
             p.stability.map(|x| x.unstable_directions),
             q.stability.map(|x| x.unstable_directions)
         );
+        // the lowest eigenvalue (J/m: energy per arc length) scales with the stiffness
+        let lowest = |p: &spira::results::LoadPoint| {
+            p.stability
+                .and_then(|x| x.lowest_eigenvalue)
+                .expect("computed")
+        };
+        let (la, lb) = (lowest(p), lowest(q));
+        assert!(
+            rel(la * s, lb, la.abs() * s) < 1e-8,
+            "step {}: lowest eigenvalue {la} x 1e5 vs {lb}",
+            p.step
+        );
     }
     let (last_a, last_b) = (a.points.last().unwrap(), b.points.last().unwrap());
     assert!((last_a.load[2] - -3.082).abs() < 1e-3, "{}", last_a.load[2]);
@@ -114,7 +126,9 @@ fn sliding_tips(case: &str) -> String {
 ///   E = (B1/L) Φ by s;
 /// - positions and heights scale by s, curvatures by 1/s;
 /// - the lowest eigenvalue of the constrained Hessian (J/m: energy per rotation² per arc
-///   length, B1/L² Φ) by s²/s² = 1 (not compared: see below).
+///   length, B1/L² Φ) by s²/s² = 1 (compared to 1e-8: the regularisation of its KKT
+///   solves weighs constraints on positions by the rod length, src/solver/stability.rs;
+///   with one penalty for all rows it was 11.27 J/m in metres and 11.40 scaled at ε = 0.5).
 ///
 /// Compared to 1e-6 relative: far below the discretisation error of the thesis mesh (Fz
 /// about 2e-4 relative at 48 elements, README), and above the Newton tolerance's 1e-9 in
@@ -198,12 +212,23 @@ fn every_length_times_1e_3_gives_the_thesis_n1_path_in_other_units() {
                     );
                 }
             }
-            // the count of unstable directions is compared; the lowest eigenvalue is not:
-            // its inverse iteration on the regularised KKT matrix (penalty ρ from the
-            // Hessian's diagonal, δ = 1e-8/ρ, src/solver/stability.rs) still depends on the
-            // units (11.27 J/m in metres, 9.22 in the scaled case at ε = 0.5; README)
             let (sa, sb) = (p.stability.expect("judged"), q.stability.expect("judged"));
             assert_eq!(sa.unstable_directions, sb.unstable_directions, "{label}");
+            if let (Some(la), Some(lb)) = (sa.lowest_eigenvalue, sb.lowest_eigenvalue) {
+                // relative to the spectrum's scale (past a bifurcation it is near zero)
+                let scale = a.points[0]
+                    .stability
+                    .and_then(|x| x.lowest_eigenvalue)
+                    .expect("at rest")
+                    .max(la.abs());
+                assert!(
+                    (la - lb).abs() <= 1e-8 * scale,
+                    "{label}, step {}: lowest eigenvalue {la} vs {lb}",
+                    p.step
+                );
+            } else {
+                assert_eq!(sa.lowest_eigenvalue, sb.lowest_eigenvalue, "{label}");
+            }
         }
         // the final shape: positions scaled by s, curvatures by 1/s
         for (ra, rb) in a.snapshot.rods.iter().zip(&b.snapshot.rods) {

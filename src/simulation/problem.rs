@@ -220,11 +220,12 @@ impl RodProblem {
         let judge = match BlochBlocks::new(&model, &system) {
             Some(bloch) => {
                 let metric = metric(&model);
+                let length = model.length();
                 let realified_metric = bloch.realified_metric(&metric);
                 let worker = || Worker {
-                    real: KktStability::new(metric.clone()),
-                    complex: KktStability::with_copies(realified_metric.clone(), 2),
-                    hermitian: KktStability::new(metric.clone()),
+                    real: KktStability::new(metric.clone(), length),
+                    complex: KktStability::with_copies(realified_metric.clone(), length, 2),
+                    hermitian: KktStability::new(metric.clone(), length),
                     values: Vec::new(),
                     hermitian_values: Vec::new(),
                 };
@@ -239,7 +240,7 @@ impl RodProblem {
                 }))
             }
             None => Judge::Own {
-                stability: KktStability::new(metric(&model)),
+                stability: KktStability::new(metric(&model), model.length()),
                 residual: vec![0.0; system.n],
                 values: system.new_values(),
             },

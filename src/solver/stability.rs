@@ -7,12 +7,20 @@
 //! and `m` the number of (independent) constraints. `K` has zero diagonal entries, so it is
 //! factorised in the augmented, regularised form
 //!
-//! `K_ρδ = [[H + ρ JᵀJ, Jᵀ], [J, −δ I]]`,
+//! `K_ρδ = [[H + ρ JᵀC⁻¹J, Jᵀ], [J, −δ C]]`,
 //!
-//! whose inertia equals `inertia(H + (ρ + 1/δ) JᵀJ) + (0, m, 0)`; for a large penalty
+//! whose inertia equals `inertia(H + (ρ + 1/δ) JᵀC⁻¹J) + (0, m, 0)`; for a large penalty
 //! `ρ + 1/δ` the first term counts `q` negative directions (Sylvester's law of inertia and
 //! Debreu's lemma). The matrix is quasi-definite at stable states, so a symmetric `LDLᵀ`
 //! without pivoting exists for any fill-reducing ordering.
+//!
+//! `C = diag(c_i)` makes the regularisation free of units: some constraints are on
+//! rotations only (unit quaternions, rotational supports: dimensionless), the others on
+//! positions (inextensibility, joints, positional supports: m), so `c_i = 1` for the
+//! first and `c_i = ℓ²` for the second, `ℓ` the rod length. With `ρ` the Hessian's mean
+//! diagonal and `δ = 10⁻⁸/ρ`, a change of units (lengths ×s, stiffnesses ×s²) scales
+//! `K_ρδ` symmetrically and leaves counts and eigenvalues as they are (a penalty `δ I`
+//! in metres would be 10⁶ times weaker in millimetres).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -90,8 +98,12 @@ pub struct InertiaCounter<T: Scalar = f64> {
     k_slots: Vec<usize>,
     /// For each stored entry of `K`, its (row, column).
     k_entry: Vec<(usize, usize)>,
-    /// Products `(k value a, k value b, slot)` making `JᴴJ`: `conj(a) b` into `slot`.
-    jtj: Vec<(usize, usize, usize)>,
+    /// Products `(k value a, k value b, slot, constraint)` making `JᴴC⁻¹J`:
+    /// `conj(a) b / c` into `slot`.
+    jtj: Vec<(usize, usize, usize, usize)>,
+    /// The regularisation's `C`: `c_i = ℓ²` for a constraint row `i` on positions, 1 for
+    /// one on rotations only.
+    row_scale: Vec<f64>,
     /// Slots of the dual diagonal.
     dual_diagonal: Vec<usize>,
     /// Slots of the primal diagonal.
@@ -137,11 +149,15 @@ fn slot(pattern: &SymbolicSparseColMat<usize>, row: usize, col: usize) -> usize 
 
 impl<T: Scalar> InertiaCounter<T> {
     /// Builds the augmented pattern and its symbolic factorisation for a KKT matrix of
-    /// pattern `k` whose first `n_primal` unknowns are primal.
+    /// pattern `k` whose first `n_primal` unknowns are primal, with the eigenproblem's
+    /// metric over them (positive on quaternion unknowns, zero on positions) and the length
+    /// `ℓ` (m) that weighs positions in the row norms of the regularisation.
     pub fn new(
         k: &SymbolicSparseColMat<usize>,
-        n_primal: usize,
+        metric: &[f64],
+        length: f64,
     ) -> Result<InertiaCounter<T>, InertiaError> {
+        let n_primal = metric.len();
         let n = k.ncols();
         let (cp, ri) = (k.col_ptr(), k.row_idx());
         // constraint rows of J: (column, index into K's values), from the lower-left block
@@ -177,13 +193,23 @@ impl<T: Scalar> InertiaCounter<T> {
             }
         }
         let mut jtj = Vec::new();
-        for r in &rows {
+        for (i, r) in rows.iter().enumerate() {
             for &(ca, pa) in r {
                 for &(cb, pb) in r {
-                    jtj.push((pa, pb, slot(&pattern, ca, cb)));
+                    jtj.push((pa, pb, slot(&pattern, ca, cb), i));
                 }
             }
         }
+        let row_scale = rows
+            .iter()
+            .map(|r| {
+                if r.iter().any(|&(col, _)| metric[col] <= 0.0) {
+                    length * length
+                } else {
+                    1.0
+                }
+            })
+            .collect();
         let dual_diagonal = (n_primal..n).map(|i| slot(&pattern, i, i)).collect();
         let primal_diagonal = (0..n_primal).map(|i| slot(&pattern, i, i)).collect();
         let k_diagonal = (0..n_primal).map(|i| slot(k, i, i)).collect();
@@ -225,6 +251,7 @@ impl<T: Scalar> InertiaCounter<T> {
             k_slots,
             k_entry,
             jtj,
+            row_scale,
             dual_diagonal,
             primal_diagonal,
             k_diagonal,
@@ -273,12 +300,11 @@ impl<T: Scalar> InertiaCounter<T> {
         }
         let rho = if count > 0 { diag / count as f64 } else { 1.0 };
         self.rho = rho;
-        let delta = 1e-8 / rho;
         for (v, &g) in self.values.iter_mut().zip(&self.gram) {
             *v += T::from_real(rho) * g;
         }
-        for &s in &self.dual_diagonal {
-            self.values[s] = T::from_real(-delta);
+        for (i, &s) in self.dual_diagonal.iter().enumerate() {
+            self.values[s] = T::from_real(-self.delta(i));
         }
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
         self.symbolic
@@ -328,9 +354,14 @@ impl<T: Scalar> InertiaCounter<T> {
         Ok(inertia)
     }
 
-    /// Scatters the KKT values `kkt` into `self.base` and their `JᴴJ` into `self.gram` (in
-    /// the augmented pattern), and keeps `kkt` to know when the next factorisation can
-    /// start from them.
+    /// The regularisation `δ c_i` of constraint row `i` at the last penalty `ρ`.
+    fn delta(&self, i: usize) -> f64 {
+        REGULARISATION * self.row_scale[i] / self.rho
+    }
+
+    /// Scatters the KKT values `kkt` into `self.base` and their `JᴴC⁻¹J` into `self.gram`
+    /// (in the augmented pattern), and keeps `kkt` to know when the next factorisation
+    /// can start from them.
     fn load(&mut self, kkt: &[T]) {
         let zero = T::from_real(0.0);
         self.base.iter_mut().for_each(|v| *v = zero);
@@ -338,8 +369,8 @@ impl<T: Scalar> InertiaCounter<T> {
         for (p, &s) in self.k_slots.iter().enumerate() {
             self.base[s] += kkt[p];
         }
-        for &(a, b, s) in &self.jtj {
-            self.gram[s] += kkt[a].conjugate() * kkt[b];
+        for &(a, b, s, i) in &self.jtj {
+            self.gram[s] += kkt[a].conjugate() * kkt[b] * T::from_real(1.0 / self.row_scale[i]);
         }
         self.loaded.clear();
         self.loaded.extend_from_slice(kkt);
@@ -356,7 +387,7 @@ impl InertiaCounter<f64> {
     /// constraint part is zero, into `self.solution`, refining up to `refinements` times
     /// (until the correction is at rounding) against the unregularised `K_ρ0(σ)` (which has
     /// the same solution as `K(σ)` for such `b`).
-    fn solve_refined(&mut self, n_primal: usize, delta: f64, refinements: usize) {
+    fn solve_refined(&mut self, n_primal: usize, refinements: usize) {
         let n = self.rhs.len();
         let mut z = std::mem::take(&mut self.solution);
         let mut r = std::mem::take(&mut self.refinement);
@@ -372,7 +403,7 @@ impl InertiaCounter<f64> {
                 }
             }
             for i in n_primal..n {
-                r[i] -= delta * z[i];
+                r[i] -= self.delta(i - n_primal) * z[i];
             }
             self.ldlt_solve(&mut r);
             let mut correction: f64 = 0.0;
@@ -592,7 +623,6 @@ impl InertiaCounter<f64> {
         accuracy: Accuracy,
     ) -> Option<f64> {
         let n_primal = self.iterate.len();
-        let delta = 1e-8 / self.rho;
         // start from the last mode: along a path it changes little
         let mut u = std::mem::take(&mut self.iterate);
         if self.last_mode.len() == n_primal {
@@ -610,7 +640,7 @@ impl InertiaCounter<f64> {
             for i in 0..n_primal {
                 self.rhs[i] = metric[i] * u[i];
             }
-            self.solve_refined(n_primal, delta, accuracy.refinements);
+            self.solve_refined(n_primal, accuracy.refinements);
             let v = &self.solution;
             let norm = (0..n_primal)
                 .map(|i| metric[i] * v[i] * v[i])
@@ -628,7 +658,11 @@ impl InertiaCounter<f64> {
             // with u): stationary at a constrained eigenpair for every variation of u, so
             // the solve's small constraint residual (the regularisation's δ) enters it
             // only to second order (refined solves keep that residual at rounding: they
-            // take the plain quotient, as the critical-point searches always have)
+            // take the plain quotient, as the critical-point searches always have; with the
+            // Lagrangian one there the critical states come out so exact, 1e-11 apart on
+            // the pair and the full model at the n = 8 sliding tips' double point, that the
+            // full model's Jacobian at the expanded state is singular and the switch from the
+            // pair fails)
             hv.iter_mut().for_each(|h| *h = 0.0);
             let lagrangian = accuracy.refinements == 0;
             let mut lagrange = 0.0;
@@ -696,6 +730,13 @@ struct Accuracy {
 /// eigenvalue is below it by more).
 const CERTIFIED: f64 = 2e-3;
 
+/// `δρ`: the regularisation of the constraint rows relative to the Hessian (rows in their
+/// norms `c_i`). Weaker, the solves' constraint residual grows (it enters the eigenvalues'
+/// Lagrangian Rayleigh quotient to second order); stronger, rounding grows: the thesis
+/// n = 1 lowest eigenvalue at ε = 0.5 is within 3e-12 of a dense solve at 1e-6, 4e-10 at
+/// 1e-7, 6e-8 at 1e-8 and 3e-4 at 1e-10.
+const REGULARISATION: f64 = 1e-8;
+
 /// A first estimate, an upper bound of the lowest eigenvalue that places the next shift.
 const ROUGH: Accuracy = Accuracy {
     tolerance: 1e-4,
@@ -726,7 +767,9 @@ pub struct KktStability<T: Scalar = f64> {
     metric: Vec<f64>,
     /// Mean of the metric's non-zero weights.
     mean_metric: f64,
-    n_primal: usize,
+    /// Length `ℓ` that weighs position unknowns against rotations in the regularisation
+    /// (m; the rod length).
+    length: f64,
     /// Each eigenvalue of the problem appears this many times in the matrix (2 for a
     /// complex Hermitian matrix written as a real one).
     copies: usize,
@@ -734,22 +777,23 @@ pub struct KktStability<T: Scalar = f64> {
 
 impl<T: Scalar> KktStability<T> {
     /// For KKT matrices whose first `metric.len()` unknowns are primal, with the eigenvalue
-    /// problem `H v = μ M v`, `M = diag(metric)`.
-    pub fn new(metric: Vec<f64>) -> KktStability<T> {
-        KktStability::with_copies(metric, 1)
+    /// problem `H v = μ M v`, `M = diag(metric)` (zero on position unknowns), and `length`
+    /// the model's length scale `ℓ` (the rod length, m).
+    pub fn new(metric: Vec<f64>, length: f64) -> KktStability<T> {
+        KktStability::with_copies(metric, length, 1)
     }
 
     /// As [`KktStability::new`] for a matrix in which every eigenvalue appears `copies`
     /// times (a complex Hermitian matrix written as a real one of twice its size has
     /// `copies = 2`): counts are of distinct eigenvalues.
-    pub fn with_copies(metric: Vec<f64>, copies: usize) -> KktStability<T> {
+    pub fn with_copies(metric: Vec<f64>, length: f64, copies: usize) -> KktStability<T> {
         let mean_metric =
             metric.iter().sum::<f64>() / metric.iter().filter(|&&m| m > 0.0).count().max(1) as f64;
         KktStability {
             counter: None,
-            n_primal: metric.len(),
             metric,
             mean_metric,
+            length,
             copies: copies.max(1),
         }
     }
@@ -767,16 +811,12 @@ impl<T: Scalar> KktStability<T> {
         kkt: &[T],
     ) -> Result<usize, InertiaError> {
         let mean_metric = self.mean_metric;
-        let metric = std::mem::take(&mut self.metric);
-        let counted = self.counter(pattern).and_then(|counter| {
-            let tau = 1e-9 * counter.hessian_scale(kkt) / mean_metric;
-            let inertia = counter.inertia(kkt, -tau, &metric)?;
-            Ok(counter.unstable_directions(inertia).max(0) as usize)
-        });
         let copies = self.copies;
-        let counted = counted.map(|c| c.div_ceil(copies));
-        self.metric = metric;
-        counted
+        let (counter, metric) = self.counter_and_metric(pattern)?;
+        let tau = 1e-9 * counter.hessian_scale(kkt) / mean_metric;
+        let inertia = counter.inertia(kkt, -tau, metric)?;
+        let counted = counter.unstable_directions(inertia).max(0) as usize;
+        Ok(counted.div_ceil(copies))
     }
 
     /// The unstable directions (as [`KktStability::unstable_directions`] counts them) and
@@ -824,24 +864,34 @@ impl<T: Scalar> KktStability<T> {
         kkt: &[T],
         sigma: f64,
     ) -> Result<usize, InertiaError> {
-        let metric = std::mem::take(&mut self.metric);
-        let counted = self.counter(pattern).and_then(|counter| {
-            let inertia = counter.inertia(kkt, sigma, &metric)?;
-            Ok(counter.unstable_directions(inertia).max(0) as usize)
-        });
-        self.metric = metric;
         let copies = self.copies;
-        counted.map(|c| c.div_ceil(copies))
+        let (counter, metric) = self.counter_and_metric(pattern)?;
+        let inertia = counter.inertia(kkt, sigma, metric)?;
+        let counted = counter.unstable_directions(inertia).max(0) as usize;
+        Ok(counted.div_ceil(copies))
     }
 
     fn counter(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
     ) -> Result<&mut InertiaCounter<T>, InertiaError> {
+        Ok(self.counter_and_metric(pattern)?.0)
+    }
+
+    /// The inertia counter (built on first use) and the metric, borrowed together.
+    fn counter_and_metric(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+    ) -> Result<(&mut InertiaCounter<T>, &[f64]), InertiaError> {
         if self.counter.is_none() {
-            self.counter = Some(Box::new(InertiaCounter::new(pattern, self.n_primal)?));
+            self.counter = Some(Box::new(InertiaCounter::new(
+                pattern,
+                &self.metric,
+                self.length,
+            )?));
         }
-        Ok(self.counter.as_mut().expect("built above"))
+        let counter = self.counter.as_mut().expect("built above");
+        Ok((counter, &self.metric))
     }
 }
 
@@ -871,13 +921,8 @@ impl KktStability<f64> {
         pattern: &SymbolicSparseColMat<usize>,
         kkt: &[f64],
     ) -> Option<f64> {
-        let metric = std::mem::take(&mut self.metric);
-        let lowest = self
-            .counter(pattern)
-            .ok()
-            .and_then(|c| c.lowest_eigenvalue(kkt, &metric));
-        self.metric = metric;
-        lowest
+        let (counter, metric) = self.counter_and_metric(pattern).ok()?;
+        counter.lowest_eigenvalue(kkt, metric)
     }
 
     /// The eigenvalue of the constrained Hessian nearest zero.
@@ -886,12 +931,7 @@ impl KktStability<f64> {
         pattern: &SymbolicSparseColMat<usize>,
         kkt: &[f64],
     ) -> Option<f64> {
-        let metric = std::mem::take(&mut self.metric);
-        let nearest = self
-            .counter(pattern)
-            .ok()
-            .and_then(|c| c.eigenvalue_nearest_zero(kkt, &metric));
-        self.metric = metric;
-        nearest
+        let (counter, metric) = self.counter_and_metric(pattern).ok()?;
+        counter.eigenvalue_nearest_zero(kkt, metric)
     }
 }
