@@ -608,7 +608,9 @@ impl InertiaCounter<f64> {
             }
             best = Some((theta, s.iter().copied().collect()));
             // residual of the Ritz pair: β_k |s_k|, relative to θ
-            let done = !(b > 1e-14 * theta) || b * s[k - 1].abs() <= LANCZOS_TOLERANCE * theta;
+            // (a breakdown, β at rounding or not finite, ends it too: the space is invariant)
+            let breakdown = b.is_nan() || b <= 1e-14 * theta;
+            let done = breakdown || b * s[k - 1].abs() <= LANCZOS_TOLERANCE * theta;
             if done {
                 break;
             }
