@@ -29,7 +29,7 @@ use faer::sparse::linalg::cholesky::{
     SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{c64, Conj, MatMut, Par, Side};
 
 /// The entries of the matrices whose inertia is counted: real (symmetric) or complex
@@ -169,21 +169,42 @@ impl<T: Scalar> InertiaCounter<T> {
                 }
             }
         }
-        let mut pairs: Vec<Pair<usize, usize>> = Vec::new();
-        for col in 0..n {
-            for p in cp[col]..cp[col + 1] {
-                pairs.push(Pair { row: ri[p], col });
+        // the augmented pattern column by column: K's rows and those of every column that
+        // shares a constraint row with it (JᵀJ), each once (a marker per column), sorted
+        let mut rows_of_column: Vec<Vec<usize>> = vec![Vec::new(); n_primal];
+        for (i, r) in rows.iter().enumerate() {
+            for &(col, _) in r {
+                rows_of_column[col].push(i);
             }
         }
-        for r in &rows {
-            for &(ca, _) in r {
-                for &(cb, _) in r {
-                    pairs.push(Pair { row: ca, col: cb });
+        let mut marker = vec![usize::MAX; n];
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        let mut column = Vec::new();
+        for col in 0..n {
+            column.clear();
+            let mut add = |row: usize, column: &mut Vec<usize>| {
+                if marker[row] != col {
+                    marker[row] = col;
+                    column.push(row);
+                }
+            };
+            for &row in &ri[cp[col]..cp[col + 1]] {
+                add(row, &mut column);
+            }
+            if col < n_primal {
+                for &i in &rows_of_column[col] {
+                    for &(row, _) in &rows[i] {
+                        add(row, &mut column);
+                    }
                 }
             }
+            column.sort_unstable();
+            row_idx.extend_from_slice(&column);
+            col_ptr.push(row_idx.len());
         }
-        let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
-            .map_err(|_| InertiaError::OutOfMemory)?;
+        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let mut k_slots = Vec::with_capacity(ri.len());
         let mut k_entry = Vec::with_capacity(ri.len());
         for col in 0..n {
