@@ -393,6 +393,17 @@ impl Simulation {
             &natural,
             &mut x,
         );
+        // the pair's last accepted state on the whole assembly: a regular state of the
+        // same path to re-solve the critical state from
+        let mut near = vec![0.0; natural.n];
+        expand_state(
+            self.model(),
+            self.system(),
+            self.state(),
+            &full,
+            &natural,
+            &mut near,
+        );
         // the supports hold what they hold at the critical state, as the pair's did
         let system = System::new(&full, bc, &x[..full.n_primal], tip);
         // the branches of a double point leave it along particular directions of its
@@ -435,10 +446,15 @@ impl Simulation {
             let along = &directions[j];
             let problem = RodProblem::new(full.clone(), system.clone(), control);
             let pair = (self.model().clone(), self.system().clone());
-            match self
-                .path
-                .switch_onto_problem(problem, x.clone(), cp.parameter, along, sign, h)
-            {
+            match self.path.switch_onto_problem(
+                problem,
+                x.clone(),
+                cp.parameter,
+                along,
+                sign,
+                h,
+                Some(near.clone()),
+            ) {
                 Ok(()) => {
                     self.pair = Some(Box::new(pair));
                     return Ok(());

@@ -624,6 +624,10 @@ impl<P: Problem> Continuation<P> {
     /// Replaces the problem (e.g. the full model behind a reduced one) and leaves the
     /// critical state `(x, λ)` of the new problem along `mode` as
     /// [`Continuation::switch_onto`] does; on failure the old problem and state are kept.
+    /// `near` is another state of the new problem on the same path (the reduced model's
+    /// last accepted state, expanded), from which the critical state is re-solved when the
+    /// Jacobian at `x` itself is singular.
+    #[allow(clippy::too_many_arguments)]
     pub fn switch_onto_problem(
         &mut self,
         problem: P,
@@ -632,6 +636,7 @@ impl<P: Problem> Continuation<P> {
         mode: &[f64],
         sign: f64,
         h: f64,
+        near: Option<Vec<f64>>,
     ) -> Result<(), ContinuationError> {
         self.with_problem(problem, x, lambda, |this| {
             this.state.tangent = None;
@@ -641,34 +646,45 @@ impl<P: Problem> Continuation<P> {
             // the more exactly the critical point is placed, the more nearly singular
             // the Jacobian there: when its solve fails, the state is re-solved a little
             // before the critical load (relative offsets 1e-7, 1e-6 of the load
-            // parameter, far below the accuracy of any branch followed from it)
+            // parameter, far below the accuracy of any branch followed from it), from the
+            // critical state and then from `near`, where the first Jacobian is regular
+            // (at a double point placed to rounding the Jacobian at the critical state is
+            // singular whatever the load)
             let x0 = this.state.x.clone();
             let settings = NewtonSettings {
                 singular_threshold: this.settings.newton.singular_threshold.max(1e-2),
                 ..this.settings.newton
             };
             const OFFSETS: [f64; 3] = [0.0, 1e-7, 1e-6];
-            let mut k = 0;
-            let (t, l0) = loop {
-                let l0 = lambda - OFFSETS[k] * lambda.abs().max(1e-3);
-                let step = StepEquation {
-                    tx: None,
-                    tl: 1.0,
-                    x0: &x0,
-                    l0,
-                    ds: 0.0,
-                };
-                match this.correct(x0.clone(), l0, &step, &settings) {
-                    Ok(t) => break (t, l0),
-                    Err(_) if k + 1 < OFFSETS.len() => k += 1,
-                    Err(cause) => {
-                        return Err(this.error(
-                            lambda,
-                            0.0,
-                            StopReason::Newton { step: 0.0, cause },
-                        ))
+            let mut starts = vec![x0.clone()];
+            if let Some(mut near) = near {
+                near.resize(x0.len(), 0.0);
+                starts.push(near);
+            }
+            let mut last = None;
+            let mut solved = None;
+            'starts: for start in &starts {
+                for offset in OFFSETS {
+                    let l0 = lambda - offset * lambda.abs().max(1e-3);
+                    let step = StepEquation {
+                        tx: None,
+                        tl: 1.0,
+                        x0: &x0,
+                        l0,
+                        ds: 0.0,
+                    };
+                    match this.correct(start.clone(), l0, &step, &settings) {
+                        Ok(t) => {
+                            solved = Some((t, l0));
+                            break 'starts;
+                        }
+                        Err(cause) => last = Some(cause),
                     }
                 }
+            }
+            let Some((t, l0)) = solved else {
+                let cause = last.expect("at least one start tried");
+                return Err(this.error(lambda, 0.0, StopReason::Newton { step: 0.0, cause }));
             };
             this.state.x.clone_from(&t.x);
             this.state.lambda = l0;

@@ -111,12 +111,11 @@ pub struct InertiaCounter<T: Scalar = f64> {
     /// Indices of the primal diagonal in the KKT values.
     k_diagonal: Vec<usize>,
     values: Vec<T>,
-    /// The KKT values `loaded` and their `JᴴJ`, in the augmented pattern.
+    /// The KKT values `loaded` with the penalty `ρ JᴴC⁻¹J`, in the augmented pattern.
     base: Vec<T>,
-    gram: Vec<T>,
     loaded: Vec<T>,
     l_values: Vec<T>,
-    /// Penalty of the last factorisation: the mean magnitude of the Hessian's diagonal.
+    /// Penalty of the loaded state: the mean magnitude of the Hessian's non-zero diagonal.
     pub rho: f64,
     /// The last mode found by inverse iteration (primal unknowns), to start the next search
     /// from; empty until one is found.
@@ -254,7 +253,6 @@ impl<T: Scalar> InertiaCounter<T> {
             constraints: n - n_primal,
             values: vec![T::from_real(0.0); pattern.row_idx().len()],
             base: vec![T::from_real(0.0); pattern.row_idx().len()],
-            gram: vec![T::from_real(0.0); pattern.row_idx().len()],
             loaded: Vec::new(),
             rho: 1.0,
             last_mode: Vec::new(),
@@ -308,21 +306,10 @@ impl<T: Scalar> InertiaCounter<T> {
         if self.loaded.as_slice() != kkt {
             self.load(kkt);
         }
-        // the shifted Hessian's diagonal, and the penalty scaled to it
+        // the augmented values of the state, shifted on the Hessian's diagonal
         self.values.copy_from_slice(&self.base);
-        let (mut diag, mut count) = (0.0, 0);
         for (i, &s) in self.primal_diagonal.iter().enumerate() {
             self.values[s] -= T::from_real(sigma * metric[i]);
-            let v = self.values[s].real_part().abs();
-            if v > 0.0 {
-                diag += v;
-                count += 1;
-            }
-        }
-        let rho = if count > 0 { diag / count as f64 } else { 1.0 };
-        self.rho = rho;
-        for (v, &g) in self.values.iter_mut().zip(&self.gram) {
-            *v += T::from_real(rho) * g;
         }
         for (i, &s) in self.dual_diagonal.iter().enumerate() {
             self.values[s] = T::from_real(-self.delta(i));
@@ -380,18 +367,28 @@ impl<T: Scalar> InertiaCounter<T> {
         REGULARISATION * self.row_scale[i] / self.rho
     }
 
-    /// Scatters the KKT values `kkt` into `self.base` and their `JᴴC⁻¹J` into `self.gram`
-    /// (in the augmented pattern), and keeps `kkt` to know when the next factorisation
-    /// can start from them.
+    /// Scatters the KKT values `kkt` and the penalty `ρ JᴴC⁻¹J` into `self.base` (in the
+    /// augmented pattern), `ρ` the mean magnitude of the Hessian's non-zero diagonal, and
+    /// keeps `kkt` to know when the next factorisation can start from them: the shifts
+    /// of one state differ only on the diagonal.
     fn load(&mut self, kkt: &[T]) {
         let zero = T::from_real(0.0);
         self.base.iter_mut().for_each(|v| *v = zero);
-        self.gram.iter_mut().for_each(|v| *v = zero);
         for (p, &s) in self.k_slots.iter().enumerate() {
             self.base[s] += kkt[p];
         }
+        let (mut diag, mut count) = (0.0, 0);
+        for &s in &self.primal_diagonal {
+            let v = self.base[s].real_part().abs();
+            if v > 0.0 {
+                diag += v;
+                count += 1;
+            }
+        }
+        self.rho = if count > 0 { diag / count as f64 } else { 1.0 };
+        let rho = self.rho;
         for &(a, b, s, i) in &self.jtj {
-            self.gram[s] += kkt[a].conjugate() * kkt[b] * T::from_real(1.0 / self.row_scale[i]);
+            self.base[s] += kkt[a].conjugate() * kkt[b] * T::from_real(rho / self.row_scale[i]);
         }
         self.loaded.clear();
         self.loaded.extend_from_slice(kkt);
@@ -789,20 +786,18 @@ impl InertiaCounter<f64> {
             // primal block of the KKT values and y the multipliers of the solve (scaled
             // with u): stationary at a constrained eigenpair for every variation of u, so
             // the solve's small constraint residual (the regularisation's δ) enters it
-            // only to second order (refined solves keep that residual at rounding: they
-            // take the plain quotient, as the critical-point searches always have; with the
-            // Lagrangian one there the critical states come out so exact, 1e-11 apart on
-            // the pair and the full model at the n = 8 sliding tips' double point, that the
-            // full model's Jacobian at the expanded state is singular and the switch from the
-            // pair fails)
+            // only to second order. Refined solves need it too: near a critical point the
+            // refinement converges slowly (the regularisation's shift of the eigenvalue is
+            // comparable to the eigenvalue itself), and with the plain quotient the eigenvalue
+            // nearest zero scattered by 3e-5 J/m, placing the n = 8 sliding tips' double
+            // point 1.6e-6 apart on the pair and on the full model (with it: 1e-11)
             hv.iter_mut().for_each(|h| *h = 0.0);
-            let lagrangian = accuracy.refinements == 0;
             let mut lagrange = 0.0;
             for (p, &(row, col)) in self.k_entry.iter().enumerate() {
                 if col < n_primal {
                     if row < n_primal {
                         hv[row] += kkt[p] * u[col];
-                    } else if lagrangian {
+                    } else {
                         lagrange += v[row] / norm * kkt[p] * u[col];
                     }
                 }
