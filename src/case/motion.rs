@@ -18,8 +18,8 @@
 //! that cross at three points or more move as one body (three points of a helix are never
 //! on a line), so the unknowns are six per group of rods tied so; the free motions are the
 //! null space of the rows above. The check is exact for the geometry: it names a motion
-//! exactly when the stiffness matrix of the natural state has a zero-energy mode (`tests/free_motion.rs`
-//! solves every combination of the supports).
+//! exactly when the stiffness matrix of the natural state has a zero-energy mode
+//! (`tests/free_motion.rs` solves every combination of the supports).
 
 use super::settings::Geometry;
 use crate::model::assembly::Assembly;
