@@ -187,6 +187,28 @@ fn end_on_signal_between_writes() {
     }
 }
 
+/// For the commands that stop by themselves (`run`, `sweep`): the first signal says
+/// `message` and raises the interrupt returned, the solves stop at their last converged
+/// state and the command writes what it has; a second signal ends the process between
+/// writes ([`end_between_writes`]).
+fn stop_on_signal(message: &'static str) -> Interrupt {
+    let interrupt = Interrupt::new();
+    let raise = interrupt.clone();
+    if let Ok(mut signals) = signal_hook::iterator::Signals::new(ENDING_SIGNALS) {
+        std::thread::spawn(move || {
+            let mut signals = signals.forever();
+            if signals.next().is_some() {
+                eprintln!("{message}");
+                raise.raise();
+            }
+            if let Some(signal) = signals.next() {
+                end_between_writes(signal);
+            }
+        });
+    }
+    interrupt
+}
+
 fn load_case(path: Option<&Path>) -> Result<Case> {
     Ok(match path {
         Some(p) => Case::from_file(p)?,
@@ -410,20 +432,7 @@ fn run(
     // Ctrl-C (or SIGTERM, SIGHUP) stops the path at its last converged state; the files
     // are written as after a failure. A second signal ends the process, but never while
     // the files are being written
-    let interrupt = Interrupt::new();
-    let raise = interrupt.clone();
-    if let Ok(mut signals) = signal_hook::iterator::Signals::new(ENDING_SIGNALS) {
-        std::thread::spawn(move || {
-            let mut signals = signals.forever();
-            if signals.next().is_some() {
-                eprintln!("spira run: interrupted; stopping at the last converged state");
-                raise.raise();
-            }
-            if let Some(signal) = signals.next() {
-                end_between_writes(signal);
-            }
-        });
-    }
+    let interrupt = stop_on_signal("spira run: interrupted; stopping at the last converged state");
     // progress of a step that takes long: at most one line every PROGRESS_EVERY
     let last_line = Arc::new(Mutex::new(Instant::now()));
     let seen = Arc::clone(&last_line);
@@ -956,10 +965,14 @@ fn sweep_cmd(
         return Ok(());
     }
     let terminal = std::io::stdout().is_terminal();
+    let interrupt = stop_on_signal(
+        "spira sweep: interrupted; the cases under way stop and are not written, no case starts",
+    );
     let opts = RunOptions {
         out: out.clone(),
         jobs: Some(jobs),
         shard,
+        interrupt: Some(interrupt),
     };
     let report = run_sweep(&sweep, &opts, |p| {
         let eta = p
@@ -1006,6 +1019,19 @@ fn sweep_cmd(
     })?;
     if terminal {
         println!();
+    }
+    if report.interrupted {
+        bail!(
+            "interrupted after {:.1} s: {} of {} cases complete ({} run now, {} complete already, {} of them failed), {} not done; wrote {}, and the same command goes on with the rest",
+            report.wall.as_secs_f64(),
+            report.ran + report.skipped,
+            report.total,
+            report.ran,
+            report.skipped,
+            report.failed,
+            report.pending,
+            report.table_path.display()
+        );
     }
     println!(
         "{} cases in {:.1} s: {} run, {} complete already, {} failed; wrote {}",
@@ -1143,6 +1169,7 @@ fn bench_sweep() -> Result<()> {
             out: dir.path().to_path_buf(),
             jobs: Some(jobs),
             shard: Shard::ALL,
+            interrupt: None,
         };
         let report = run_sweep(&sweep, &opts, |_| std::ops::ControlFlow::Continue(()))?;
         if report.failed > 0 {

@@ -303,9 +303,41 @@ fn free_rigid_motions_are_refused_naming_them() {
         "boundary.tip.translation",
         &["both ends slide", "translate sideways", "free rigid motion"],
     );
-    // joints tie the rods of an assembly: its hinged ends leave no rod free to turn
-    let text = "[geometry]\nhelices = 2\n[boundary]\nbase = { rotation = \"free\" }\ntip = { rotation = \"free\" }\n";
-    Case::parse(text, "hinged.toml", "hinged").unwrap_or_else(|e| panic!("{e}"));
+    // joints tie the two rods into one body: hinged at both ends it is held at the base,
+    // where the rods meet, and at the tip, where they meet again after a whole number of
+    // half turns (the thesis's 3.5), so it turns about the line between
+    let hinged = "[boundary]\nbase = { rotation = \"free\" }\ntip = { rotation = \"free\" }\n";
+    let text = format!("[geometry]\nhelices = 2\n{hinged}");
+    let e = Case::parse(&text, "hinged.toml", "hinged").expect_err("a free rotation");
+    check(
+        &e,
+        5,
+        "boundary.tip.rotation",
+        &[
+            "the assembly may turn as a whole about its chord",
+            "free rigid motion",
+        ],
+    );
+    // tips apart (1.3 turns): the body is held at three points, nothing is free
+    let text = format!("[geometry]\nhelices = 2\nturns = 1.3\n{hinged}");
+    Case::parse(&text, "hinged.toml", "hinged").unwrap_or_else(|e| panic!("{e}"));
+    // the report of issue 12: one end sliding, the other sliding radially, n = 1
+    let e = Case::parse(
+        "[boundary]\nbase = { translation = \"slide\" }\ntip = { translation = \"radial\" }\n",
+        "radial.toml",
+        "radial",
+    )
+    .expect_err("a free translation");
+    check(
+        &e,
+        3,
+        "boundary.tip.translation",
+        &[
+            "the base slides and the tip slides radially",
+            "translate sideways as a whole",
+            "free rigid motion",
+        ],
+    );
 }
 
 #[test]

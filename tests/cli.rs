@@ -994,3 +994,60 @@ fn a_signal_during_the_write_phase_leaves_the_old_files_or_the_whole_new_set() {
     }
     eprintln!("outcomes (set kept, exit status): {tally:?}");
 }
+
+/// Issue 12: a `kill -9` during the write phase leaves the run's staging folder beside the
+/// output folder; the next run into the same parent removes it (its owner, named in
+/// `.spira-owner`, is gone), and keeps a staging folder of a live process (this test's),
+/// one without an owner file, and folders and files that are not spira's.
+#[test]
+fn the_next_run_removes_the_staging_folder_of_a_killed_run_and_nothing_else() {
+    use spira::output::files::{owner_record, OWNER_FILE};
+    let dir = Scratch::new("stale-staging");
+    let case = dir.write("tiny.toml", common::TINY_CASE);
+    // a process that has ended: a run killed by SIGKILL
+    let mut killed = Command::new(env!("CARGO_BIN_EXE_spira"))
+        .args(["run", case.to_str().unwrap(), "--out"])
+        .arg(dir.path("killed-out"))
+        .current_dir(&dir.0)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("spira run");
+    let dead = killed.id();
+    let _ = killed.kill();
+    killed.wait().expect("killed");
+    let _ = std::fs::remove_dir_all(dir.path("killed-out"));
+    let staging = |name: &str, owner: Option<u32>| {
+        let p = dir.path(name);
+        std::fs::create_dir_all(p.join("new")).expect("folder");
+        std::fs::write(p.join("new/load.csv"), "half written").expect("write");
+        if let Some(pid) = owner {
+            std::fs::write(p.join(OWNER_FILE), owner_record(pid)).expect("owner");
+        }
+    };
+    staging(".spira-staging-KiLlEd", Some(dead));
+    staging(".spira-staging-LiVe00", Some(std::process::id()));
+    staging(".spira-staging-NoOwnr", None);
+    staging("results-of-mine", Some(dead));
+    let out = dir.path("out");
+    assert_success(&spira_run(&dir, &case, &out, &[]));
+    let mut names: Vec<String> = std::fs::read_dir(&dir.0)
+        .expect("scratch")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            ".spira-staging-LiVe00",
+            ".spira-staging-NoOwnr",
+            "out",
+            "results-of-mine",
+            "tiny.toml"
+        ]
+    );
+    assert!(dir.path(".spira-staging-LiVe00/new/load.csv").is_file());
+    for name in OUTPUTS {
+        assert!(out.join(name).is_file(), "{name}");
+    }
+}

@@ -46,6 +46,7 @@ fn opts(out: &Path, jobs: usize, shard: Shard) -> RunOptions {
         out: out.to_path_buf(),
         jobs: Some(jobs),
         shard,
+        interrupt: None,
     }
 }
 
@@ -272,6 +273,167 @@ fn a_killed_sweep_process_resumes_where_it_stopped() {
         without_wall(&read_table(&out.join("sweep.csv"))),
         without_wall(&reference)
     );
+}
+
+/// Sixteen cases of some tenths of a second each: a sweep that is still running when the
+/// first case is done.
+const SLOW_SWEEP: &str = r#"
+combine = "product"
+[case]
+geometry.helices = 2
+discretisation.elements = 24
+loading.target = 0.3
+loading.steps = 6
+[axes]
+"geometry.turns" = [2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 3.75, 4.0, 4.25, 4.5, 4.75, 5.0, 5.25, 5.5, 5.75]
+"#;
+
+/// Starts `spira sweep` on `file` into `out` with two workers, sends `signals` (SIGTERM)
+/// once its first case is done, and returns its exit status, stdout and stderr.
+fn sweep_signalled(
+    file: &Path,
+    out: &Path,
+    signals: usize,
+) -> (std::process::ExitStatus, String, String) {
+    use std::io::{BufRead as _, BufReader, Read as _};
+    let mut child = spira()
+        .args([
+            "sweep",
+            file.to_str().expect("path"),
+            "--jobs",
+            "2",
+            "--out",
+        ])
+        .arg(out)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spira sweep");
+    let mut stdout = String::new();
+    let mut lines = BufReader::new(child.stdout.take().expect("stdout"));
+    loop {
+        let mut line = String::new();
+        if lines.read_line(&mut line).expect("a line") == 0 {
+            break;
+        }
+        stdout.push_str(&line);
+        if line.contains(" done in ") {
+            break;
+        }
+    }
+    let pid = child.id() as libc::pid_t;
+    for _ in 0..signals {
+        // SAFETY: kill(2) on the child's pid, which is not reaped before `wait` below
+        unsafe { libc::kill(pid, libc::SIGTERM) };
+    }
+    lines.read_to_string(&mut stdout).expect("stdout");
+    let mut stderr = String::new();
+    child
+        .stderr
+        .take()
+        .expect("stderr")
+        .read_to_string(&mut stderr)
+        .expect("stderr");
+    let status = child.wait().expect("spira sweep ends");
+    (status, stdout, stderr)
+}
+
+/// What a sweep's folder holds: its entries, and the number of complete case folders
+/// (every case folder must be complete).
+fn whole_folder(out: &Path, sweep: &Sweep) -> (Vec<String>, usize) {
+    let mut names: Vec<String> = std::fs::read_dir(out)
+        .expect("out")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let mut complete = 0;
+    for n in &names {
+        if n == "sweep.csv" {
+            continue;
+        }
+        assert!(
+            sweep.cases.iter().any(|c| &c.id == n),
+            "only case folders and the table: {n} in {names:?}"
+        );
+        assert!(out.join(n).join(MARKER).is_file(), "{n} is complete");
+        assert!(
+            out.join(n).join("load.csv").is_file(),
+            "{n} has its results"
+        );
+        complete += 1;
+    }
+    (names, complete)
+}
+
+/// SIGTERM during a sweep (issue 12): the cases under way stop and are not written, no case
+/// starts, the table of the finished ones is written, the exit status is not 0 and the
+/// message says what was done. Nothing temporary is left, after one signal or two (the
+/// second ends the process, between writes), and a case folder a killed sweep left half
+/// written (`kill -9`) is removed by the next sweep.
+#[test]
+fn a_terminated_sweep_leaves_only_complete_case_folders_and_its_table() {
+    let (dir, file) = scratch(SLOW_SWEEP);
+    let out = dir.path().join("out");
+    let sweep = Sweep::from_file(&file).expect("valid sweep");
+    let total = sweep.cases.len();
+    let (status, stdout, stderr) = sweep_signalled(&file, &out, 1);
+    assert_eq!(status.code(), Some(1), "{stdout}\n{stderr}");
+    let (names, complete) = whole_folder(&out, &sweep);
+    assert!(complete >= 1 && complete < total, "{names:?}");
+    for fragment in [
+        "spira sweep: interrupted; the cases under way stop",
+        &format!("{complete} of {total} cases complete"),
+        &format!("{} not done", total - complete),
+        "the same command goes on with the rest",
+    ] {
+        assert!(stderr.contains(fragment), "`{fragment}` missing: {stderr}");
+    }
+    assert_eq!(stdout.matches(" done in ").count(), complete, "{stdout}");
+    let table = read_table(&out.join("sweep.csv"));
+    assert_eq!(table.rows.len(), complete);
+    assert!((0..complete).all(|i| table.get(i, "status") == Some("done")));
+
+    // a case folder a killed sweep was writing, with its owner gone; and one of a live
+    // process (this test's), which stays
+    let mut gone = std::process::Command::new("true").spawn().expect("true");
+    let dead = gone.id();
+    gone.wait().expect("true ends");
+    let killed = out.join(format!(".spira-{}-AbCdEf", sweep.cases[total - 1].id));
+    let live = out.join(format!(".spira-{}-GhIjKl", sweep.cases[total - 1].id));
+    for (folder, pid) in [(&killed, dead), (&live, std::process::id())] {
+        std::fs::create_dir(folder).expect("folder");
+        std::fs::write(folder.join("load.csv"), "half").expect("write");
+        std::fs::write(
+            folder.join(spira::output::files::OWNER_FILE),
+            spira::output::files::owner_record(pid),
+        )
+        .expect("owner");
+    }
+    let (status, stdout, stderr) = sweep_signalled(&file, &out, 2);
+    assert!(!status.success(), "{stdout}\n{stderr}");
+    assert!(!killed.exists(), "the killed sweep's folder is removed");
+    std::fs::remove_dir_all(&live).expect("the live one is kept");
+    let (_, again) = whole_folder(&out, &sweep);
+    assert!(again > complete, "{stdout}");
+
+    // and the same command finishes the rest
+    let output = spira()
+        .args([
+            "sweep",
+            file.to_str().expect("path"),
+            "--jobs",
+            "2",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .expect("spira sweep");
+    assert!(output.status.success(), "{output:?}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(stdout.matches("complete already, skipped").count(), again);
+    let (_, all) = whole_folder(&out, &sweep);
+    assert_eq!(all, total);
+    assert_eq!(read_table(&out.join("sweep.csv")).rows.len(), total);
 }
 
 #[test]

@@ -272,13 +272,21 @@ fn condition_keys_toggle_each_condition_and_ask_for_a_resolve() {
     assert_eq!(b4.base.rotation, Rotation::Free);
     let b5 = bc(only_request(&app.handle_key(ch('t'))));
     assert_eq!(b5.tip.translation, Translation::Slide);
-    let b6 = bc(only_request(&app.handle_key(ch('T'))));
-    assert_eq!(b6.tip.rotation, Rotation::Free);
+    // a base hinge with a sliding, hinged tip: the rods may turn about a horizontal axis
+    // through the base (a free rigid motion, issue 12): refused, nothing asked
+    assert!(app.handle_key(ch('T')).is_empty());
+    assert!(
+        matches!(&app.message, Some(Message::Error(m)) if m.contains("free to turn about a horizontal axis") && m.contains("undone")),
+        "{:?}",
+        app.message
+    );
+    assert_eq!(app.boundary, b5, "undone");
     let b7 = bc(only_request(&app.handle_key(ch('p'))));
     assert!(!b7.joints);
     // each toggle builds on the last asked-for conditions
     assert_eq!(b7.base.rotation, Rotation::Free);
     assert_eq!(b7.tip.translation, Translation::Slide);
+    assert_eq!(b7.tip.rotation, Rotation::Clamped);
     assert_eq!(app.boundary, b7);
 }
 

@@ -10,6 +10,7 @@
 
 mod error;
 mod limits;
+mod motion;
 mod raw;
 mod settings;
 mod size;
@@ -21,16 +22,16 @@ pub use limits::{
     LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS, MIN_ELEMENTS_PER_TURN,
     PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
 };
+pub use motion::{free_motion_of, FreeMotion};
 pub use settings::{Accuracy, Discretisation, Geometry, Loading};
 pub use size::{available_memory, SizeEstimate, TooLarge, LONG_STEP_SECONDS};
-pub use tables::FreeMotion;
 pub use target::TargetError;
 
 use crate::discretisation::model::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::elasticity::Elasticity;
-use crate::model::loading::Branch;
+use crate::model::loading::{Branch, Control};
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
 use raw::RawCase;
@@ -90,7 +91,9 @@ impl Case {
         let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
         let rod = tables::rod(&raw.rod, &ck)?;
         let boundary = tables::boundary(&raw.boundary);
-        tables::free_motion(&boundary, &geometry, &ck)?;
+        // the tip's height is free under load control
+        let control = raw.loading.control.unwrap_or(Control::Displacement);
+        tables::free_motion(&boundary, &geometry, control, &ck)?;
         let loading = tables::loading(&raw.loading, &geometry, &ck)?;
         let mut discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
         // a branch switched onto may break the symmetry: the automatic choice is then the
@@ -140,7 +143,7 @@ impl Case {
     /// The rigid motion that supports `bc` would leave free on the case's assembly, if any
     /// (the check the case reader refuses a file's `[boundary]` by).
     pub fn free_motion(&self, bc: &BoundaryConditions) -> Option<FreeMotion> {
-        tables::free_motion_of(bc, self.geometry.helices)
+        motion::free_motion_of(bc, &self.geometry, self.loading.control)
     }
 
     /// The size of the case's problem, estimated from its mesh without building it.

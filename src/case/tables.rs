@@ -3,6 +3,7 @@
 
 use super::error::{line_of, CaseError};
 use super::limits::*;
+use super::motion::free_motion_of;
 use super::raw::{
     EnergyName, RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawRod, RawSolver,
     RawStiffness, StressFreeName, SymmetricKey,
@@ -353,51 +354,14 @@ pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
     }
 }
 
-/// A rigid motion of the assembly its supports leave free: a zero-energy mode the solver
-/// would see as a singular matrix, or the stability count as a neutral direction flipping
-/// at every step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct FreeMotion {
-    /// The half of the tip's condition a case file names (`translation`, `rotation`).
-    pub half: &'static str,
-    /// The motion and what to change, in the user's terms.
-    pub message: &'static str,
-}
-
-/// The rigid motion supports `b` leave free on an assembly of `helices` helices: both ends
-/// sliding (a sideways translation), or both ends spherical hinges on a rod no joint ties
-/// to others (its rotation about its chord). The one check of the case reader and of the
-/// explorer's condition keys.
-pub fn free_motion_of(b: &BoundaryConditions, helices: usize) -> Option<FreeMotion> {
-    use crate::model::boundary::{Rotation, Translation};
-    let (base, tip) = (b.base, b.tip);
-    if base.translation == Translation::Slide && tip.translation == Translation::Slide {
-        Some(FreeMotion {
-            half: "translation",
-            message: "both ends slide: the assembly may translate sideways as a whole (a free rigid motion); fix the translation of one end",
-        })
-    } else if base.rotation == Rotation::Free
-        && tip.rotation == Rotation::Free
-        && base.translation != Translation::Slide
-        && tip.translation != Translation::Slide
-        && (helices == 1 || !b.joints)
-    {
-        Some(FreeMotion {
-            half: "rotation",
-            message: "both ends are spherical hinges (rotation = \"free\"): each rod may turn about its chord, the line from base to tip (a free rigid motion); clamp or pin one end",
-        })
-    } else {
-        None
-    }
-}
-
 /// Refuses supports that leave a rigid motion of the assembly free ([`free_motion_of`]).
 pub(super) fn free_motion(
     b: &BoundaryConditions,
     geometry: &Geometry,
+    control: Control,
     ck: &Checker,
 ) -> Result<(), CaseError> {
-    match free_motion_of(b, geometry.helices) {
+    match free_motion_of(b, geometry, control) {
         None => Ok(()),
         Some(motion) => {
             let at = ck.line_of_key("tip");
@@ -405,7 +369,7 @@ pub(super) fn free_motion(
                 file: ck.file.to_string(),
                 line: at,
                 key: format!("boundary.tip.{}", motion.half),
-                message: motion.message.to_string(),
+                message: motion.message,
             })
         }
     }

@@ -19,13 +19,35 @@ use std::sync::{Mutex, MutexGuard};
 /// Held while a file or a folder of files is written ([`write_atomic`], [`write_folder`]).
 static WRITING: Mutex<()> = Mutex::new(());
 
+thread_local! {
+    /// How many [`WriteGuard`]s this thread holds (the lock is taken by the first).
+    static HELD: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// Keeps writes of other threads from starting while it lives ([`hold_writes`]).
+#[must_use]
+pub struct WriteGuard {
+    _lock: Option<MutexGuard<'static, ()>>,
+}
+
+impl Drop for WriteGuard {
+    fn drop(&mut self) {
+        // the lock (if this guard took it) is released after this
+        HELD.with(|h| h.set(h.get() - 1));
+    }
+}
+
 /// Waits until no write is under way and keeps new ones from starting while the guard
 /// lives: what a signal handler takes before it ends the process, so that a signal during
 /// the write phase leaves no staging folder or temporary file, and the target holds
 /// either its previous files or the whole new set. (Writes from several threads are
-/// serialised by it too.)
-pub fn hold_writes() -> MutexGuard<'static, ()> {
-    WRITING.lock().unwrap_or_else(|e| e.into_inner())
+/// serialised by it too.) A thread may take it again while it holds it: a write made of
+/// several writes (a sweep's case folder) holds it over all of them.
+pub fn hold_writes() -> WriteGuard {
+    let lock =
+        (HELD.with(|h| h.get()) == 0).then(|| WRITING.lock().unwrap_or_else(|e| e.into_inner()));
+    HELD.with(|h| h.set(h.get() + 1));
+    WriteGuard { _lock: lock }
 }
 
 /// Writes `contents` to `path` atomically: into a temporary file of the same folder (removed
@@ -49,6 +71,162 @@ pub fn write_atomic(path: &Path, contents: &str) -> io::Result<()> {
     tmp.write_all(contents.as_bytes())?;
     tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
+}
+
+/// The name of a run's staging folder begins with this ([`write_folder`]).
+pub const STAGING_PREFIX: &str = ".spira-staging-";
+
+/// The file inside a staging folder that names the process using it: `pid <id>` and
+/// `host <name>` lines. A staging folder is spira's (and may be removed once its owner is
+/// gone) only when its name begins with `.spira-` and it holds this file.
+pub const OWNER_FILE: &str = ".spira-owner";
+
+/// A staging folder whose owner ran on another machine (a shared file system) is taken
+/// for abandoned only after this long: a write phase lasts seconds, not a day.
+pub const FOREIGN_STALE_AFTER: std::time::Duration = std::time::Duration::from_secs(24 * 3600);
+
+/// A temporary folder in `parent` named `<prefix>XXXXXX`, removed when dropped, holding the
+/// [`OWNER_FILE`] that names this process: what [`remove_stale`] recognises if the process
+/// is killed (`kill -9`, a power cut) before it could remove the folder.
+pub fn staging_dir(parent: &Path, prefix: &str) -> io::Result<tempfile::TempDir> {
+    let stage = tempfile::Builder::new().prefix(prefix).tempdir_in(parent)?;
+    std::fs::write(
+        stage.path().join(OWNER_FILE),
+        owner_record(std::process::id()),
+    )?;
+    Ok(stage)
+}
+
+/// The text of an [`OWNER_FILE`] naming process `pid` of this machine.
+pub fn owner_record(pid: u32) -> String {
+    format!("pid {pid}\nhost {}\n", host_name())
+}
+
+/// Removes the staging folders in `parent` that spira made ([`staging_dir`]: the name
+/// begins with `.spira-` and the folder holds an [`OWNER_FILE`]) and that no live process
+/// uses: the owner's process is gone (on this machine: `/proc/<pid>` on Linux,
+/// `kill(pid, 0)` on other Unix systems), or, when that cannot be told (another machine,
+/// another system), the owner file is older than [`FOREIGN_STALE_AFTER`]. Anything else
+/// is left alone: a folder without an owner file, one whose owner file cannot be read, a
+/// file, a link. Returns the folders removed.
+pub fn remove_stale(parent: &Path) -> Vec<PathBuf> {
+    let mut removed = Vec::new();
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return removed;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        if !name.to_string_lossy().starts_with(".spira-") {
+            continue;
+        }
+        // a real folder, not a link to one
+        if !entry.file_type().is_ok_and(|t| t.is_dir()) {
+            continue;
+        }
+        let marker = entry.path().join(OWNER_FILE);
+        let Ok(text) = std::fs::read_to_string(&marker) else {
+            continue;
+        };
+        let Some(owner) = Owner::parse(&text) else {
+            continue;
+        };
+        let age = std::fs::metadata(&marker)
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok());
+        if !owner.in_use(age) && std::fs::remove_dir_all(entry.path()).is_ok() {
+            removed.push(entry.path());
+        }
+    }
+    removed
+}
+
+/// [`remove_stale`] on `parent`, once per folder and process (a sweep writes thousands of
+/// folders into one parent).
+fn remove_stale_once(parent: &Path) {
+    static CLEANED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+    let key = parent
+        .canonicalize()
+        .unwrap_or_else(|_| parent.to_path_buf());
+    let mut cleaned = CLEANED.lock().unwrap_or_else(|e| e.into_inner());
+    if !cleaned.contains(&key) {
+        remove_stale(parent);
+        cleaned.push(key);
+    }
+}
+
+/// The process an [`OWNER_FILE`] names.
+#[derive(Debug, PartialEq, Eq)]
+struct Owner {
+    pid: u32,
+    host: String,
+}
+
+impl Owner {
+    fn parse(text: &str) -> Option<Owner> {
+        let mut pid = None;
+        let mut host = None;
+        for line in text.lines() {
+            match line.split_once(' ') {
+                Some(("pid", v)) => pid = v.trim().parse::<u32>().ok(),
+                Some(("host", v)) => host = Some(v.trim().to_string()),
+                _ => {}
+            }
+        }
+        Some(Owner {
+            pid: pid.filter(|&p| p > 0)?,
+            host: host?,
+        })
+    }
+
+    /// Whether the folder may still be in use, its owner file `age` old.
+    fn in_use(&self, age: Option<std::time::Duration>) -> bool {
+        let recent = || age.is_none_or(|a| a < FOREIGN_STALE_AFTER);
+        if self.host != host_name() {
+            return recent();
+        }
+        match process_alive(self.pid) {
+            Some(alive) => alive,
+            None => recent(),
+        }
+    }
+}
+
+/// Whether process `pid` of this machine is alive, when that can be told.
+#[cfg(unix)]
+fn process_alive(pid: u32) -> Option<bool> {
+    if cfg!(target_os = "linux") && Path::new("/proc/self").exists() {
+        return Some(Path::new(&format!("/proc/{pid}")).exists());
+    }
+    let pid = libc::pid_t::try_from(pid).ok()?;
+    // SAFETY: signal 0 only checks that the process exists and may be signalled
+    if unsafe { libc::kill(pid, 0) } == 0 {
+        return Some(true);
+    }
+    // EPERM: it exists, another user's
+    Some(io::Error::last_os_error().raw_os_error() != Some(libc::ESRCH))
+}
+
+/// Whether process `pid` of this machine is alive: not told here (the age decides).
+#[cfg(not(unix))]
+fn process_alive(_pid: u32) -> Option<bool> {
+    None
+}
+
+/// This machine's name, for the [`OWNER_FILE`] (empty when it cannot be told).
+fn host_name() -> String {
+    #[cfg(unix)]
+    {
+        let mut buf = [0u8; 256];
+        // SAFETY: the buffer is valid for its length; the name is NUL-terminated within it
+        // when the call succeeds (the last byte is kept 0)
+        let r = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len() - 1) };
+        if r == 0 {
+            let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
+            return String::from_utf8_lossy(&buf[..end]).trim().to_string();
+        }
+    }
+    std::env::var("COMPUTERNAME").unwrap_or_default()
 }
 
 /// What a run leaves behind, for [`run_files`] and [`write_run`].
@@ -250,14 +428,11 @@ pub fn write_folder(
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let stage = tempfile::Builder::new()
-        .prefix(".spira-staging-")
-        .tempdir_in(&parent)
-        .or_else(|_| {
-            tempfile::Builder::new()
-                .prefix(".spira-staging-")
-                .tempdir_in(dir)
-        })?;
+    remove_stale_once(&parent);
+    let stage = staging_dir(&parent, STAGING_PREFIX).or_else(|_| {
+        remove_stale_once(dir);
+        staging_dir(dir, STAGING_PREFIX)
+    })?;
     let new_dir = stage.path().join("new");
     let old_dir = stage.path().join("old");
     std::fs::create_dir(&new_dir)?;
@@ -352,6 +527,133 @@ mod tests {
             "old"
         );
         assert_eq!(listing(dir.path()), ["out"]);
+    }
+
+    /// A staging folder as [`staging_dir`] makes it, owned by process `pid` of `host`.
+    fn fake_staging(parent: &Path, name: &str, pid: u32, host: &str) -> PathBuf {
+        let p = parent.join(name);
+        std::fs::create_dir_all(p.join("new")).expect("folder");
+        std::fs::write(p.join("new/load.csv"), "half written").expect("write");
+        std::fs::write(p.join(OWNER_FILE), format!("pid {pid}\nhost {host}\n")).expect("owner");
+        p
+    }
+
+    /// The id of a process that has ended (and been reaped).
+    fn dead_pid() -> u32 {
+        let mut child = std::process::Command::new("true")
+            .spawn()
+            .expect("spawn true");
+        let pid = child.id();
+        child.wait().expect("wait");
+        assert!(process_alive(pid) != Some(true), "{pid} is gone");
+        pid
+    }
+
+    #[test]
+    fn the_next_write_removes_staging_folders_whose_process_is_gone_and_nothing_else() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let host = host_name();
+        let dead = dead_pid();
+        let me = std::process::id();
+        fake_staging(dir.path(), ".spira-staging-killed", dead, &host);
+        // a sweep's case folder that a killed sweep was writing
+        fake_staging(dir.path(), ".spira-001_target-0.1-killed", dead, &host);
+        // in use: this process's
+        fake_staging(dir.path(), ".spira-staging-live", me, &host);
+        // another machine's (a shared file system): its process cannot be told, recent
+        fake_staging(dir.path(), ".spira-staging-remote", dead, "another-host");
+        // not spira's: no owner file, an unreadable one, another prefix, a file
+        std::fs::create_dir_all(dir.path().join(".spira-staging-nomarker/new")).expect("folder");
+        let odd = dir.path().join(".spira-staging-odd");
+        std::fs::create_dir(&odd).expect("folder");
+        std::fs::write(odd.join(OWNER_FILE), "pid twelve\n").expect("write");
+        fake_staging(dir.path(), "staging-killed", dead, &host);
+        fake_staging(dir.path(), ".other-staging", dead, &host);
+        std::fs::write(dir.path().join(".spira-staging-file"), "x").expect("write");
+        let files = vec![("load.csv".to_string(), "a\n1\n".to_string())];
+        write_folder(&dir.path().join("out"), &files, is_run_file).expect("write");
+        assert_eq!(
+            listing(dir.path()),
+            [
+                ".other-staging",
+                ".spira-staging-file",
+                ".spira-staging-live",
+                ".spira-staging-nomarker",
+                ".spira-staging-odd",
+                ".spira-staging-remote",
+                "out",
+                "staging-killed",
+            ]
+        );
+        // the live one is whole
+        assert!(dir
+            .path()
+            .join(".spira-staging-live/new/load.csv")
+            .is_file());
+        // and once its process is gone, the next cleaning takes it
+        std::fs::write(
+            dir.path().join(".spira-staging-live").join(OWNER_FILE),
+            format!("pid {dead}\nhost {host}\n"),
+        )
+        .expect("write");
+        assert_eq!(
+            remove_stale(dir.path()),
+            [dir.path().join(".spira-staging-live")]
+        );
+    }
+
+    #[test]
+    fn an_owner_of_another_machine_is_taken_for_gone_only_after_a_day() {
+        let owner = Owner::parse("pid 12\nhost another-host\n").expect("owner");
+        assert_eq!(
+            owner,
+            Owner {
+                pid: 12,
+                host: "another-host".into()
+            }
+        );
+        let hour = std::time::Duration::from_secs(3600);
+        assert!(owner.in_use(Some(hour)));
+        assert!(owner.in_use(None));
+        assert!(!owner.in_use(Some(FOREIGN_STALE_AFTER + hour)));
+        assert!(Owner::parse("pid 0\nhost h\n").is_none());
+        assert!(Owner::parse("host h\n").is_none());
+        // this process, however old its folder
+        let me = Owner::parse(&format!(
+            "pid {}\nhost {}\n",
+            std::process::id(),
+            host_name()
+        ))
+        .expect("owner");
+        assert!(me.in_use(Some(FOREIGN_STALE_AFTER + hour)));
+    }
+
+    #[test]
+    fn a_staging_folder_names_its_owner_and_goes_when_dropped() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let stage = staging_dir(dir.path(), STAGING_PREFIX).expect("staging");
+        let text = std::fs::read_to_string(stage.path().join(OWNER_FILE)).expect("owner");
+        let owner = Owner::parse(&text).expect("parsed");
+        assert_eq!(owner.pid, std::process::id());
+        assert!(remove_stale(dir.path()).is_empty(), "in use");
+        let path = stage.path().to_path_buf();
+        drop(stage);
+        assert!(!path.exists());
+    }
+
+    #[test]
+    fn writes_may_be_held_again_by_the_thread_holding_them() {
+        let outer = hold_writes();
+        let dir = tempfile::tempdir().expect("scratch folder");
+        // would deadlock if the guard were not reentrant
+        write_atomic(&dir.path().join("a"), "x").expect("write");
+        drop(outer);
+        // and released: another thread can write
+        let p = dir.path().join("b");
+        std::thread::spawn(move || write_atomic(&p, "y").expect("write"))
+            .join()
+            .expect("thread");
+        assert_eq!(listing(dir.path()), ["a", "b"]);
     }
 
     fn listing(dir: &Path) -> Vec<String> {

@@ -9,7 +9,8 @@ use super::table::SweepTable;
 use crate::case::Case;
 use crate::model::loading::Control;
 use crate::output::precision::ChoiceReport as _;
-use crate::run::{run_path, PathOutcome};
+use crate::run::{run_path_steps, PathOutcome};
+use crate::solver::interrupt::Interrupt;
 use crate::study::resolve_accuracy;
 use rayon::prelude::*;
 use std::ops::ControlFlow;
@@ -31,6 +32,10 @@ pub struct RunOptions {
     /// Cases at once (default: the cores).
     pub jobs: Option<usize>,
     pub shard: Shard,
+    /// Raised (by a signal), it stops the sweep: no case starts, the cases under way stop
+    /// at their next Newton iteration and are not written (they stay to do), the table of
+    /// the finished ones is written.
+    pub interrupt: Option<Interrupt>,
 }
 
 /// What became of a case.
@@ -83,6 +88,8 @@ pub struct SweepReport {
     pub skipped: usize,
     pub failed: usize,
     pub pending: usize,
+    /// The sweep was stopped by [`RunOptions::interrupt`].
+    pub interrupted: bool,
     pub jobs: usize,
     pub wall: Duration,
 }
@@ -117,6 +124,10 @@ pub fn run_sweep(
     let t0 = Instant::now();
     let out = &opts.out;
     std::fs::create_dir_all(out).map_err(|reason| write_err(out, reason))?;
+    // case folders a killed sweep was writing
+    crate::output::files::remove_stale(out);
+    let interrupt = opts.interrupt.as_ref();
+    let interrupted = || interrupt.is_some_and(|i| i.check().is_some());
     let empty = SweepTable::new(&sweep.axes);
     let selected: Vec<&SweepCase> = sweep
         .cases
@@ -179,10 +190,10 @@ pub fn run_sweep(
         todo.par_iter()
             .with_max_len(1)
             .map(|c| {
-                if stop.load(Ordering::SeqCst) {
+                if stop.load(Ordering::SeqCst) || interrupted() {
                     return None;
                 }
-                let (row, reason, wall) = run_case(out, c, &empty);
+                let (row, reason, wall) = run_case(out, c, &empty, interrupt)?;
                 let status = if reason.is_some() {
                     CaseStatus::Failed
                 } else {
@@ -212,6 +223,7 @@ pub fn run_sweep(
         skipped,
         failed,
         pending,
+        interrupted: interrupted(),
         jobs,
         wall: t0.elapsed(),
     })
@@ -243,14 +255,25 @@ fn wall_of(t: &SweepTable, row: &[String]) -> Duration {
 /// Solves a case and writes its folder; returns its row, its reason of failure, and the
 /// solve's wall time. A failure of the case (no equilibrium, a solver failure mid-path, a
 /// panic, a file that cannot be written) is a failed row, never an error of the sweep.
+/// A case whose solve `interrupt` stopped is not written: `None`, it stays to do.
 fn run_case(
     out: &Path,
     c: &SweepCase,
     empty: &SweepTable,
-) -> (Vec<String>, Option<String>, Duration) {
+    interrupt: Option<&Interrupt>,
+) -> Option<(Vec<String>, Option<String>, Duration)> {
     let t = Instant::now();
-    let solved = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| solve(&c.case)));
+    let solved =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| solve(&c.case, interrupt)));
     let wall = t.elapsed();
+    let stopped = match &solved {
+        Ok(Ok(s)) => s.outcome.error.is_some(),
+        _ => true,
+    };
+    if stopped && interrupt.is_some_and(|i| i.check().is_some()) {
+        // cut short by the interrupt, not a result of the case
+        return None;
+    }
     let solved = solved.unwrap_or_else(|panic| {
         let what = panic
             .downcast_ref::<&str>()
@@ -278,7 +301,7 @@ fn run_case(
         }
         row(c, solved.as_ref().ok(), reason.as_deref(), wall, empty)
     });
-    match written {
+    Some(match written {
         Ok(row) => (row, reason, wall),
         Err(e) => {
             let why = format!("writing its folder: {e}");
@@ -289,7 +312,7 @@ fn run_case(
             let row = row(c, solved.as_ref().ok(), reason.as_deref(), wall, empty);
             (row, reason, wall)
         }
-    }
+    })
 }
 
 /// A solved case: the case as run (its mesh chosen when it asks for an accuracy), the path,
@@ -300,11 +323,11 @@ struct Solved {
     note: Option<String>,
 }
 
-fn solve(case: &Case) -> Result<Solved, String> {
+fn solve(case: &Case, interrupt: Option<&Interrupt>) -> Result<Solved, String> {
     let (case, choice) = resolve_accuracy(case).map_err(|e| format!("choosing the mesh: {e}"))?;
     let eps = case.output_eps(case.loading.target, case.loading.steps);
-    let outcome =
-        run_path(&case, &eps, |_, _| {}).map_err(|e| format!("no equilibrium at eps = 0: {e}"))?;
+    let outcome = run_path_steps(&case, &eps, interrupt.cloned(), None, |_| {})
+        .map_err(|e| format!("no equilibrium at eps = 0: {e}"))?;
     let note = choice.as_ref().map(|ch| {
         let last = outcome.points.last().expect("step 0 is always there");
         let response = match case.loading.control {
@@ -322,7 +345,10 @@ fn solve(case: &Case) -> Result<Solved, String> {
 
 /// Writes a case folder atomically: the result files, `case.toml`, then the marker (the row
 /// `make_row` gives, told of a failure to write the result files), all into a temporary
-/// folder beside the target, renamed into place. Returns the row.
+/// folder beside the target (named by its owner, [`crate::output::files::staging_dir`]),
+/// renamed into place. No signal ends the process during it (it holds the writes), so the
+/// temporary folder is never left behind but by `kill -9`, and then the next sweep into
+/// `out` removes it. Returns the row.
 fn write_folder(
     out: &Path,
     c: &SweepCase,
@@ -330,9 +356,9 @@ fn write_folder(
     headers: &[String],
     make_row: impl FnOnce(Option<String>) -> Vec<String>,
 ) -> std::io::Result<Vec<String>> {
-    let tmp = tempfile::Builder::new()
-        .prefix(&format!(".spira-{}-", c.id))
-        .tempdir_in(out)?;
+    // declared first, dropped last: after the temporary folder is removed
+    let _writing = crate::output::files::hold_writes();
+    let tmp = crate::output::files::staging_dir(out, &format!(".spira-{}-", c.id))?;
     let mut failure = None;
     if let Some(s) = solved {
         let o = &s.outcome;
@@ -353,6 +379,7 @@ fn write_folder(
         // an incomplete folder (no marker) of an earlier run
         std::fs::remove_dir_all(&target)?;
     }
+    std::fs::remove_file(tmp.path().join(crate::output::files::OWNER_FILE))?;
     let kept = tmp.keep();
     if let Err(e) = std::fs::rename(&kept, &target) {
         let _ = std::fs::remove_dir_all(&kept);
