@@ -418,8 +418,8 @@ fn dense_lowest_eigenvalue(sim: &Simulation) -> f64 {
 /// The lowest eigenvalue that inverse iteration on the regularised KKT matrix reports,
 /// against a dense solve of the constrained pencil itself, along the thesis n = 1 path
 /// (where the lowest two eigenvalues come within 5 % of each other at ε = 0.3 and then
-/// part) from its natural state (the first eigenvalue, found without a history, by
-/// Lanczos), and at the natural state of the two-helix assembly (full model).
+/// part) from its natural state (the first eigenvalue, found without a history), and at
+/// the natural state of the two-helix assembly (full model).
 #[test]
 fn the_lowest_eigenvalue_is_that_of_a_dense_solve_of_the_constrained_pencil() {
     let mut sim = Simulation::from_case(&case("thesis-n1")).expect("natural state");

@@ -111,11 +111,12 @@ pub struct InertiaCounter<T: Scalar = f64> {
     /// Indices of the primal diagonal in the KKT values.
     k_diagonal: Vec<usize>,
     values: Vec<T>,
-    /// The KKT values `loaded` with the penalty `ρ JᴴC⁻¹J`, in the augmented pattern.
+    /// The KKT values `loaded` and their `JᴴJ`, in the augmented pattern.
     base: Vec<T>,
+    gram: Vec<T>,
     loaded: Vec<T>,
     l_values: Vec<T>,
-    /// Penalty of the loaded state: the mean magnitude of the Hessian's non-zero diagonal.
+    /// Penalty of the last factorisation: the mean magnitude of the Hessian's diagonal.
     pub rho: f64,
     /// The last mode found by inverse iteration (primal unknowns), to start the next search
     /// from; empty until one is found.
@@ -253,6 +254,7 @@ impl<T: Scalar> InertiaCounter<T> {
             constraints: n - n_primal,
             values: vec![T::from_real(0.0); pattern.row_idx().len()],
             base: vec![T::from_real(0.0); pattern.row_idx().len()],
+            gram: vec![T::from_real(0.0); pattern.row_idx().len()],
             loaded: Vec::new(),
             rho: 1.0,
             last_mode: Vec::new(),
@@ -306,10 +308,21 @@ impl<T: Scalar> InertiaCounter<T> {
         if self.loaded.as_slice() != kkt {
             self.load(kkt);
         }
-        // the augmented values of the state, shifted on the Hessian's diagonal
+        // the shifted Hessian's diagonal, and the penalty scaled to it
         self.values.copy_from_slice(&self.base);
+        let (mut diag, mut count) = (0.0, 0);
         for (i, &s) in self.primal_diagonal.iter().enumerate() {
             self.values[s] -= T::from_real(sigma * metric[i]);
+            let v = self.values[s].real_part().abs();
+            if v > 0.0 {
+                diag += v;
+                count += 1;
+            }
+        }
+        let rho = if count > 0 { diag / count as f64 } else { 1.0 };
+        self.rho = rho;
+        for (v, &g) in self.values.iter_mut().zip(&self.gram) {
+            *v += T::from_real(rho) * g;
         }
         for (i, &s) in self.dual_diagonal.iter().enumerate() {
             self.values[s] = T::from_real(-self.delta(i));
@@ -367,28 +380,18 @@ impl<T: Scalar> InertiaCounter<T> {
         REGULARISATION * self.row_scale[i] / self.rho
     }
 
-    /// Scatters the KKT values `kkt` and the penalty `ρ JᴴC⁻¹J` into `self.base` (in the
-    /// augmented pattern), `ρ` the mean magnitude of the Hessian's non-zero diagonal, and
-    /// keeps `kkt` to know when the next factorisation can start from them: the shifts
-    /// of one state differ only on the diagonal.
+    /// Scatters the KKT values `kkt` into `self.base` and their `JᴴC⁻¹J` into `self.gram`
+    /// (in the augmented pattern), and keeps `kkt` to know when the next factorisation
+    /// can start from them.
     fn load(&mut self, kkt: &[T]) {
         let zero = T::from_real(0.0);
         self.base.iter_mut().for_each(|v| *v = zero);
+        self.gram.iter_mut().for_each(|v| *v = zero);
         for (p, &s) in self.k_slots.iter().enumerate() {
             self.base[s] += kkt[p];
         }
-        let (mut diag, mut count) = (0.0, 0);
-        for &s in &self.primal_diagonal {
-            let v = self.base[s].real_part().abs();
-            if v > 0.0 {
-                diag += v;
-                count += 1;
-            }
-        }
-        self.rho = if count > 0 { diag / count as f64 } else { 1.0 };
-        let rho = self.rho;
         for &(a, b, s, i) in &self.jtj {
-            self.base[s] += kkt[a].conjugate() * kkt[b] * T::from_real(rho / self.row_scale[i]);
+            self.gram[s] += kkt[a].conjugate() * kkt[b] * T::from_real(1.0 / self.row_scale[i]);
         }
         self.loaded.clear();
         self.loaded.extend_from_slice(kkt);
@@ -484,27 +487,7 @@ impl InertiaCounter<f64> {
             Some(s) => s,
             None => {
                 let lo = self.shift_below_spectrum(kkt, metric)?;
-                // without a history (the first state, or a block seen first): Lanczos from
-                // `lo` separates the lowest eigenvalue from its neighbours in a few dozen
-                // solves where inverse iteration would need a bisection by counts (at the
-                // n = 8 natural state the lowest three lie within 0.4 % of each other)
-                match self.lanczos_lowest(metric, lo) {
-                    Some(ritz) => {
-                        let sigma = ritz - 1e-4 * ritz.abs().max(1e-12);
-                        if sigma > lo && self.count(kkt, sigma, metric)? == 0 {
-                            let mu = self.inverse_iteration(kkt, metric, LOWEST)?;
-                            if self.converged {
-                                self.record_lowest(mu);
-                                return Some(mu);
-                            }
-                            (sigma, mu)
-                        } else {
-                            self.inertia(kkt, lo, metric).ok()?;
-                            (lo, self.inverse_iteration(kkt, metric, ROUGH)?.min(ritz))
-                        }
-                    }
-                    None => (lo, self.inverse_iteration(kkt, metric, ROUGH)?),
-                }
+                (lo, self.inverse_iteration(kkt, metric, ROUGH)?)
             }
         };
         let mut hi = f64::INFINITY;
@@ -556,97 +539,6 @@ impl InertiaCounter<f64> {
         }
         self.record_lowest(mu);
         Some(mu)
-    }
-
-    /// Shift-invert Lanczos with the last factorisation (of `K − lo M`, `lo` below the
-    /// spectrum), in the metric's inner product with full reorthogonalisation: the Ritz
-    /// estimate `lo + 1/θ` of the lowest eigenvalue from the largest Ritz value `θ` of
-    /// `(K − lo M)⁻¹ M`, converged to `LANCZOS_TOLERANCE` (or after `LANCZOS_STEPS`); its
-    /// Ritz vector becomes the warm start of inverse iteration. `None` if the iteration
-    /// breaks down at its start.
-    fn lanczos_lowest(&mut self, metric: &[f64], lo: f64) -> Option<f64> {
-        let n = self.iterate.len();
-        let dot = |a: &[f64], b: &[f64]| -> f64 { (0..n).map(|i| metric[i] * a[i] * b[i]).sum() };
-        // S M v: the primal part of the solve with right-hand side (M v, 0)
-        let apply = |this: &mut Self, v: &[f64]| -> Vec<f64> {
-            this.rhs.iter_mut().for_each(|b| *b = 0.0);
-            for i in 0..n {
-                this.rhs[i] = metric[i] * v[i];
-            }
-            this.solve_refined(n, 0);
-            this.solution[..n].to_vec()
-        };
-        let start = if self.last_mode.len() == n {
-            self.last_mode.clone()
-        } else {
-            cold_start(metric)
-        };
-        // one application puts the start on the constraints' tangent space
-        let mut v = apply(self, &start);
-        let norm = dot(&v, &v).sqrt();
-        if !(norm > 0.0 && norm.is_finite()) {
-            return None;
-        }
-        v.iter_mut().for_each(|x| *x /= norm);
-        let mut basis: Vec<Vec<f64>> = Vec::new();
-        let (mut alpha, mut beta): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
-        let mut best: Option<(f64, Vec<f64>)> = None;
-        for _ in 0..LANCZOS_STEPS.min(n) {
-            let mut w = apply(self, &v);
-            let a = dot(&w, &v);
-            basis.push(v);
-            alpha.push(a);
-            // full reorthogonalisation (twice is enough) against the basis so far
-            for _ in 0..2 {
-                for b in &basis {
-                    let c = dot(&w, b);
-                    w.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
-                }
-            }
-            let b = dot(&w, &w).sqrt();
-            // the Ritz values of the tridiagonal T = tridiag(β, α, β)
-            let k = alpha.len();
-            let t = nalgebra::DMatrix::from_fn(k, k, |i, j| {
-                if i == j {
-                    alpha[i]
-                } else if i + 1 == j {
-                    beta[i]
-                } else if j + 1 == i {
-                    beta[j]
-                } else {
-                    0.0
-                }
-            });
-            let eig = t.symmetric_eigen();
-            let top = eig.eigenvalues.imax();
-            let theta = eig.eigenvalues[top];
-            let s = eig.eigenvectors.column(top).into_owned();
-            if !(theta > 0.0 && theta.is_finite()) {
-                break;
-            }
-            best = Some((theta, s.iter().copied().collect()));
-            // residual of the Ritz pair: β_k |s_k|, relative to θ
-            // (a breakdown, β at rounding or not finite, ends it too: the space is invariant)
-            let breakdown = b.is_nan() || b <= 1e-14 * theta;
-            let done = breakdown || b * s[k - 1].abs() <= LANCZOS_TOLERANCE * theta;
-            if done {
-                break;
-            }
-            beta.push(b);
-            v = w.iter().map(|x| x / b).collect();
-        }
-        let (theta, s) = best?;
-        let mut mode = vec![0.0; n];
-        for (c, b) in s.iter().zip(&basis) {
-            mode.iter_mut().zip(b).for_each(|(m, x)| *m += c * x);
-        }
-        let norm = dot(&mode, &mode).sqrt();
-        if !(norm > 0.0 && norm.is_finite()) {
-            return None;
-        }
-        mode.iter_mut().for_each(|x| *x /= norm);
-        self.last_mode = mode;
-        Some(lo + 1.0 / theta)
     }
 
     /// A shift just below the lowest eigenvalue that the last ones extrapolate to
@@ -856,12 +748,6 @@ struct Accuracy {
 /// without a further count when it lies within this relative distance above `σ` (no
 /// eigenvalue is below it by more).
 const CERTIFIED: f64 = 2e-3;
-
-/// At most this many Lanczos steps place a first shift without a history.
-const LANCZOS_STEPS: usize = 60;
-
-/// Relative residual of the Ritz value at which Lanczos stops.
-const LANCZOS_TOLERANCE: f64 = 1e-8;
 
 /// `δρ`: the regularisation of the constraint rows relative to the Hessian (rows in their
 /// norms `c_i`). Weaker, the solves' constraint residual grows (it enters the eigenvalues'
