@@ -681,33 +681,14 @@ fn a_pair_of_many_helices_prints_its_bloch_work_and_one_beyond_memory_is_refused
 
 #[test]
 fn a_long_case_prints_its_size_before_solving() {
-    use std::io::{BufRead as _, BufReader};
     let dir = Scratch::new("long");
     let case = dir.write(
         "n64.toml",
         "[geometry]\nhelices = 64\nturns = 10\n[discretisation]\nsymmetric = false\n",
     );
-    let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
-        .args([
-            "run",
-            case.to_str().unwrap(),
-            "--out",
-            dir.path("out").to_str().unwrap(),
-        ])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run spira");
-    let mut first = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut first)
-        .expect("a line");
-    let _ = child.kill();
-    let _ = child.wait();
+    let (first, err) = first_line_of_run(&dir, &case);
     // either the estimate, or on a small machine the refusal with it
     if first.is_empty() {
-        let mut err = String::new();
-        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
         assert!(err.contains("would need about"), "{err}");
     } else {
         assert!(first.starts_with("size estimate: 64 rods"), "{first}");
@@ -830,22 +811,10 @@ fn a_closed_pipe_ends_the_run_quietly() {
     assert!(!err.contains("panicked"), "{err}");
 }
 
-/// The run files a folder holds, by name.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .map(|d| {
-            d.map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    names.sort();
-    names
-}
-
 /// Whether `dir` holds the whole set of files of one run with `--states --vtk`: the tables,
 /// and a `state-<k>.csv` and a `step-<k>.vtp` for exactly the steps of its `load.csv`.
 fn is_whole_run(dir: &Path) -> Result<(), String> {
-    let names = listing(dir);
+    let names = common::listing(dir);
     for name in [
         "load.csv",
         "reactions.csv",
@@ -908,7 +877,7 @@ fn a_signal_during_the_write_phase_leaves_the_old_files_or_the_whole_new_set() {
         assert_success(&spira_run(&dir, &old_case, &out, &["--states", "--vtk"]));
         std::fs::write(out.join("notes.txt"), "mine").expect("write");
         let old_load = std::fs::read(out.join("load.csv")).expect("old load.csv");
-        let old_names = listing(&out);
+        let old_names = common::listing(&out);
         let mut child = Command::new(env!("CARGO_BIN_EXE_spira"))
             .args([
                 "run",
@@ -969,11 +938,11 @@ fn a_signal_during_the_write_phase_leaves_the_old_files_or_the_whole_new_set() {
         );
         // nothing temporary beside the folder or in it
         assert_eq!(
-            listing(&dir.0),
+            common::listing(&dir.0),
             ["many.toml", "old.toml", "out"],
             "attempt {attempt}"
         );
-        let names = listing(&out);
+        let names = common::listing(&out);
         assert!(
             names.iter().all(|n| !n.starts_with(".spira")),
             "attempt {attempt}: {names:?}"

@@ -5,6 +5,8 @@
 //! Most checks run on small run folders written here (a known load path with a stable and
 //! an unstable stretch, a known state), so that what each figure must hold is known exactly.
 
+mod common;
+
 use spira::output::figures::{
     curvature_figure, load_figure, run_figures, stretches, views_figure, Kinds, Rods, Shade, Steps,
     K1_LEVELS,
@@ -554,17 +556,6 @@ fn spira(args: &[&str]) -> std::process::Output {
         .expect("spira runs")
 }
 
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .map(|d| {
-            d.map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    names.sort();
-    names
-}
-
 #[test]
 fn spira_plot_on_a_bad_folder_fails_and_writes_nothing() {
     let dir = scratch("cli-bad");
@@ -591,7 +582,11 @@ fn spira_plot_on_a_bad_folder_fails_and_writes_nothing() {
         err.contains("critical.csv:4: column `eps`: expected a finite number, found `abc`"),
         "{err}"
     );
-    assert!(listing(&out).is_empty(), "{:?}", listing(&out));
+    assert!(
+        common::listing(&out).is_empty(),
+        "{:?}",
+        common::listing(&out)
+    );
     let o = spira(&["plot", dir.join("missing").to_str().unwrap()]);
     assert!(!o.status.success());
     // several runs need --out; a bad --eps and --rod are refused
@@ -604,7 +599,7 @@ fn spira_plot_on_a_bad_folder_fails_and_writes_nothing() {
     let o = spira(&["plot", good.to_str().unwrap(), "--only", "load,pdf"]);
     assert!(String::from_utf8_lossy(&o.stderr)
         .contains("--only: expected `load`, `curvature` or `views`, found `pdf`"));
-    assert!(!listing(&good).iter().any(|n| n.ends_with(".svg")));
+    assert!(!common::listing(&good).iter().any(|n| n.ends_with(".svg")));
 }
 
 #[test]
@@ -625,7 +620,7 @@ fn spira_run_figures_writes_states_joints_and_figures_and_spira_plot_redraws_the
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let names = listing(&out);
+    let names = common::listing(&out);
     for f in [
         "load.csv",
         "state.csv",
@@ -670,7 +665,7 @@ fn spira_run_figures_writes_states_joints_and_figures_and_spira_plot_redraws_the
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(
-        listing(&figs),
+        common::listing(&figs),
         [
             "curvature-step0.svg",
             "curvature-step1.svg",
@@ -689,7 +684,7 @@ fn spira_run_figures_writes_states_joints_and_figures_and_spira_plot_redraws_the
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success());
-    let names = listing(&out);
+    let names = common::listing(&out);
     assert!(
         !names
             .iter()

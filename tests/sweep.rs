@@ -83,6 +83,24 @@ fn spira() -> Command {
     Command::new(env!("CARGO_BIN_EXE_spira"))
 }
 
+/// Runs the sweep `file` into `out` on two jobs to its end (the same command a stopped
+/// sweep is resumed with), and returns what it printed.
+fn sweep_to_the_end(file: &Path, out: &Path) -> String {
+    let output = spira()
+        .args([
+            "sweep",
+            file.to_str().expect("path"),
+            "--jobs",
+            "2",
+            "--out",
+        ])
+        .arg(out)
+        .output()
+        .expect("spira sweep");
+    assert!(output.status.success(), "{output:?}");
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
 #[test]
 fn the_table_has_the_columns_of_the_issue_and_a_row_per_case() {
     let (dir, file) = scratch(SWEEP);
@@ -249,19 +267,7 @@ fn a_killed_sweep_process_resumes_where_it_stopped() {
     child.wait().expect("killed");
     let before = complete(&out);
     assert!(before >= 1);
-    let output = spira()
-        .args([
-            "sweep",
-            file.to_str().expect("path"),
-            "--jobs",
-            "2",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .expect("spira sweep");
-    assert!(output.status.success(), "{output:?}");
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stdout = sweep_to_the_end(&file, &out);
     assert_eq!(
         stdout.matches("complete already, skipped").count(),
         before,
@@ -417,19 +423,7 @@ fn a_terminated_sweep_leaves_only_complete_case_folders_and_its_table() {
     assert!(again > complete, "{stdout}");
 
     // and the same command finishes the rest
-    let output = spira()
-        .args([
-            "sweep",
-            file.to_str().expect("path"),
-            "--jobs",
-            "2",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .expect("spira sweep");
-    assert!(output.status.success(), "{output:?}");
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stdout = sweep_to_the_end(&file, &out);
     assert_eq!(stdout.matches("complete already, skipped").count(), again);
     let (_, all) = whole_folder(&out, &sweep);
     assert_eq!(all, total);

@@ -283,13 +283,7 @@ impl<P: Problem> Continuation<P> {
     fn correct_in_place(&mut self) -> Result<(), ContinuationError> {
         let x0 = self.state.x.clone();
         let l0 = self.state.lambda;
-        let step = StepEquation {
-            tx: None,
-            tl: 1.0,
-            x0: &x0,
-            l0,
-            ds: 0.0,
-        };
+        let step = StepEquation::natural(&x0, l0, 0.0);
         let settings = self.settings.newton;
         match self.correct(x0.clone(), l0, &step, &settings) {
             Ok(t) => {
@@ -388,13 +382,7 @@ impl<P: Problem> Continuation<P> {
                 }
             }
             let x0 = self.state.x.clone();
-            let step = StepEquation {
-                tx: None,
-                tl: 1.0,
-                x0: &x0,
-                l0: self.state.lambda,
-                ds: d,
-            };
+            let step = StepEquation::natural(&x0, self.state.lambda, d);
             self.correct(x, self.state.lambda + d, &step, &settings)
         }
     }
@@ -666,13 +654,7 @@ impl<P: Problem> Continuation<P> {
             'starts: for start in &starts {
                 for offset in OFFSETS {
                     let l0 = lambda - offset * lambda.abs().max(1e-3);
-                    let step = StepEquation {
-                        tx: None,
-                        tl: 1.0,
-                        x0: &x0,
-                        l0,
-                        ds: 0.0,
-                    };
+                    let step = StepEquation::natural(&x0, l0, 0.0);
                     match this.correct(start.clone(), l0, &step, &settings) {
                         Ok(t) => {
                             solved = Some((t, l0));

@@ -76,7 +76,18 @@ pub struct StepEquation<'a> {
     pub ds: f64,
 }
 
-impl StepEquation<'_> {
+impl<'a> StepEquation<'a> {
+    /// The natural-parameter step from `x0` that holds `λ = l0 + ds`.
+    pub fn natural(x0: &'a [f64], l0: f64, ds: f64) -> StepEquation<'a> {
+        StepEquation {
+            tx: None,
+            tl: 1.0,
+            x0,
+            l0,
+            ds,
+        }
+    }
+
     /// `t_xᵀ (x − x0) + t_λ (λ − λ0) − ds`.
     fn residual(&self, x: &[f64], lambda: f64) -> f64 {
         let along = self.tx.map_or(0.0, |tx| {

@@ -1,5 +1,6 @@
-//! What several test files share: the tiny case the command-line tests run, and the
-//! seeded proptest runner of the fuzz tests (cases and seed from the environment).
+//! What several test files share: the tiny case the command-line tests run, the seeded
+//! proptest runner of the fuzz tests (cases and seed from the environment), and the
+//! listing of an output folder.
 #![allow(dead_code)]
 
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -38,4 +39,16 @@ pub fn seeded_runner(cases_var: &str, default_cases: u64, max_shrink_iters: u32)
         ..Config::default()
     };
     TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &bytes))
+}
+
+/// The names in folder `dir`, sorted (none if it does not exist).
+pub fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
 }
