@@ -37,6 +37,65 @@ pub fn curvature(q: &[f64; 4], p: &[f64; 4]) -> Vector3<f64> {
     u
 }
 
+/// The curvatures `u_i = N_i / D` at a point (`N_i = 2 qᵀ C_i p`, `D = |q|²`) with the
+/// parts of their derivatives with respect to `x = (q, p)` that the energy's gradient and
+/// Hessian are made of.
+struct Curvatures {
+    d: f64,
+    n: [f64; 3],
+    /// `∇N_i`.
+    gn: [[f64; 8]; 3],
+    u: Vector3<f64>,
+    /// `∇u_i = ∇N_i / D − N_i ∇D / D²`, `∇D = (2q, 0)`.
+    gu: [[f64; 8]; 3],
+}
+
+impl Curvatures {
+    fn at(q: &[f64; 4], p: &[f64; 4]) -> Curvatures {
+        let d: f64 = q.iter().map(|x| x * x).sum();
+        let inv_d = 1.0 / d;
+        let mut n = [0.0; 3];
+        let mut gn = [[0.0; 8]; 3];
+        let mut u = Vector3::zeros();
+        let mut gu = [[0.0; 8]; 3];
+        for i in 0..3 {
+            for &(j, k, sg) in &DARBOUX[i] {
+                n[i] += 2.0 * sg * q[j] * p[k];
+                gn[i][j] += 2.0 * sg * p[k];
+                gn[i][4 + k] += 2.0 * sg * q[j];
+            }
+            // divided as in `curvature`, so that the natural state is stress-free to the bit
+            u[i] = n[i] / d;
+            for a in 0..8 {
+                gu[i][a] = gn[i][a] * inv_d;
+            }
+            for a in 0..4 {
+                gu[i][a] -= n[i] * 2.0 * q[a] * inv_d * inv_d;
+            }
+        }
+        Curvatures { d, n, gn, u, gu }
+    }
+}
+
+/// The energy density `W(u(q, p))` (J/m) of the hypotheses `elasticity` at a point and its
+/// gradient with respect to `x = (q, p)` (as [`strain_energy_density`], without the
+/// Hessian: what a residual needs).
+pub fn strain_energy_gradient(
+    q: &[f64; 4],
+    p: &[f64; 4],
+    stiffness: &Stiffness,
+    elasticity: &Elasticity,
+    reference: &Vector3<f64>,
+) -> (f64, [f64; 8]) {
+    let c = Curvatures::at(q, p);
+    let (w, wu, _) = elasticity.density(stiffness, &c.u, reference);
+    let mut grad = [0.0; 8];
+    for a in 0..8 {
+        grad[a] = (0..3).map(|i| wu[i] * c.gu[i][a]).sum();
+    }
+    (w, grad)
+}
+
 /// Kirchhoff's energy density `W = ½ Σ B_i (u_i − u*_i)²` (J/m) at a point and its
 /// gradient and Hessian with respect to `x = (q, p)`, `p = q'`.
 pub fn energy_density(
@@ -59,58 +118,61 @@ pub fn strain_energy_density(
     elasticity: &Elasticity,
     reference: &Vector3<f64>,
 ) -> (f64, [f64; 8], [[f64; 8]; 8]) {
-    let d: f64 = q.iter().map(|x| x * x).sum();
-    // ∇D = (2q, 0), ∇²D = diag(2I, 0)
-    let mut gd = [0.0; 8];
-    for j in 0..4 {
-        gd[j] = 2.0 * q[j];
-    }
-    let mut u = Vector3::zeros();
-    let mut gu = [[0.0; 8]; 3];
-    let mut hu = [[[0.0; 8]; 8]; 3];
-    for i in 0..3 {
-        // N_i = 2 qᵀ C_i p and its derivatives; u_i = N_i / D
-        let mut n = 0.0;
-        let mut gn = [0.0; 8];
-        let mut hn = [[0.0; 8]; 8];
-        for &(j, k, sg) in &DARBOUX[i] {
-            n += 2.0 * sg * q[j] * p[k];
-            gn[j] += 2.0 * sg * p[k];
-            gn[4 + k] += 2.0 * sg * q[j];
-            hn[j][4 + k] += 2.0 * sg;
-            hn[4 + k][j] += 2.0 * sg;
-        }
-        u[i] = n / d;
-        for a in 0..8 {
-            gu[i][a] = gn[a] / d - n * gd[a] / (d * d);
-        }
-        for a in 0..8 {
-            for b in 0..8 {
-                let mut h = hn[a][b] / d - (gn[a] * gd[b] + gd[a] * gn[b]) / (d * d)
-                    + 2.0 * n * gd[a] * gd[b] / (d * d * d);
-                if a == b && a < 4 {
-                    h -= n * 2.0 / (d * d);
-                }
-                hu[i][a][b] = h;
-            }
-        }
-    }
-    let (w, wu, wuu) = elasticity.density(stiffness, &u, reference);
+    let c = Curvatures::at(q, p);
+    let (inv_d, n, gn, gu) = (1.0 / c.d, c.n, c.gn, c.gu);
+    let (w, wu, wuu) = elasticity.density(stiffness, &c.u, reference);
     let mut grad = [0.0; 8];
-    let mut hess = [[0.0; 8]; 8];
     for a in 0..8 {
         grad[a] = (0..3).map(|i| wu[i] * gu[i][a]).sum();
-        for b in 0..8 {
-            let mut v = 0.0;
-            for i in 0..3 {
-                v += wu[i] * hu[i][a][b];
-                for j in 0..3 {
-                    if wuu[(i, j)] != 0.0 {
-                        v += wuu[(i, j)] * gu[i][a] * gu[j][b];
-                    }
+    }
+    // Σ_i W_,i ∇²u_i with ∇²u_i = ∇²N_i / D − (∇N_i ∇Dᵀ + ∇D ∇N_iᵀ) / D²
+    // + 2 N_i ∇D ∇Dᵀ / D³ − N_i ∇²D / D², summed first over i: with G = Σ W_,i ∇N_i and
+    // S = Σ W_,i N_i it is Σ W_,i ∇²N_i / D − (G ∇Dᵀ + ∇D Gᵀ) / D² + 2 S ∇D ∇Dᵀ / D³
+    // − 2 S I_q / D²
+    let mut g = [0.0; 8];
+    let mut s = 0.0;
+    for i in 0..3 {
+        s += wu[i] * n[i];
+        for a in 0..8 {
+            g[a] += wu[i] * gn[i][a];
+        }
+    }
+    let mut hess = [[0.0; 8]; 8];
+    for i in 0..3 {
+        for &(j, k, sg) in &DARBOUX[i] {
+            let v = 2.0 * sg * wu[i] * inv_d;
+            hess[j][4 + k] += v;
+            hess[4 + k][j] += v;
+        }
+    }
+    let (inv_d2, inv_d3) = (inv_d * inv_d, inv_d * inv_d * inv_d);
+    for a in 0..8 {
+        for b in 0..4 {
+            // ∇D_b = 2 q_b (zero on the p unknowns)
+            let gd_b = 2.0 * q[b];
+            hess[a][b] -= g[a] * gd_b * inv_d2;
+            hess[b][a] -= g[a] * gd_b * inv_d2;
+        }
+    }
+    for a in 0..4 {
+        for b in 0..4 {
+            hess[a][b] += 8.0 * s * q[a] * q[b] * inv_d3;
+        }
+        hess[a][a] -= 2.0 * s * inv_d2;
+    }
+    // Σ_ij W_,ij ∇u_i ∇u_jᵀ
+    for i in 0..3 {
+        for j in 0..3 {
+            let c = wuu[(i, j)];
+            if c == 0.0 {
+                continue;
+            }
+            for a in 0..8 {
+                let ca = c * gu[i][a];
+                for b in 0..8 {
+                    hess[a][b] += ca * gu[j][b];
                 }
             }
-            hess[a][b] = v;
         }
     }
     (w, grad, hess)
@@ -123,6 +185,26 @@ const TANGENT: [&[(usize, usize, f64)]; 3] = [
     &[(1, 2, 1.0), (2, 1, 1.0), (0, 3, -1.0), (3, 0, -1.0)],
     &[(0, 0, -1.0), (1, 1, -1.0), (2, 2, 1.0), (3, 3, 1.0)],
 ];
+
+/// Unit tangent `d3` of the normalised rotation of `q` with its gradient
+/// `[j][k] = ∂d3_j/∂q_k` (as [`tangent`], without the Hessians).
+pub fn tangent_gradient(q: &[f64; 4]) -> ([f64; 3], [[f64; 4]; 3]) {
+    let d: f64 = q.iter().map(|x| x * x).sum();
+    let mut t = [0.0; 3];
+    let mut g = [[0.0; 4]; 3];
+    for j in 0..3 {
+        let mut mq = [0.0; 4];
+        for &(k, l, v) in TANGENT[j] {
+            mq[k] += v * q[l];
+        }
+        let qmq: f64 = (0..4).map(|k| q[k] * mq[k]).sum();
+        t[j] = qmq / d;
+        for k in 0..4 {
+            g[j][k] = 2.0 * mq[k] / d - 2.0 * qmq * q[k] / (d * d);
+        }
+    }
+    (t, g)
+}
 
 /// Unit tangent `d3` of the normalised rotation of `q`, with its gradient `[j][k] = ∂d3_j/∂q_k`
 /// and Hessians `[j][k][l]`.
@@ -233,7 +315,8 @@ pub fn chord(
 /// Evaluates an element of length `h` (m) with nodal quaternions `q` (only the first
 /// `order.nodes()` used), the energy of the hypotheses `elasticity` with reference
 /// curvatures `reference[g]` (1/m) at quadrature point `g` of `rule`, and the
-/// inextensibility multiplier `lambda` (N) that weights the chord's Hessian.
+/// inextensibility multiplier `lambda` (N) that weights the chord's Hessian; without
+/// `hessian`, the Hessian is left zero (a residual needs the rest only).
 #[allow(clippy::too_many_arguments)]
 pub fn element_terms(
     order: Order,
@@ -244,6 +327,7 @@ pub fn element_terms(
     elasticity: &Elasticity,
     reference: &[Vector3<f64>],
     lambda: &[f64; 3],
+    hessian: bool,
 ) -> ElementTerms {
     debug_assert_eq!(reference.len(), rule.len());
     let nn = order.nodes();
@@ -257,6 +341,24 @@ pub fn element_terms(
     for (gp, reference) in rule.iter().zip(reference) {
         let jw = gp.weight * h;
         let (qg, pg, b) = at_point(order, gp, h, q);
+        if !hessian {
+            let (w, gw) = strain_energy_gradient(&qg, &pg, stiffness, elasticity, reference);
+            let (t, gt) = tangent_gradient(&qg);
+            out.energy += jw * w;
+            for j in 0..3 {
+                out.chord[j] += jw * t[j];
+            }
+            for a in 0..nn {
+                for k in 0..4 {
+                    let ia = 4 * a + k;
+                    out.energy_gradient[ia] += jw * (gp.n[a] * gw[k] + b[a] * gw[4 + k]);
+                    for j in 0..3 {
+                        out.chord_gradient[j][ia] += jw * gp.n[a] * gt[j][k];
+                    }
+                }
+            }
+            continue;
+        }
         let (w, gw, hw) = strain_energy_density(&qg, &pg, stiffness, elasticity, reference);
         let (t, gt, ht) = tangent(&qg);
         out.energy += jw * w;

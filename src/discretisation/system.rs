@@ -25,6 +25,11 @@ use nalgebra::{Vector3, Vector4};
 /// the same order by the same assembly code.
 trait Sink {
     fn add(&mut self, row: usize, col: usize, v: f64);
+    /// Whether the Jacobian's entries are wanted at all (a residual alone does without the
+    /// elements' Hessians).
+    fn wants_jacobian(&self) -> bool {
+        true
+    }
 }
 
 struct Recorder(Vec<Pair<usize, usize>>);
@@ -201,6 +206,9 @@ impl System {
         struct Null;
         impl Sink for Null {
             fn add(&mut self, _: usize, _: usize, _: f64) {}
+            fn wants_jacobian(&self) -> bool {
+                false
+            }
         }
         self.assemble(model, x, residual, &mut Null)
     }
@@ -298,6 +306,7 @@ impl System {
         sink: &mut dyn Sink,
     ) -> Evaluation {
         residual.iter_mut().for_each(|v| *v = 0.0);
+        let jacobian = sink.wants_jacobian();
         let nn = model.order.nodes();
         let p = model.order.degree();
         let mut energy = 0.0;
@@ -320,6 +329,7 @@ impl System {
                     &model.elasticity,
                     rod.element_reference(e, model.rule.len()),
                     &lambda,
+                    jacobian,
                 );
                 energy += t.energy;
                 let dofs = |i: usize| rod.q_dof(e * p + i / 4, i % 4);
@@ -331,6 +341,9 @@ impl System {
                         g -= lambda[j] * t.chord_gradient[j][i];
                     }
                     residual[gi] += g;
+                    if !jacobian {
+                        continue;
+                    }
                     for k in 0..nq {
                         sink.add(gi, dofs(k), t.hessian[i][k]);
                     }
