@@ -7,7 +7,7 @@
 //! The engine knows nothing of rods: it follows any [`Problem`].
 
 use super::interrupt::{Interrupt, Interruption};
-use super::linear::LinearError;
+use super::linear::{least_squares_multipliers, LinearError};
 use super::newton::{Newton, NewtonError, NewtonReport, NewtonSettings, StepEquation};
 use super::path_state::PathState;
 use super::problem::Problem;
@@ -628,17 +628,17 @@ impl<P: Problem> Continuation<P> {
     ) -> Result<(), ContinuationError> {
         self.with_problem(problem, x, lambda, |this| {
             this.state.tangent = None;
-            // the new problem's multipliers (of supports and joints) are solved for first,
-            // at the critical state, where the Jacobian is nearly singular (as for the
-            // probes of a critical-point search)
-            // the more exactly the critical point is placed, the more nearly singular
-            // the Jacobian there: when its solve fails, the state is re-solved a little
-            // before the critical load (relative offsets 1e-7, 1e-6 of the load
+            // the new problem's multipliers (of supports and joints, which the reduced
+            // state does not give) are fitted first by least squares at the known primal
+            // state: Newton's method would otherwise have to find them through the
+            // critical state's nearly singular Jacobian, and diverged there when the point
+            // was placed to rounding (the n = 8 sliding tips' double point); the state is
+            // then re-solved, and when its Jacobian is too singular to solve with, a
+            // little before the critical load (relative offsets 1e-7, 1e-6 of the load
             // parameter, far below the accuracy of any branch followed from it), from the
             // critical state and then from `near`, where the first Jacobian is regular
-            // (at a double point placed to rounding the Jacobian at the critical state is
-            // singular whatever the load)
-            let x0 = this.state.x.clone();
+            let mut x0 = this.state.x.clone();
+            this.fit_multipliers(&mut x0, lambda);
             let settings = NewtonSettings {
                 singular_threshold: this.settings.newton.singular_threshold.max(1e-2),
                 ..this.settings.newton
@@ -647,6 +647,7 @@ impl<P: Problem> Continuation<P> {
             let mut starts = vec![x0.clone()];
             if let Some(mut near) = near {
                 near.resize(x0.len(), 0.0);
+                this.fit_multipliers(&mut near, lambda);
                 starts.push(near);
             }
             let mut last = None;
@@ -672,6 +673,24 @@ impl<P: Problem> Continuation<P> {
             this.state.lambda = l0;
             this.switch_onto(&t.x, l0, mode, sign, h)
         })
+    }
+
+    /// Replaces the multipliers of `x` by those that leave the least residual at its
+    /// primal unknowns and load `lambda` ([`least_squares_multipliers`]), where they can be
+    /// found.
+    fn fit_multipliers(&mut self, x: &mut [f64], lambda: f64) {
+        let n = self.problem.unknowns();
+        let n_primal = self.problem.primal_unknowns();
+        let mut residual = vec![0.0; n];
+        let mut kkt = vec![0.0; self.problem.pattern().row_idx().len()];
+        self.problem.jacobian(x, lambda, &mut residual, &mut kkt);
+        let fitted = least_squares_multipliers(self.problem.pattern(), &kkt, &residual, n_primal);
+        if let Some(delta) = fitted {
+            for (v, d) in x[n_primal..].iter_mut().zip(&delta) {
+                *v += d;
+            }
+        }
+        self.problem.restore(&self.state.x, self.state.lambda);
     }
 
     /// Puts `problem` (with a Newton solver of its own) in place at `(x, λ)` and runs `f`;

@@ -1,11 +1,13 @@
 //! Sparse LU of the KKT matrix (faer), with the symbolic factorisation computed once
-//! per sparsity pattern and reused by every Newton iteration.
+//! per sparsity pattern and reused by every Newton iteration; the least-squares
+//! multipliers of a state known in its primal unknowns only.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::SparseColMatRef;
-use faer::{MatMut, Par};
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, Triplet};
+use faer::{MatMut, Par, Side};
 
 /// Why a linear solve failed.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
@@ -130,4 +132,56 @@ pub fn relative_residual(
     } else {
         f64::INFINITY
     }
+}
+
+/// The change `Δλ` of the multipliers (the unknowns from `n_primal` on) that leaves the
+/// primal rows of the residual least (in the 2-norm) at fixed primal unknowns: the normal
+/// equations `J Jᵀ Δλ = −J r` of `min ‖r + Jᵀ Δλ‖`, with `J` the constraint block of the
+/// KKT values `kkt` (pattern `pattern`) and `r` the primal rows of `residual`. It puts the
+/// multipliers of a state whose primal part is known (the pair's state on the whole
+/// assembly, whose supports and joints hold unknown forces) where Newton's method need
+/// not find them through a nearly singular Jacobian. `None` when `J Jᵀ` is not positive
+/// definite (dependent constraints).
+pub fn least_squares_multipliers(
+    pattern: &SymbolicSparseColMat<usize>,
+    kkt: &[f64],
+    residual: &[f64],
+    n_primal: usize,
+) -> Option<Vec<f64>> {
+    let n_dual = pattern.ncols().checked_sub(n_primal)?;
+    if n_dual == 0 {
+        return Some(Vec::new());
+    }
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    // the rows of J met in each primal column: J Jᵀ = Σ_j J[:, j] J[:, j]ᵀ, and J r
+    let mut jjt = std::collections::BTreeMap::<(usize, usize), f64>::new();
+    let mut rhs = vec![0.0; n_dual];
+    let mut column = Vec::new();
+    for j in 0..n_primal {
+        column.clear();
+        for p in cp[j]..cp[j + 1] {
+            if ri[p] >= n_primal && kkt[p] != 0.0 {
+                column.push((ri[p] - n_primal, kkt[p]));
+            }
+        }
+        for &(a, va) in &column {
+            rhs[a] -= va * residual[j];
+            for &(b, vb) in &column {
+                if b >= a {
+                    *jjt.entry((b, a)).or_insert(0.0) += va * vb;
+                }
+            }
+        }
+    }
+    let triplets: Vec<Triplet<usize, usize, f64>> = jjt
+        .into_iter()
+        .map(|((row, col), v)| Triplet::new(row, col, v))
+        .collect();
+    let a = SparseColMat::<usize, f64>::try_new_from_triplets(n_dual, n_dual, &triplets).ok()?;
+    let llt = a.as_ref().sp_cholesky(Side::Lower).ok()?;
+    llt.solve_in_place_with_conj(
+        faer::Conj::No,
+        MatMut::from_column_major_slice_mut(&mut rhs, n_dual, 1),
+    );
+    rhs.iter().all(|v| v.is_finite()).then_some(rhs)
 }
