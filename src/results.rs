@@ -157,7 +157,9 @@ pub struct CriticalPoint {
     pub assembly_mode: Option<Vec<f64>>,
     /// For a double point (`0 < p < m/2`): the other mode of its plane (from `i` times the
     /// block's eigenvector); every critical mode there is `cos φ · assembly_mode + sin φ ·
-    /// second_mode`.
+    /// second_mode`. For a double point of a model judged on itself (count change 2): the
+    /// other mode nearest zero, orthogonal to `mode` in the eigenproblem's metric (then
+    /// every critical mode is `cos φ · mode + sin φ · second_mode`).
     pub second_mode: Option<Vec<f64>>,
 }
 

@@ -300,7 +300,15 @@ impl Simulation {
                         });
                         (Some(p), bloch.multiplicity(p), first, second)
                     }
-                    _ => (None, 1, None, None),
+                    // a model judged on itself: at a double point (two eigenvalues
+                    // crossing together) the plane's other mode
+                    _ => {
+                        let double = c.unstable_after.abs_diff(c.unstable_before) == 2;
+                        let second = double
+                            .then(|| rods.second_mode(&c.state, &c.mode))
+                            .flatten();
+                        (None, 1, None, second)
+                    }
                 };
             self.critical.push(CriticalPoint {
                 kind: c.kind,
@@ -366,6 +374,15 @@ impl Simulation {
             }));
         }
         let Some(cp) = breaking else {
+            if let Some(cp) = self.critical.get(index).cloned() {
+                if let Some(second) = cp
+                    .second_mode
+                    .as_ref()
+                    .filter(|_| cp.assembly_mode.is_none())
+                {
+                    return self.switch_in_plane(&cp, &cp.mode, second, sign, h);
+                }
+            }
             return self
                 .path
                 .switch_branch(index, sign, h)
@@ -459,6 +476,62 @@ impl Simulation {
                     self.pair = Some(Box::new(pair));
                     return Ok(());
                 }
+                Err(e) => last = Some(e),
+            }
+        }
+        Err(self.error(last.expect("at least one direction tried")))
+    }
+
+    /// Leaves the double critical point `cp` of the model solved along a direction of the
+    /// plane of its modes `a`, `b`: the directions `φ = jπ/2m` (`cos φ a + sin φ b`, `m`
+    /// half the rods) are tried in turn, the one in which the energy of the first step falls
+    /// most first, as for a symmetric pair's double point (the phase of the modes in their
+    /// plane is arbitrary; the energy is not).
+    fn switch_in_plane(
+        &mut self,
+        cp: &CriticalPoint,
+        a: &[f64],
+        b: &[f64],
+        sign: f64,
+        h: f64,
+    ) -> Result<(), SolveError> {
+        let m = (self.model().rods.len() / 2).max(1);
+        let directions: Vec<Vec<f64>> = (0..2 * m)
+            .map(|j| {
+                let phi = j as f64 * std::f64::consts::PI / (2 * m) as f64;
+                let (c, s) = (phi.cos(), phi.sin());
+                a.iter()
+                    .zip(b.iter().chain(std::iter::repeat(&0.0)))
+                    .map(|(a, b)| c * a + s * b)
+                    .collect()
+            })
+            .collect();
+        let mut residual = vec![0.0; cp.state.len()];
+        let rods = self.path.problem_mut();
+        let mut order: Vec<(f64, usize)> = directions
+            .iter()
+            .enumerate()
+            .map(|(j, d)| {
+                let moved: Vec<f64> = cp
+                    .state
+                    .iter()
+                    .zip(d.iter().chain(std::iter::repeat(&0.0)))
+                    .map(|(v, d)| v + sign * h * d)
+                    .collect();
+                let e = rods.residual(&moved, cp.parameter, &mut residual);
+                (if e.is_finite() { e } else { f64::INFINITY }, j)
+            })
+            .collect();
+        let (x, lambda) = (self.path.state().x.clone(), self.path.state().lambda);
+        self.path.problem_mut().restore(&x, lambda);
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut last = None;
+        for (_, j) in order {
+            match self
+                .path
+                .switch_onto(&cp.state, cp.parameter, &directions[j], sign, h)
+            {
+                Ok(()) => return Ok(()),
                 Err(e) => last = Some(e),
             }
         }

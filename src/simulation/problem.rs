@@ -153,6 +153,11 @@ impl BlockView<'_> {
         s.lowest_eigenvalue(pat, v)
     }
 
+    fn rough_lowest(&mut self) -> Option<f64> {
+        let (pat, v, s) = self.real_form();
+        s.rough_lowest(pat, v)
+    }
+
     /// The eigenvalue nearest zero and its mode (primal unknowns of the real form).
     fn nearest_zero(&mut self) -> Option<(f64, Vec<f64>)> {
         let (pat, v, s) = self.real_form();
@@ -222,10 +227,13 @@ impl RodProblem {
                 let metric = metric(&model);
                 let length = model.length();
                 let realified_metric = bloch.realified_metric(&metric);
+                // the blocks of one pattern share its symbolic analysis on both threads
+                let real: KktStability = KktStability::new(metric.clone(), length);
+                let complex: KktStability = KktStability::with_copies(realified_metric, length, 2);
                 let worker = || Worker {
-                    real: KktStability::new(metric.clone(), length),
-                    complex: KktStability::with_copies(realified_metric.clone(), length, 2),
-                    hermitian: KktStability::new(metric.clone(), length),
+                    real: real.sharing(),
+                    complex: complex.sharing(),
+                    hermitian: real.sharing(),
                     values: Vec::new(),
                     hermitian_values: Vec::new(),
                 };
@@ -319,7 +327,75 @@ impl RodProblem {
                 .map(|(p, r)| r.map(|(c, l)| b.stability_of(p, c, l)))
                 .collect();
         }
+        // without a lowest eigenvalue found before (the first state), the block likely to
+        // hold it is picked by a rough estimate on every block: a cold search through a
+        // block's cluster of eigenvalues costs tens of factorisations, and would be
+        // repeated on every block found to have an eigenvalue below it
+        if b.warm.iter().all(|w| !w.has_history()) {
+            let rough = b.run(pattern, &all, |b| Ok(b.rough_lowest()));
+            if let Some((p, _)) = rough
+                .into_iter()
+                .filter_map(|(p, r)| r.ok().flatten().map(|mu| (p, mu)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+            {
+                b.lowest_wavenumber = p;
+            }
+        }
         let first = b.lowest_wavenumber;
+        // along a path, every block at once (both threads busy): the block that had the
+        // lowest eigenvalue searches it again, the others count below an upper estimate
+        // of it (the extrapolation of its last ones); a block with an eigenvalue below the
+        // estimate searches its own, and when the lowest comes out above the estimate the
+        // blocks that only counted are asked again at it
+        if let Some(upper) = b.warm[first].upper_estimate() {
+            let below_or_lowest = |b: &mut BlockView, sigma: f64| -> Result<_, InertiaError> {
+                let (count, below) = b.unstable_and_below(sigma)?;
+                Ok((
+                    count,
+                    if below > 0 {
+                        b.lowest_eigenvalue()
+                    } else {
+                        None
+                    },
+                ))
+            };
+            let found = b.run(pattern, &all, |b| {
+                if b.p != first {
+                    return below_or_lowest(b, upper);
+                }
+                let lowest = b.lowest_eigenvalue();
+                let count = if clearly_stable(lowest, b.rounding_band()?) {
+                    0
+                } else {
+                    b.unstable_directions()?
+                };
+                Ok((count, lowest))
+            });
+            let mut out = Vec::with_capacity(found.len());
+            for (p, r) in found {
+                let (c, l) = r?;
+                out.push(b.stability_of(p, c, l));
+            }
+            if let Some((best, _)) = lowest_of(&out).filter(|&(best, _)| best > upper) {
+                let unsure: Vec<usize> = out
+                    .iter()
+                    .filter(|s| s.lowest_eigenvalue.is_none())
+                    .map(|s| s.wavenumber)
+                    .collect();
+                for (p, r) in b.run(pattern, &unsure, |b| below_or_lowest(b, best)) {
+                    let (c, l) = r?;
+                    let again = b.stability_of(p, c, l);
+                    if let Some(s) = out.iter_mut().find(|s| s.wavenumber == p) {
+                        *s = again;
+                    }
+                }
+            }
+            if let Some((_, p)) = lowest_of(&out) {
+                b.lowest_wavenumber = p;
+            }
+            out.sort_by_key(|s| s.wavenumber);
+            return Ok(out);
+        }
         let [(_, head)] = b
             .run(pattern, &[first], |b| {
                 let lowest = b.lowest_eigenvalue();
@@ -404,6 +480,31 @@ impl RodProblem {
             }
         }
         nearest
+    }
+
+    /// At a double critical point of a model judged on itself (count change 2): the mode
+    /// of the other eigenvalue nearest zero at `x`, orthogonal in the metric to `first`,
+    /// scaled as `first` over the primal unknowns; `None` for the Bloch blocks (whose
+    /// double modes are the two halves of one complex mode).
+    pub fn second_mode(&mut self, x: &[f64], first: &[f64]) -> Option<Vec<f64>> {
+        let Judge::Own {
+            stability,
+            residual,
+            values,
+        } = &mut self.judge
+        else {
+            return None;
+        };
+        self.system.evaluate(&self.model, x, residual, values);
+        let (_, mut mode) =
+            stability.nearest_zero_orthogonal_to(self.system.pattern(), values, first)?;
+        let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let scale = norm(&first[..mode.len()]) / norm(&mode);
+        if !scale.is_finite() {
+            return None;
+        }
+        mode.iter_mut().for_each(|v| *v *= scale);
+        Some(mode)
     }
 
     /// The eigenvector (primal unknowns of the block) of the eigenvalue nearest zero of

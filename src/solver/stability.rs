@@ -31,6 +31,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{c64, Conj, MatMut, Par, Side};
+use std::sync::{Arc, OnceLock};
 
 /// The entries of the matrices whose inertia is counted: real (symmetric) or complex
 /// (Hermitian, the Bloch blocks of wavenumbers `0 < p < m/2`, factorised as `LDLᴴ`).
@@ -40,6 +41,8 @@ pub trait Scalar:
     + PartialEq
     + std::ops::AddAssign
     + std::ops::SubAssign
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
     + std::ops::Mul<Output = Self>
 {
     fn from_real(x: f64) -> Self;
@@ -87,14 +90,20 @@ pub enum InertiaError {
     OutOfMemory,
 }
 
-/// The augmented KKT pattern of one [`System`], its symbolic `LDLᵀ` (`LDLᴴ` for complex
-/// entries) and value maps.
-pub struct InertiaCounter<T: Scalar = f64> {
+/// The augmented KKT pattern of one [`System`], its symbolic `LDLᵀ` and value maps: what
+/// every matrix of that pattern shares (the Bloch blocks of one sector, real and complex,
+/// on every thread), built once.
+pub struct KktStructure {
     /// Number of constraint rows.
     pub constraints: usize,
+    /// The fill-reducing ordering: unknown `perm[i]` of the KKT matrix is unknown `i` of
+    /// the stored matrix.
+    perm: Vec<usize>,
+    /// The upper triangle of the permuted augmented pattern.
     pattern: SymbolicSparseColMat<usize>,
     symbolic: SymbolicCholesky<usize>,
-    /// For each stored entry of `K`, its slot in the augmented pattern.
+    /// For each stored entry of `K`, its slot in the augmented pattern (`usize::MAX` for
+    /// an entry of the lower triangle, which is not stored).
     k_slots: Vec<usize>,
     /// For each stored entry of `K`, its (row, column).
     k_entry: Vec<(usize, usize)>,
@@ -110,6 +119,12 @@ pub struct InertiaCounter<T: Scalar = f64> {
     primal_diagonal: Vec<usize>,
     /// Indices of the primal diagonal in the KKT values.
     k_diagonal: Vec<usize>,
+}
+
+/// The factorisations of the matrices of one [`KktStructure`] (`LDLᵀ`, `LDLᴴ` for complex
+/// entries), their inertia and the eigenvalue searches on them.
+pub struct InertiaCounter<T: Scalar = f64> {
+    structure: Arc<KktStructure>,
     values: Vec<T>,
     /// The KKT values `loaded` and their `JᴴJ`, in the augmented pattern.
     base: Vec<T>,
@@ -133,6 +148,11 @@ pub struct InertiaCounter<T: Scalar = f64> {
     rhs: Vec<f64>,
     solution: Vec<f64>,
     refinement: Vec<f64>,
+    /// A solve's right-hand side in the stored ordering.
+    permuted: Vec<f64>,
+    /// A mode (primal unknowns, unit norm in the metric) that inverse iteration keeps its
+    /// iterates orthogonal to; empty for none.
+    deflation: Vec<f64>,
     iterate: Vec<f64>,
     product: Vec<f64>,
     buffer: MemBuffer,
@@ -147,7 +167,7 @@ fn slot(pattern: &SymbolicSparseColMat<usize>, row: usize, col: usize) -> usize 
             .expect("entry in the augmented pattern")
 }
 
-impl<T: Scalar> InertiaCounter<T> {
+impl KktStructure {
     /// Builds the augmented pattern and its symbolic factorisation for a KKT matrix of
     /// pattern `k` whose first `n_primal` unknowns are primal, with the eigenproblem's
     /// metric over them (positive on quaternion unknowns, zero on positions) and the length
@@ -156,7 +176,7 @@ impl<T: Scalar> InertiaCounter<T> {
         k: &SymbolicSparseColMat<usize>,
         metric: &[f64],
         length: f64,
-    ) -> Result<InertiaCounter<T>, InertiaError> {
+    ) -> Result<KktStructure, InertiaError> {
         let n_primal = metric.len();
         let n = k.ncols();
         let (cp, ri) = (k.col_ptr(), k.row_idx());
@@ -204,12 +224,56 @@ impl<T: Scalar> InertiaCounter<T> {
             row_idx.extend_from_slice(&column);
             col_ptr.push(row_idx.len());
         }
+        let full = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        // the fill-reducing ordering, applied here once: the matrices are stored permuted
+        // and as their upper triangle, the form the simplicial LDLᵀ factorises without a
+        // copy (it would otherwise permute every matrix before factorising it; the
+        // simplicial factorisation is faster than the supernodal one on these patterns
+        // of two rods)
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
+        let ordering =
+            factorize_symbolic_cholesky(full.as_ref(), Side::Lower, SymmetricOrdering::Amd, params)
+                .map_err(|_| InertiaError::OutOfMemory)?;
+        let (perm, perm_inv): (Vec<usize>, Vec<usize>) = match ordering.perm() {
+            Some(p) => {
+                let (forward, inverse) = p.arrays();
+                (forward.to_vec(), inverse.to_vec())
+            }
+            None => ((0..n).collect(), (0..n).collect()),
+        };
+        let mut columns: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let (fcp, fri) = (full.col_ptr(), full.row_idx());
+        for col in 0..n {
+            for &row in &fri[fcp[col]..fcp[col + 1]] {
+                let (r, c) = (perm_inv[row], perm_inv[col]);
+                if r <= c {
+                    columns[c].push(r);
+                }
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(fri.len() / 2 + n);
+        col_ptr.push(0);
+        for mut column in columns {
+            column.sort_unstable();
+            row_idx.extend_from_slice(&column);
+            col_ptr.push(row_idx.len());
+        }
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        // the slot of entry (row, col) of the unpermuted matrix, when it is in the stored
+        // upper triangle of the permuted one
+        let upper_slot = |row: usize, col: usize| {
+            let (r, c) = (perm_inv[row], perm_inv[col]);
+            (r <= c).then(|| slot(&pattern, r, c))
+        };
         let mut k_slots = Vec::with_capacity(ri.len());
         let mut k_entry = Vec::with_capacity(ri.len());
         for col in 0..n {
             for p in cp[col]..cp[col + 1] {
-                k_slots.push(slot(&pattern, ri[p], col));
+                k_slots.push(upper_slot(ri[p], col).unwrap_or(usize::MAX));
                 k_entry.push((ri[p], col));
             }
         }
@@ -217,7 +281,9 @@ impl<T: Scalar> InertiaCounter<T> {
         for (i, r) in rows.iter().enumerate() {
             for &(ca, pa) in r {
                 for &(cb, pb) in r {
-                    jtj.push((pa, pb, slot(&pattern, ca, cb), i));
+                    if let Some(s) = upper_slot(ca, cb) {
+                        jtj.push((pa, pb, s, i));
+                    }
                 }
             }
         }
@@ -231,42 +297,20 @@ impl<T: Scalar> InertiaCounter<T> {
                 }
             })
             .collect();
-        let dual_diagonal = (n_primal..n).map(|i| slot(&pattern, i, i)).collect();
-        let primal_diagonal = (0..n_primal).map(|i| slot(&pattern, i, i)).collect();
+        let diagonal = |i: usize| slot(&pattern, perm_inv[i], perm_inv[i]);
+        let dual_diagonal = (n_primal..n).map(diagonal).collect();
+        let primal_diagonal = (0..n_primal).map(diagonal).collect();
         let k_diagonal = (0..n_primal).map(|i| slot(k, i, i)).collect();
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        };
         let symbolic = factorize_symbolic_cholesky(
             pattern.as_ref(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
+            Side::Upper,
+            SymmetricOrdering::Identity,
             params,
         )
         .map_err(|_| InertiaError::OutOfMemory)?;
-        let par = Par::Seq;
-        let req = symbolic
-            .factorize_numeric_ldlt_scratch::<T>(par, Default::default())
-            .or(symbolic.solve_in_place_scratch::<T>(1, par));
-        let buffer = MemBuffer::try_new(req).map_err(|_| InertiaError::OutOfMemory)?;
-        Ok(InertiaCounter {
+        Ok(KktStructure {
             constraints: n - n_primal,
-            values: vec![T::from_real(0.0); pattern.row_idx().len()],
-            base: vec![T::from_real(0.0); pattern.row_idx().len()],
-            gram: vec![T::from_real(0.0); pattern.row_idx().len()],
-            loaded: Vec::new(),
-            rho: 1.0,
-            last_mode: Vec::new(),
-            lowest_history: Vec::new(),
-            nearest_zero_mode: Vec::new(),
-            converged: false,
-            rhs: vec![0.0; n],
-            solution: vec![0.0; n],
-            refinement: vec![0.0; n],
-            iterate: vec![0.0; n_primal],
-            product: vec![0.0; n_primal],
-            l_values: vec![T::from_real(0.0); symbolic.len_val()],
+            perm,
             pattern,
             symbolic,
             k_slots,
@@ -276,6 +320,50 @@ impl<T: Scalar> InertiaCounter<T> {
             dual_diagonal,
             primal_diagonal,
             k_diagonal,
+        })
+    }
+}
+
+impl<T: Scalar> InertiaCounter<T> {
+    /// A counter for a KKT matrix of pattern `k` (see [`KktStructure::new`]).
+    pub fn new(
+        k: &SymbolicSparseColMat<usize>,
+        metric: &[f64],
+        length: f64,
+    ) -> Result<InertiaCounter<T>, InertiaError> {
+        InertiaCounter::with_structure(Arc::new(KktStructure::new(k, metric, length)?))
+    }
+
+    /// A counter for the matrices of `structure`: the numeric factor and the workspace of
+    /// the searches.
+    pub fn with_structure(structure: Arc<KktStructure>) -> Result<InertiaCounter<T>, InertiaError> {
+        let par = Par::Seq;
+        let symbolic = &structure.symbolic;
+        let req = symbolic
+            .factorize_numeric_ldlt_scratch::<T>(par, Default::default())
+            .or(symbolic.solve_in_place_scratch::<T>(1, par));
+        let buffer = MemBuffer::try_new(req).map_err(|_| InertiaError::OutOfMemory)?;
+        let (n, n_primal) = (structure.pattern.ncols(), structure.primal_diagonal.len());
+        let stored = structure.pattern.row_idx().len();
+        Ok(InertiaCounter {
+            values: vec![T::from_real(0.0); stored],
+            base: vec![T::from_real(0.0); stored],
+            gram: vec![T::from_real(0.0); stored],
+            loaded: Vec::new(),
+            rho: 1.0,
+            last_mode: Vec::new(),
+            lowest_history: Vec::new(),
+            nearest_zero_mode: Vec::new(),
+            converged: false,
+            rhs: vec![0.0; n],
+            solution: vec![0.0; n],
+            refinement: vec![0.0; n],
+            permuted: vec![0.0; n],
+            deflation: Vec::new(),
+            iterate: vec![0.0; n_primal],
+            product: vec![0.0; n_primal],
+            l_values: vec![T::from_real(0.0); symbolic.len_val()],
+            structure,
             buffer,
         })
     }
@@ -283,6 +371,7 @@ impl<T: Scalar> InertiaCounter<T> {
     /// Mean magnitude of the diagonal of the Hessian block of the KKT values `kkt`.
     pub fn hessian_scale(&self, kkt: &[T]) -> f64 {
         let nz: Vec<f64> = self
+            .structure
             .k_diagonal
             .iter()
             .map(|&p| kkt[p].real_part().abs())
@@ -309,11 +398,10 @@ impl<T: Scalar> InertiaCounter<T> {
             self.load(kkt);
         }
         // the shifted Hessian's diagonal, and the penalty scaled to it
-        self.values.copy_from_slice(&self.base);
+        let shifted = |base: &[T], i: usize, s: usize| base[s] - T::from_real(sigma * metric[i]);
         let (mut diag, mut count) = (0.0, 0);
-        for (i, &s) in self.primal_diagonal.iter().enumerate() {
-            self.values[s] -= T::from_real(sigma * metric[i]);
-            let v = self.values[s].real_part().abs();
+        for (i, &s) in self.structure.primal_diagonal.iter().enumerate() {
+            let v = shifted(&self.base, i, s).real_part().abs();
             if v > 0.0 {
                 diag += v;
                 count += 1;
@@ -321,18 +409,24 @@ impl<T: Scalar> InertiaCounter<T> {
         }
         let rho = if count > 0 { diag / count as f64 } else { 1.0 };
         self.rho = rho;
-        for (v, &g) in self.values.iter_mut().zip(&self.gram) {
-            *v += T::from_real(rho) * g;
+        // K_ρδ − σM in one pass over the stored entries, then its diagonal
+        let r = T::from_real(rho);
+        for ((v, &b), &g) in self.values.iter_mut().zip(&self.base).zip(&self.gram) {
+            *v = b + r * g;
         }
-        for (i, &s) in self.dual_diagonal.iter().enumerate() {
+        for (i, &s) in self.structure.primal_diagonal.iter().enumerate() {
+            self.values[s] = shifted(&self.base, i, s) + r * self.gram[s];
+        }
+        for (i, &s) in self.structure.dual_diagonal.iter().enumerate() {
             self.values[s] = T::from_real(-self.delta(i));
         }
-        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
-        self.symbolic
+        let a = SparseColMatRef::new(self.structure.pattern.as_ref(), &self.values);
+        self.structure
+            .symbolic
             .factorize_numeric_ldlt(
                 &mut self.l_values,
                 a,
-                Side::Lower,
+                Side::Upper,
                 LdltRegularization::default(),
                 Par::Seq,
                 MemStack::new(&mut self.buffer),
@@ -354,7 +448,14 @@ impl<T: Scalar> InertiaCounter<T> {
             }
             Ok(())
         };
-        match self.symbolic.raw() {
+        match self.structure.symbolic.raw() {
+            // simplicial, as `KktStructure::new` asks: `D` is stored on the diagonal of the
+            // unit lower factor, first in each column
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                for &start in &s.col_ptr()[..s.ncols()] {
+                    count(self.l_values[start].real_part())?;
+                }
+            }
             SymbolicCholeskyRaw::Supernodal(sn) => {
                 let l = SupernodalLdltRef::new(sn, &self.l_values);
                 for s in 0..sn.n_supernodes() {
@@ -364,20 +465,13 @@ impl<T: Scalar> InertiaCounter<T> {
                     }
                 }
             }
-            // faer keeps very small matrices simplicial whatever is asked: there `D` is
-            // stored on the diagonal of the unit lower factor, first in each column
-            SymbolicCholeskyRaw::Simplicial(s) => {
-                for &start in &s.col_ptr()[..s.ncols()] {
-                    count(self.l_values[start].real_part())?;
-                }
-            }
         }
         Ok(inertia)
     }
 
     /// The regularisation `δ c_i` of constraint row `i` at the last penalty `ρ`.
     fn delta(&self, i: usize) -> f64 {
-        REGULARISATION * self.row_scale[i] / self.rho
+        REGULARISATION * self.structure.row_scale[i] / self.rho
     }
 
     /// Scatters the KKT values `kkt` into `self.base` and their `JᴴC⁻¹J` into `self.gram`
@@ -387,11 +481,14 @@ impl<T: Scalar> InertiaCounter<T> {
         let zero = T::from_real(0.0);
         self.base.iter_mut().for_each(|v| *v = zero);
         self.gram.iter_mut().for_each(|v| *v = zero);
-        for (p, &s) in self.k_slots.iter().enumerate() {
-            self.base[s] += kkt[p];
+        for (p, &s) in self.structure.k_slots.iter().enumerate() {
+            if s != usize::MAX {
+                self.base[s] += kkt[p];
+            }
         }
-        for &(a, b, s, i) in &self.jtj {
-            self.gram[s] += kkt[a].conjugate() * kkt[b] * T::from_real(1.0 / self.row_scale[i]);
+        for &(a, b, s, i) in &self.structure.jtj {
+            self.gram[s] +=
+                kkt[a].conjugate() * kkt[b] * T::from_real(1.0 / self.structure.row_scale[i]);
         }
         self.loaded.clear();
         self.loaded.extend_from_slice(kkt);
@@ -399,7 +496,7 @@ impl<T: Scalar> InertiaCounter<T> {
 
     /// Negative directions of the constrained Hessian: negative pivots less constraints.
     pub fn unstable_directions(&self, inertia: Inertia) -> isize {
-        inertia.negative as isize - self.constraints as isize
+        inertia.negative as isize - self.structure.constraints as isize
     }
 }
 
@@ -417,10 +514,17 @@ impl InertiaCounter<f64> {
         for _ in 0..refinements {
             // r = b − K_ρ0 z, K_ρ0 = stored values with the dual diagonal −δ removed
             r.copy_from_slice(&self.rhs);
-            let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
-            for j in 0..n {
-                for p in cp[j]..cp[j + 1] {
-                    r[ri[p]] -= self.values[p] * z[j];
+            let s = &self.structure;
+            let (cp, ri) = (s.pattern.col_ptr(), s.pattern.row_idx());
+            for col in 0..n {
+                let j = s.perm[col];
+                for p in cp[col]..cp[col + 1] {
+                    // the stored upper triangle and its mirror image
+                    let (i, v) = (s.perm[ri[p]], self.values[p]);
+                    r[i] -= v * z[j];
+                    if i != j {
+                        r[j] -= v * z[i];
+                    }
                 }
             }
             for i in n_primal..n {
@@ -443,14 +547,23 @@ impl InertiaCounter<f64> {
         self.refinement = r;
     }
 
+    /// Solves with the last factorisation in place, through the stored ordering.
     fn ldlt_solve(&mut self, x: &mut [f64]) {
         let n = x.len();
-        LdltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+        let perm = &self.structure.perm;
+        let y = &mut self.permuted;
+        for (yi, &from) in y.iter_mut().zip(perm) {
+            *yi = x[from];
+        }
+        LdltRef::new(&self.structure.symbolic, &self.l_values).solve_in_place_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(x, n, 1),
+            MatMut::from_column_major_slice_mut(y, n, 1),
             Par::Seq,
             MemStack::new(&mut self.buffer),
         );
+        for (&yi, &to) in y.iter().zip(perm) {
+            x[to] = yi;
+        }
     }
 
     /// Lowest eigenvalue of the constrained pencil `(H, M)` (`M = diag(metric)` on the
@@ -522,6 +635,7 @@ impl InertiaCounter<f64> {
             }
             // an eigenvalue below `hi` that the iteration has not reached: bisect the
             // bracket by counts to a shift below the spectrum that is closer to it
+            let mut factorised_at_lo = false;
             loop {
                 let mid = 0.5 * (lo + hi);
                 if hi - lo <= 1e-12 * hi.abs().max(1e-12) {
@@ -529,11 +643,14 @@ impl InertiaCounter<f64> {
                 }
                 if self.count(kkt, mid, metric)? == 0 {
                     lo = mid;
+                    factorised_at_lo = true;
                     break;
                 }
                 hi = mid;
             }
-            self.inertia(kkt, lo, metric).ok()?;
+            if !factorised_at_lo {
+                self.inertia(kkt, lo, metric).ok()?;
+            }
             self.perturb_iterate(metric);
             mu = self.inverse_iteration(kkt, metric, ROUGH)?.min(mu);
         }
@@ -541,27 +658,21 @@ impl InertiaCounter<f64> {
         Some(mu)
     }
 
+    /// A rough upper estimate of the lowest eigenvalue without a search: a few inverse
+    /// iterations from a shift below the spectrum (0 when nothing is below it). It tells
+    /// which of several matrices is likely to hold the lowest eigenvalue; the iterate is
+    /// kept as the warm start of the search that follows.
+    pub fn rough_lowest(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
+        self.shift_below_spectrum(kkt, metric)?;
+        self.inverse_iteration(kkt, metric, ROUGH)
+    }
+
     /// A shift just below the lowest eigenvalue that the last ones extrapolate to
     /// (quadratically from three), by twice the extrapolation's error estimate (the third
     /// difference of the last four, or the difference of the quadratic and the linear
     /// extrapolation) and `CERTIFIED / 4` of the eigenvalue; `None` before two are known.
     fn predicted_shift(&self) -> Option<f64> {
-        let h = &self.lowest_history;
-        let (predicted, error) = match h.len() {
-            0 | 1 => return None,
-            2 => (2.0 * h[1] - h[0], (h[1] - h[0]).abs()),
-            k => {
-                let [a, b, c] = [h[k - 3], h[k - 2], h[k - 1]];
-                let quadratic = 3.0 * c - 3.0 * b + a;
-                let error = if k >= 4 {
-                    (c - 3.0 * b + 3.0 * a - h[k - 4]).abs()
-                } else {
-                    (quadratic - (2.0 * c - b)).abs()
-                };
-                (quadratic, error)
-            }
-        };
-        let margin = 2.0 * error + 0.25 * CERTIFIED * predicted.abs().max(1e-12);
+        let (predicted, margin) = extrapolate(&self.lowest_history)?;
         Some(predicted - margin)
     }
 
@@ -635,6 +746,34 @@ impl InertiaCounter<f64> {
         nearest
     }
 
+    /// The eigenvalue nearest zero among the modes orthogonal (in the metric) to `first`,
+    /// with its mode: the second mode of a double critical point (two eigenvalues crossing
+    /// zero together, as a symmetric assembly's sway does on the full model).
+    pub fn nearest_zero_orthogonal_to(
+        &mut self,
+        kkt: &[f64],
+        metric: &[f64],
+        first: &[f64],
+    ) -> Option<(f64, Vec<f64>)> {
+        let n_primal = self.iterate.len();
+        let first = first.get(..n_primal)?;
+        let norm = (0..n_primal)
+            .map(|i| metric[i] * first[i] * first[i])
+            .sum::<f64>()
+            .sqrt();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return None;
+        }
+        self.inertia(kkt, 0.0, metric).ok()?;
+        self.deflation = first.iter().map(|v| v / norm).collect();
+        // from the cold start: the warm starts are the first mode's
+        let warm = std::mem::take(&mut self.last_mode);
+        let nearest = self.inverse_iteration(kkt, metric, NEAREST_ZERO);
+        let mode = std::mem::replace(&mut self.last_mode, warm);
+        self.deflation.clear();
+        nearest.map(|mu| (mu, mode))
+    }
+
     /// Inverse iteration with the last factorisation (of `K − σM`): converges to the
     /// eigenvalue nearest `σ`; returns its Rayleigh quotient with the unshifted Hessian.
     fn inverse_iteration(
@@ -662,6 +801,15 @@ impl InertiaCounter<f64> {
                 self.rhs[i] = metric[i] * u[i];
             }
             self.solve_refined(n_primal, accuracy.refinements);
+            if !self.deflation.is_empty() {
+                let f = &self.deflation;
+                let c: f64 = (0..n_primal)
+                    .map(|i| metric[i] * self.solution[i] * f[i])
+                    .sum();
+                for i in 0..n_primal {
+                    self.solution[i] -= c * f[i];
+                }
+            }
             let v = &self.solution;
             let norm = (0..n_primal)
                 .map(|i| metric[i] * v[i] * v[i])
@@ -685,7 +833,7 @@ impl InertiaCounter<f64> {
             // point 1.6e-6 apart on the pair and on the full model (with it: 1e-11)
             hv.iter_mut().for_each(|h| *h = 0.0);
             let mut lagrange = 0.0;
-            for (p, &(row, col)) in self.k_entry.iter().enumerate() {
+            for (p, &(row, col)) in self.structure.k_entry.iter().enumerate() {
                 if col < n_primal {
                     if row < n_primal {
                         hv[row] += kkt[p] * u[col];
@@ -713,6 +861,30 @@ impl InertiaCounter<f64> {
     }
 }
 
+/// The next lowest eigenvalue that the last ones `h` (oldest first) extrapolate to
+/// (quadratically from three), and a margin for it: twice the extrapolation's error
+/// estimate (the third difference of the last four, or the difference of the quadratic and
+/// the linear extrapolation) and `CERTIFIED / 4` of the eigenvalue; `None` before two are
+/// known.
+fn extrapolate(h: &[f64]) -> Option<(f64, f64)> {
+    let (predicted, error) = match h.len() {
+        0 | 1 => return None,
+        2 => (2.0 * h[1] - h[0], (h[1] - h[0]).abs()),
+        k => {
+            let [a, b, c] = [h[k - 3], h[k - 2], h[k - 1]];
+            let quadratic = 3.0 * c - 3.0 * b + a;
+            let error = if k >= 4 {
+                (c - 3.0 * b + 3.0 * a - h[k - 4]).abs()
+            } else {
+                (quadratic - (2.0 * c - b)).abs()
+            };
+            (quadratic, error)
+        }
+    };
+    let margin = 2.0 * error + 0.25 * CERTIFIED * predicted.abs().max(1e-12);
+    (predicted.is_finite() && margin.is_finite()).then_some((predicted, margin))
+}
+
 /// The start vector of inverse iteration without a warm start: the metric, varied so as
 /// not to be orthogonal to a symmetric mode.
 fn cold_start(metric: &[f64]) -> Vec<f64> {
@@ -729,6 +901,20 @@ pub struct WarmStart {
     mode: Vec<f64>,
     lowest: Vec<f64>,
     nearest_zero: Vec<f64>,
+}
+
+impl WarmStart {
+    /// Whether a lowest eigenvalue has been found with it before.
+    pub fn has_history(&self) -> bool {
+        !self.lowest.is_empty()
+    }
+
+    /// An upper estimate of the next lowest eigenvalue: the extrapolation of the last
+    /// ones plus its margin; `None` before two are known.
+    pub fn upper_estimate(&self) -> Option<f64> {
+        let (predicted, margin) = extrapolate(&self.lowest)?;
+        Some(predicted + margin)
+    }
 }
 
 /// How far inverse iteration goes: the relative change of the Rayleigh quotient at which
@@ -782,6 +968,9 @@ const NEAREST_ZERO: Accuracy = Accuracy {
 /// use) and the metric of its eigenproblem, with the count's rounding band.
 pub struct KktStability<T: Scalar = f64> {
     counter: Option<Box<InertiaCounter<T>>>,
+    /// The pattern's structure, built on first use by this stability or by any that
+    /// shares it ([`KktStability::sharing`]).
+    structure: Arc<OnceLock<Result<Arc<KktStructure>, InertiaError>>>,
     /// Diagonal metric `M` of the eigenproblem over the primal unknowns.
     metric: Vec<f64>,
     /// Mean of the metric's non-zero weights.
@@ -810,10 +999,25 @@ impl<T: Scalar> KktStability<T> {
             metric.iter().sum::<f64>() / metric.iter().filter(|&&m| m > 0.0).count().max(1) as f64;
         KktStability {
             counter: None,
+            structure: Arc::default(),
             metric,
             mean_metric,
             length,
             copies: copies.max(1),
+        }
+    }
+
+    /// The stability of other matrices of the same pattern, metric and copies (of real or
+    /// complex entries), sharing this one's structure: the pattern's symbolic analysis is
+    /// done once for all of them.
+    pub fn sharing<U: Scalar>(&self) -> KktStability<U> {
+        KktStability {
+            counter: None,
+            structure: Arc::clone(&self.structure),
+            metric: self.metric.clone(),
+            mean_metric: self.mean_metric,
+            length: self.length,
+            copies: self.copies,
         }
     }
 
@@ -903,11 +1107,11 @@ impl<T: Scalar> KktStability<T> {
         pattern: &SymbolicSparseColMat<usize>,
     ) -> Result<(&mut InertiaCounter<T>, &[f64]), InertiaError> {
         if self.counter.is_none() {
-            self.counter = Some(Box::new(InertiaCounter::new(
-                pattern,
-                &self.metric,
-                self.length,
-            )?));
+            let structure = self
+                .structure
+                .get_or_init(|| KktStructure::new(pattern, &self.metric, self.length).map(Arc::new))
+                .clone()?;
+            self.counter = Some(Box::new(InertiaCounter::with_structure(structure)?));
         }
         let counter = self.counter.as_mut().expect("built above");
         Ok((counter, &self.metric))
@@ -942,6 +1146,29 @@ impl KktStability<f64> {
     ) -> Option<f64> {
         let (counter, metric) = self.counter_and_metric(pattern).ok()?;
         counter.lowest_eigenvalue(kkt, metric)
+    }
+
+    /// A rough upper estimate of the lowest eigenvalue (see
+    /// [`InertiaCounter::rough_lowest`]).
+    pub fn rough_lowest(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+    ) -> Option<f64> {
+        let (counter, metric) = self.counter_and_metric(pattern).ok()?;
+        counter.rough_lowest(kkt, metric)
+    }
+
+    /// The eigenvalue nearest zero orthogonal to `first` and its mode (see
+    /// [`InertiaCounter::nearest_zero_orthogonal_to`]).
+    pub fn nearest_zero_orthogonal_to(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+        first: &[f64],
+    ) -> Option<(f64, Vec<f64>)> {
+        let (counter, metric) = self.counter_and_metric(pattern).ok()?;
+        counter.nearest_zero_orthogonal_to(kkt, metric, first)
     }
 
     /// The eigenvalue of the constrained Hessian nearest zero.
