@@ -186,6 +186,16 @@ const TANGENT: [&[(usize, usize, f64)]; 3] = [
     &[(0, 0, -1.0), (1, 1, -1.0), (2, 2, 1.0), (3, 3, 1.0)],
 ];
 
+/// `M_j q` and `qᵀ M_j q` (see [`TANGENT`]).
+fn tangent_row(q: &[f64; 4], j: usize) -> ([f64; 4], f64) {
+    let mut mq = [0.0; 4];
+    for &(k, l, v) in TANGENT[j] {
+        mq[k] += v * q[l];
+    }
+    let qmq: f64 = (0..4).map(|k| q[k] * mq[k]).sum();
+    (mq, qmq)
+}
+
 /// Unit tangent `d3` of the normalised rotation of `q` with its gradient
 /// `[j][k] = ∂d3_j/∂q_k` (as [`tangent`], without the Hessians).
 pub fn tangent_gradient(q: &[f64; 4]) -> ([f64; 3], [[f64; 4]; 3]) {
@@ -193,11 +203,7 @@ pub fn tangent_gradient(q: &[f64; 4]) -> ([f64; 3], [[f64; 4]; 3]) {
     let mut t = [0.0; 3];
     let mut g = [[0.0; 4]; 3];
     for j in 0..3 {
-        let mut mq = [0.0; 4];
-        for &(k, l, v) in TANGENT[j] {
-            mq[k] += v * q[l];
-        }
-        let qmq: f64 = (0..4).map(|k| q[k] * mq[k]).sum();
+        let (mq, qmq) = tangent_row(q, j);
         t[j] = qmq / d;
         for k in 0..4 {
             g[j][k] = 2.0 * mq[k] / d - 2.0 * qmq * q[k] / (d * d);
@@ -211,19 +217,10 @@ pub fn tangent_gradient(q: &[f64; 4]) -> ([f64; 3], [[f64; 4]; 3]) {
 #[allow(clippy::type_complexity)]
 pub fn tangent(q: &[f64; 4]) -> ([f64; 3], [[f64; 4]; 3], [[[f64; 4]; 4]; 3]) {
     let d: f64 = q.iter().map(|x| x * x).sum();
-    let mut t = [0.0; 3];
-    let mut g = [[0.0; 4]; 3];
+    let (t, g) = tangent_gradient(q);
     let mut h = [[[0.0; 4]; 4]; 3];
     for j in 0..3 {
-        let mut mq = [0.0; 4];
-        for &(k, l, v) in TANGENT[j] {
-            mq[k] += v * q[l];
-        }
-        let qmq: f64 = (0..4).map(|k| q[k] * mq[k]).sum();
-        t[j] = qmq / d;
-        for k in 0..4 {
-            g[j][k] = 2.0 * mq[k] / d - 2.0 * qmq * q[k] / (d * d);
-        }
+        let (mq, qmq) = tangent_row(q, j);
         for &(k, l, v) in TANGENT[j] {
             h[j][k][l] += 2.0 * v / d;
         }
@@ -341,30 +338,36 @@ pub fn element_terms(
     for (gp, reference) in rule.iter().zip(reference) {
         let jw = gp.weight * h;
         let (qg, pg, b) = at_point(order, gp, h, q);
-        if !hessian {
-            let (w, gw) = strain_energy_gradient(&qg, &pg, stiffness, elasticity, reference);
-            let (t, gt) = tangent_gradient(&qg);
-            out.energy += jw * w;
-            for j in 0..3 {
-                out.chord[j] += jw * t[j];
-            }
-            for a in 0..nn {
-                for k in 0..4 {
-                    let ia = 4 * a + k;
-                    out.energy_gradient[ia] += jw * (gp.n[a] * gw[k] + b[a] * gw[4 + k]);
-                    for j in 0..3 {
-                        out.chord_gradient[j][ia] += jw * gp.n[a] * gt[j][k];
-                    }
-                }
-            }
-            continue;
-        }
-        let (w, gw, hw) = strain_energy_density(&qg, &pg, stiffness, elasticity, reference);
-        let (t, gt, ht) = tangent(&qg);
+        let (w, gw, hw) = if hessian {
+            let (w, g, hw) = strain_energy_density(&qg, &pg, stiffness, elasticity, reference);
+            (w, g, Some(hw))
+        } else {
+            let (w, g) = strain_energy_gradient(&qg, &pg, stiffness, elasticity, reference);
+            (w, g, None)
+        };
+        let (t, gt, ht) = if hessian {
+            let (t, g, ht) = tangent(&qg);
+            (t, g, Some(ht))
+        } else {
+            let (t, g) = tangent_gradient(&qg);
+            (t, g, None)
+        };
         out.energy += jw * w;
         for j in 0..3 {
             out.chord[j] += jw * t[j];
         }
+        for a in 0..nn {
+            for k in 0..4 {
+                let ia = 4 * a + k;
+                out.energy_gradient[ia] += jw * (gp.n[a] * gw[k] + b[a] * gw[4 + k]);
+                for j in 0..3 {
+                    out.chord_gradient[j][ia] += jw * gp.n[a] * gt[j][k];
+                }
+            }
+        }
+        let (Some(hw), Some(ht)) = (hw, ht) else {
+            continue;
+        };
         // λ·(−∂²chord) Hessian at the point, in q only
         let mut hl = [[0.0; 4]; 4];
         for k in 0..4 {
@@ -375,10 +378,6 @@ pub fn element_terms(
         for a in 0..nn {
             for k in 0..4 {
                 let ia = 4 * a + k;
-                out.energy_gradient[ia] += jw * (gp.n[a] * gw[k] + b[a] * gw[4 + k]);
-                for j in 0..3 {
-                    out.chord_gradient[j][ia] += jw * gp.n[a] * gt[j][k];
-                }
                 for c in 0..nn {
                     for l in 0..4 {
                         let ic = 4 * c + l;
