@@ -107,9 +107,11 @@ pub struct KktStructure {
     k_slots: Vec<usize>,
     /// For each stored entry of `K`, its (row, column).
     k_entry: Vec<(usize, usize)>,
-    /// Products `(k value a, k value b, slot, constraint)` making `JᴴC⁻¹J`:
-    /// `conj(a) b / c` into `slot`.
-    jtj: Vec<(usize, usize, usize, usize)>,
+    /// Products `(k value a, k value b, slot)` making `JᴴC⁻¹J`: `conj(a) b / c_i` into
+    /// `slot`, those of constraint row `i` at `jtj[jtj_rows[i]..jtj_rows[i + 1]]` (indices
+    /// as `u32`: the loop that forms them is bound by memory traffic).
+    jtj: Vec<(u32, u32, u32)>,
+    jtj_rows: Vec<usize>,
     /// The regularisation's `C`: `c_i = ℓ²` for a constraint row `i` on positions, 1 for
     /// one on rotations only.
     row_scale: Vec<f64>,
@@ -284,15 +286,19 @@ impl KktStructure {
                 k_entry.push((ri[p], col));
             }
         }
+        let index = |i: usize| u32::try_from(i).map_err(|_| InertiaError::OutOfMemory);
         let mut jtj = Vec::new();
-        for (i, r) in rows.iter().enumerate() {
+        let mut jtj_rows = Vec::with_capacity(rows.len() + 1);
+        jtj_rows.push(0);
+        for r in &rows {
             for &(ca, pa) in r {
                 for &(cb, pb) in r {
                     if let Some(s) = upper_slot(ca, cb) {
-                        jtj.push((pa, pb, s, i));
+                        jtj.push((index(pa)?, index(pb)?, index(s)?));
                     }
                 }
             }
+            jtj_rows.push(jtj.len());
         }
         let row_scale = rows
             .iter()
@@ -323,6 +329,7 @@ impl KktStructure {
             k_slots,
             k_entry,
             jtj,
+            jtj_rows,
             row_scale,
             dual_diagonal,
             primal_diagonal,
@@ -493,9 +500,12 @@ impl<T: Scalar> InertiaCounter<T> {
                 self.base[s] += kkt[p];
             }
         }
-        for &(a, b, s, i) in &self.structure.jtj {
-            self.gram[s] +=
-                kkt[a].conjugate() * kkt[b] * T::from_real(1.0 / self.structure.row_scale[i]);
+        let st = &*self.structure;
+        for (i, range) in st.jtj_rows.windows(2).enumerate() {
+            let w = T::from_real(1.0 / st.row_scale[i]);
+            for &(a, b, s) in &st.jtj[range[0]..range[1]] {
+                self.gram[s as usize] += kkt[a as usize].conjugate() * kkt[b as usize] * w;
+            }
         }
         self.loaded.clear();
         self.loaded.extend_from_slice(kkt);
