@@ -13,9 +13,10 @@ use crate::discretisation::system::System;
 use crate::model::loading::{Control, TipLoad};
 use crate::results::Stability;
 use crate::solver::problem::Problem;
-use crate::solver::stability::{InertiaError, KktStability, WarmStart};
+use crate::solver::stability::{InertiaError, KktStability, KktStructure, WarmStart};
 use faer::c64;
 use faer::sparse::SymbolicSparseColMat;
+use std::sync::Arc;
 
 /// A discrete model under boundary conditions and a control of its tips.
 pub struct RodProblem {
@@ -685,6 +686,16 @@ impl Problem for RodProblem {
 
     fn eigenvalue_scale(&self) -> f64 {
         self.model.stiffness.b1 / self.model.length().powi(2)
+    }
+
+    /// The structure of the stability's real blocks: the pair's (or the full model's)
+    /// own pattern, metric and length.
+    fn kkt_structure(&self) -> Option<Arc<KktStructure>> {
+        let stability = match &self.judge {
+            Judge::Own { stability, .. } => stability,
+            Judge::Blocks(b) => &b.workers[0].real,
+        };
+        stability.structure_for(self.system.pattern()).ok()
     }
 
     fn residual_weights(&self, weights: &mut [f64]) {

@@ -111,6 +111,10 @@ impl<P: Problem> Continuation<P> {
         let saved = self.state.clone();
         let np = self.problem.primal_unknowns();
         let segment = Segment::new(x0, l0, &saved.x, saved.lambda, np, arclength);
+        // exact (LU) solves: the regularised LDLᵀ's refinement converges slowly near the
+        // singular Jacobian, and the state it leaves breaks the symmetry of a bifurcation
+        // by more than the mode's test of the load's work on it can tell from a fold
+        self.newton.set_exact(true);
         // near the critical point the Jacobian is nearly singular: linear solves there have
         // relative residuals up to cond·ε, so the probes accept them (Newton's own residual
         // test still decides convergence)
@@ -160,6 +164,7 @@ impl<P: Problem> Continuation<P> {
         self.state.tangent = None;
         self.problem.restore(&self.state.x, self.state.lambda);
         self.newton.discard_factorisation();
+        self.newton.set_exact(false);
     }
 
     /// Bisection of the segment on the unstable count: the fraction below the change (with

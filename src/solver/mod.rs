@@ -6,6 +6,7 @@
 pub mod continuation;
 pub mod critical;
 pub mod interrupt;
+pub mod ldl;
 pub mod linear;
 pub mod newton;
 pub mod path_state;

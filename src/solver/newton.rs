@@ -4,6 +4,7 @@
 use super::interrupt::{Interrupt, Interruption};
 use super::linear::{relative_residual, LinearError, SparseLu};
 use super::problem::Problem;
+use super::stability::InertiaCounter;
 use faer::sparse::SparseColMatRef;
 
 /// Newton settings.
@@ -132,13 +133,41 @@ pub struct Newton {
     load_solution_valid: bool,
     load_derivative_valid: bool,
     lu: SparseLu,
+    /// The regularised symmetric `LDLᵀ` of a problem whose Jacobian is a KKT matrix (see
+    /// [`Problem::kkt_form`]), tried before LU at every factorisation.
+    kkt: Option<Box<InertiaCounter>>,
+    /// Which factorisation holds the current Jacobian.
+    active: Factor,
+    /// Whether a factorisation by LU has succeeded: the first is by LU, which finds a
+    /// singular system (redundant constraints, a free rigid motion) that the regularised
+    /// `LDLᵀ` would solve as if it were regular.
+    lu_passed: bool,
+    /// Every factorisation by LU (see [`Newton::set_exact`]).
+    exact: bool,
+    /// Numeric factorisations done (of either kind).
+    factorisations: usize,
     /// A factorisation is held (of the Jacobian at some recent iterate) and may be reused.
     fresh: bool,
 }
 
+/// The factorisation that holds the current Jacobian.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Factor {
+    Lu,
+    Kkt,
+}
+
+/// Corrections of a regularised `LDLᵀ` solve against the unregularised matrix: the
+/// regularisation at `1e-8` of the Hessian's scale leaves an error of that order, one
+/// correction its square, far below what Newton's iterations need (each solve is checked).
+const KKT_REFINEMENTS: usize = 1;
+
 impl Newton {
     pub fn new<P: Problem>(problem: &P) -> Newton {
         let n = problem.unknowns();
+        let kkt = problem
+            .kkt_structure()
+            .and_then(|s| InertiaCounter::with_structure(s).ok().map(Box::new));
         Newton {
             residual: vec![0.0; n],
             weights: vec![1.0; n],
@@ -151,18 +180,23 @@ impl Newton {
             load_solution_valid: false,
             load_derivative_valid: false,
             lu: SparseLu::default(),
+            kkt,
+            active: Factor::Lu,
+            lu_passed: false,
+            exact: false,
+            factorisations: 0,
             fresh: false,
         }
     }
 
     /// Numeric factorisations done by this solver.
     pub fn factorisations(&self) -> usize {
-        self.lu.factorisations
+        self.factorisations
     }
 
     /// Counts `earlier` factorisations as this solver's own (a solver that replaces one).
     pub fn carry_count(&mut self, earlier: usize) {
-        self.lu.factorisations = earlier;
+        self.factorisations = earlier;
     }
 
     /// The factorisation held is not to be reused (the next solve starts elsewhere).
@@ -184,10 +218,52 @@ impl Newton {
         problem.jacobian(x, lambda, &mut self.residual, &mut self.values);
         self.fresh = false;
         self.load_solution_valid = false;
-        let matrix = SparseColMatRef::new(problem.pattern().as_ref(), &self.values);
-        self.lu.factorize(matrix)?;
+        self.factorisations += 1;
+        let symmetric = self.lu_passed
+            && !self.exact
+            && self
+                .kkt
+                .as_mut()
+                .is_some_and(|k| k.factorize_kkt(&self.values).is_ok());
+        if symmetric {
+            self.active = Factor::Kkt;
+        } else {
+            self.factorize_lu(problem)?;
+        }
         self.fresh = true;
         Ok(())
+    }
+
+    /// LU of the Jacobian values held.
+    fn factorize_lu<P: Problem>(&mut self, problem: &P) -> Result<(), LinearError> {
+        let matrix = SparseColMatRef::new(problem.pattern().as_ref(), &self.values);
+        self.lu.factorize(matrix)?;
+        self.active = Factor::Lu;
+        Ok(())
+    }
+
+    /// Whether every factorisation is to be by LU (exact solves: the location of critical
+    /// points) or the regularised `LDLᵀ` may be tried first.
+    pub fn set_exact(&mut self, exact: bool) {
+        self.exact = exact;
+    }
+
+    /// Whether the solve by LU that a problem starts with passed its check.
+    fn note_lu_check(&mut self, passed: bool) {
+        if self.active == Factor::Lu && passed {
+            self.lu_passed = true;
+        }
+    }
+
+    /// `out = K⁻¹ rhs` with the current factorisation, unchecked.
+    fn solve_unchecked(&mut self, rhs: &[f64], out: &mut [f64]) {
+        match (self.active, self.kkt.as_mut()) {
+            (Factor::Kkt, Some(kkt)) => kkt.solve_kkt(rhs, out, KKT_REFINEMENTS),
+            _ => {
+                out.copy_from_slice(rhs);
+                self.lu.solve(out);
+            }
+        }
     }
 
     /// Solves `K out = rhs` with the current factorisation and checks the solve against
@@ -199,12 +275,23 @@ impl Newton {
         out: &mut [f64],
         threshold: f64,
     ) -> Result<(), LinearError> {
-        out.copy_from_slice(rhs);
-        self.lu.solve(out);
+        self.solve_unchecked(rhs, out);
         let mut check = std::mem::take(&mut self.check);
-        let rel = relative_residual(self.matrix(problem), out, rhs, &mut check);
+        let mut rel = relative_residual(self.matrix(problem), out, rhs, &mut check);
+        let failed = |rel: f64| rel.is_nan() || rel > threshold;
+        if failed(rel) && self.active == Factor::Kkt {
+            // the regularised LDLᵀ lost accuracy (pivots near zero): LU of the same matrix
+            self.factorisations += 1;
+            if let Err(e) = self.factorize_lu(problem) {
+                self.check = check;
+                return Err(e);
+            }
+            self.solve_unchecked(rhs, out);
+            rel = relative_residual(self.matrix(problem), out, rhs, &mut check);
+        }
         self.check = check;
-        if rel.is_nan() || rel > threshold {
+        self.note_lu_check(!failed(rel));
+        if failed(rel) {
             return Err(LinearError::Singular {
                 relative_residual: rel,
             });
@@ -239,7 +326,14 @@ impl Newton {
     ) -> Option<Vec<f64>> {
         let np = problem.primal_unknowns();
         let n = problem.unknowns();
-        self.factorize_at(problem, x, lambda).ok()?;
+        // by LU: the regularised LDLᵀ's refinement against a singular matrix does not
+        // converge to the null vector
+        problem.jacobian(x, lambda, &mut self.residual, &mut self.values);
+        self.fresh = false;
+        self.load_solution_valid = false;
+        self.factorisations += 1;
+        self.factorize_lu(problem).ok()?;
+        self.fresh = true;
         let mut v: Vec<f64> = (0..n)
             .map(|i| {
                 if i < np {
@@ -249,8 +343,10 @@ impl Newton {
                 }
             })
             .collect();
+        let mut w = vec![0.0; n];
         for _ in 0..30 {
-            self.lu.solve(&mut v);
+            self.solve_unchecked(&v, &mut w);
+            std::mem::swap(&mut v, &mut w);
             let norm = (0..np).map(|i| v[i] * v[i]).sum::<f64>().sqrt();
             if !(norm > 0.0 && norm.is_finite()) {
                 return None;

@@ -5,9 +5,10 @@
 //! The rod assemblies implement it ([`crate::simulation`]), and so do the canonical problems
 //! the engine is tested on by itself (a fold, a pitchfork, the Bratu problem: `tests/`).
 
-use super::stability::InertiaError;
+use super::stability::{InertiaError, KktStructure};
 use crate::results::Stability;
 use faer::sparse::SymbolicSparseColMat;
+use std::sync::Arc;
 
 /// A system `R(x, λ) = 0` that a continuation follows in `λ`.
 ///
@@ -43,6 +44,15 @@ pub trait Problem {
     /// problem is written in: 1 by default (a problem already dimensionless).
     fn residual_weights(&self, weights: &mut [f64]) {
         weights.fill(1.0);
+    }
+
+    /// For a Jacobian that is a KKT matrix (its first [`Problem::primal_unknowns`] rows
+    /// primal, the others constraint rows with a zero diagonal block), the structure of
+    /// its regularised form (see [`KktStructure::new`]), shared with the problem's own
+    /// stability: Newton's method then factorises it by a regularised symmetric `LDLᵀ`,
+    /// and by sparse LU where that fails or for `None` (the default).
+    fn kkt_structure(&self) -> Option<Arc<KktStructure>> {
+        None
     }
 
     /// `∂R/∂λ` at `(x, λ)` into `out`.

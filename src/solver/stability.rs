@@ -30,49 +30,11 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{c64, Conj, MatMut, Par, Side};
+use faer::{Conj, MatMut, Par, Side};
+
+use super::ldl::RowReach;
+pub use super::ldl::Scalar;
 use std::sync::{Arc, OnceLock};
-
-/// The entries of the matrices whose inertia is counted: real (symmetric) or complex
-/// (Hermitian, the Bloch blocks of wavenumbers `0 < p < m/2`, factorised as `LDLᴴ`).
-pub trait Scalar:
-    faer::traits::ComplexField<Real = f64>
-    + Copy
-    + PartialEq
-    + std::ops::AddAssign
-    + std::ops::SubAssign
-    + std::ops::Add<Output = Self>
-    + std::ops::Sub<Output = Self>
-    + std::ops::Mul<Output = Self>
-{
-    fn from_real(x: f64) -> Self;
-    fn conjugate(self) -> Self;
-    fn real_part(self) -> f64;
-}
-
-impl Scalar for f64 {
-    fn from_real(x: f64) -> f64 {
-        x
-    }
-    fn conjugate(self) -> f64 {
-        self
-    }
-    fn real_part(self) -> f64 {
-        self
-    }
-}
-
-impl Scalar for c64 {
-    fn from_real(x: f64) -> c64 {
-        c64::new(x, 0.0)
-    }
-    fn conjugate(self) -> c64 {
-        self.conj()
-    }
-    fn real_part(self) -> f64 {
-        self.re
-    }
-}
 
 /// Counts of the signs of the pivots of `K_ρδ`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -102,6 +64,9 @@ pub struct KktStructure {
     /// The upper triangle of the permuted augmented pattern.
     pattern: SymbolicSparseColMat<usize>,
     symbolic: SymbolicCholesky<usize>,
+    /// The rows' reach of a simplicial factor, for the numeric factorisations (faer's
+    /// own for a supernodal one).
+    reach: Option<RowReach>,
     /// For each stored entry of `K`, its slot in the augmented pattern (`usize::MAX` for
     /// an entry of the lower triangle, which is not stored).
     k_slots: Vec<usize>,
@@ -133,6 +98,10 @@ pub struct InertiaCounter<T: Scalar = f64> {
     gram: Vec<T>,
     loaded: Vec<T>,
     l_values: Vec<T>,
+    /// Scratch of the simplicial factorisation: a dense column (kept zero) and the
+    /// inverted pivots.
+    work: Vec<T>,
+    inverse_pivot: Vec<f64>,
     /// Penalty of the last factorisation: the mean magnitude of the Hessian's diagonal.
     pub rho: f64,
     /// The last mode found by inverse iteration (primal unknowns), to start the next search
@@ -321,11 +290,16 @@ impl KktStructure {
             params,
         )
         .map_err(|_| InertiaError::OutOfMemory)?;
+        let reach = match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => RowReach::new(s.col_ptr(), s.row_idx()),
+            SymbolicCholeskyRaw::Supernodal(_) => None,
+        };
         Ok(KktStructure {
             constraints: n - n_primal,
             perm,
             pattern,
             symbolic,
+            reach,
             k_slots,
             k_entry,
             jtj,
@@ -377,6 +351,8 @@ impl<T: Scalar> InertiaCounter<T> {
             iterate: vec![0.0; n_primal],
             product: vec![0.0; n_primal],
             l_values: vec![T::from_real(0.0); symbolic.len_val()],
+            work: vec![T::from_real(0.0); n],
+            inverse_pivot: vec![0.0; n],
             structure,
             buffer,
         })
@@ -408,11 +384,21 @@ impl<T: Scalar> InertiaCounter<T> {
         sigma: f64,
         metric: &[f64],
     ) -> Result<Inertia, InertiaError> {
+        self.factorize_shifted(kkt, |i| sigma * metric[i])
+    }
+
+    /// Factorises `K_ρδ − S` with `S = diag(shift(i))` on the primal unknowns and returns
+    /// its inertia (see [`InertiaCounter::inertia`]).
+    fn factorize_shifted(
+        &mut self,
+        kkt: &[T],
+        shift: impl Fn(usize) -> f64,
+    ) -> Result<Inertia, InertiaError> {
         if self.loaded.as_slice() != kkt {
             self.load(kkt);
         }
         // the shifted Hessian's diagonal, and the penalty scaled to it
-        let shifted = |base: &[T], i: usize, s: usize| base[s] - T::from_real(sigma * metric[i]);
+        let shifted = |base: &[T], i: usize, s: usize| base[s] - T::from_real(shift(i));
         let (mut diag, mut count) = (0.0, 0);
         for (i, &s) in self.structure.primal_diagonal.iter().enumerate() {
             let v = shifted(&self.base, i, s).real_part().abs();
@@ -434,19 +420,32 @@ impl<T: Scalar> InertiaCounter<T> {
         for (i, &s) in self.structure.dual_diagonal.iter().enumerate() {
             self.values[s] = T::from_real(-self.delta(i));
         }
-        let a = SparseColMatRef::new(self.structure.pattern.as_ref(), &self.values);
-        self.structure
-            .symbolic
-            .factorize_numeric_ldlt(
-                &mut self.l_values,
-                a,
-                Side::Upper,
-                LdltRegularization::default(),
-                Par::Seq,
-                MemStack::new(&mut self.buffer),
-                Default::default(),
-            )
-            .map_err(|_| InertiaError::ZeroPivot)?;
+        let st = &*self.structure;
+        if let Some(reach) = &st.reach {
+            reach
+                .factorize(
+                    st.pattern.col_ptr(),
+                    st.pattern.row_idx(),
+                    &self.values,
+                    &mut self.l_values,
+                    &mut self.work,
+                    &mut self.inverse_pivot,
+                )
+                .map_err(|_| InertiaError::ZeroPivot)?;
+        } else {
+            let a = SparseColMatRef::new(st.pattern.as_ref(), &self.values);
+            st.symbolic
+                .factorize_numeric_ldlt(
+                    &mut self.l_values,
+                    a,
+                    Side::Upper,
+                    LdltRegularization::default(),
+                    Par::Seq,
+                    MemStack::new(&mut self.buffer),
+                    Default::default(),
+                )
+                .map_err(|_| InertiaError::ZeroPivot)?;
+        }
         let mut inertia = Inertia {
             positive: 0,
             negative: 0,
@@ -518,6 +517,30 @@ impl<T: Scalar> InertiaCounter<T> {
 }
 
 impl InertiaCounter<f64> {
+    /// Factorises the KKT matrix `kkt` itself (regularised, unshifted) for
+    /// [`InertiaCounter::solve_kkt`], and returns its inertia.
+    pub fn factorize_kkt(&mut self, kkt: &[f64]) -> Result<Inertia, InertiaError> {
+        self.factorize_shifted(kkt, |_| 0.0)
+    }
+
+    /// Solves `K z = b` for any `b` (constraint rows included) with the factorisation of
+    /// [`InertiaCounter::factorize_kkt`]: the constraint part `g` of `b` enters the primal
+    /// one as `ρ JᵀC⁻¹g`, so that the unregularised `K_ρ0` has the solution of `K`, and the
+    /// solve is refined against `K_ρ0` to rounding (at most `refinements` corrections).
+    pub fn solve_kkt(&mut self, b: &[f64], z: &mut [f64], refinements: usize) {
+        let s = &*self.structure;
+        let n_primal = s.primal_diagonal.len();
+        self.rhs.copy_from_slice(b);
+        for (p, &(row, col)) in s.k_entry.iter().enumerate() {
+            if row >= n_primal && col < n_primal {
+                let i = row - n_primal;
+                self.rhs[col] += self.rho * self.loaded[p] * b[row] / s.row_scale[i];
+            }
+        }
+        self.solve_refined(n_primal, refinements);
+        z.copy_from_slice(&self.solution);
+    }
+
     /// Solves `K(σ) z = b` with the last factorisation, for `b` in `self.rhs` whose
     /// constraint part is zero, into `self.solution`, refining up to `refinements` times
     /// (until the correction is at rounding) against the unregularised `K_ρ0(σ)` (which has
@@ -1123,15 +1146,22 @@ impl<T: Scalar> KktStability<T> {
     }
 
     /// The inertia counter (built on first use) and the metric, borrowed together.
+    /// The structure of matrices of `pattern` (built on first use).
+    pub fn structure_for(
+        &self,
+        pattern: &SymbolicSparseColMat<usize>,
+    ) -> Result<Arc<KktStructure>, InertiaError> {
+        self.structure
+            .get_or_init(|| KktStructure::new(pattern, &self.metric, self.length).map(Arc::new))
+            .clone()
+    }
+
     fn counter_and_metric(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
     ) -> Result<(&mut InertiaCounter<T>, &[f64]), InertiaError> {
         if self.counter.is_none() {
-            let structure = self
-                .structure
-                .get_or_init(|| KktStructure::new(pattern, &self.metric, self.length).map(Arc::new))
-                .clone()?;
+            let structure = self.structure_for(pattern)?;
             self.counter = Some(Box::new(InertiaCounter::with_structure(structure)?));
         }
         let counter = self.counter.as_mut().expect("built above");
