@@ -72,6 +72,10 @@ pub struct KktStructure {
     k_slots: Vec<usize>,
     /// For each stored entry of `K`, its (row, column).
     k_entry: Vec<(usize, usize)>,
+    /// The entries of `J` among them: (index into K's values, column, constraint row),
+    /// with the row's `1/c_i` (the constraint part of a right-hand side enters the primal
+    /// one through them).
+    j_entries: Vec<(u32, u32, u32, f64)>,
     /// Products `(k value a, k value b, slot)` making `JᴴC⁻¹J`: `conj(a) b / c_i` into
     /// `slot`, those of constraint row `i` at `jtj[jtj_rows[i]..jtj_rows[i + 1]]` (indices
     /// as `u32`: the loop that forms them is bound by memory traffic).
@@ -269,7 +273,7 @@ impl KktStructure {
             }
             jtj_rows.push(jtj.len());
         }
-        let row_scale = rows
+        let row_scale: Vec<f64> = rows
             .iter()
             .map(|r| {
                 if r.iter().any(|&(col, _)| metric[col] <= 0.0) {
@@ -279,6 +283,13 @@ impl KktStructure {
                 }
             })
             .collect();
+        let mut j_entries = Vec::new();
+        for (p, &(row, col)) in k_entry.iter().enumerate() {
+            if row >= n_primal && col < n_primal {
+                let i = row - n_primal;
+                j_entries.push((index(p)?, index(col)?, index(i)?, 1.0 / row_scale[i]));
+            }
+        }
         let diagonal = |i: usize| slot(&pattern, perm_inv[i], perm_inv[i]);
         let dual_diagonal = (n_primal..n).map(diagonal).collect();
         let primal_diagonal = (0..n_primal).map(diagonal).collect();
@@ -301,6 +312,7 @@ impl KktStructure {
             symbolic,
             reach,
             k_slots,
+            j_entries,
             k_entry,
             jtj,
             jtj_rows,
@@ -531,11 +543,9 @@ impl InertiaCounter<f64> {
         let s = &*self.structure;
         let n_primal = s.primal_diagonal.len();
         self.rhs.copy_from_slice(b);
-        for (p, &(row, col)) in s.k_entry.iter().enumerate() {
-            if row >= n_primal && col < n_primal {
-                let i = row - n_primal;
-                self.rhs[col] += self.rho * self.loaded[p] * b[row] / s.row_scale[i];
-            }
+        for &(p, col, i, w) in &s.j_entries {
+            let g = b[n_primal + i as usize];
+            self.rhs[col as usize] += self.rho * self.loaded[p as usize] * g * w;
         }
         self.solve_refined(n_primal, refinements);
         z.copy_from_slice(&self.solution);
