@@ -4,6 +4,7 @@
 use super::app::{fmt_step, App, Message, PrecisionView, ViewMode, CURSOR_STEPS};
 use super::keys::BINDINGS;
 use super::stability;
+use crate::case::Geometry;
 use crate::output::precision::{self, StudyReport};
 use crate::results::{LoadPoint, NodeState, RodShape, Snapshot};
 use crate::study::{Measure, Study, ORDERS};
@@ -270,6 +271,16 @@ pub fn fmt_short(v: f64, scale: f64) -> String {
     fmt_num(v)
 }
 
+/// A component of a load as [`fmt_num`], 0 when below `1e-9` of the load's largest
+/// component (the round-off of a zero lateral force of a symmetric state).
+fn fmt_load(v: f64, load: &[f64; 3]) -> String {
+    let big = load.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if v.abs() <= 1e-9 * big {
+        return "0".into();
+    }
+    fmt_num(v)
+}
+
 pub fn fmt_num(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return if v.is_finite() {
@@ -361,7 +372,11 @@ fn view_extent(app: &App, snapshot: &Snapshot, view: View) -> ([f64; 2], [f64; 2
         }
     }
     let pad = 0.04 * (x[1] - x[0]).max(y[1] - y[0]);
-    ([x[0] - pad, x[1] + pad], [y[0] - pad, y[1] + pad])
+    let snap = Snap::of(g);
+    (
+        [snap.value(x[0] - pad), snap.value(x[1] + pad)],
+        [snap.value(y[0] - pad), snap.value(y[1] + pad)],
+    )
 }
 
 fn placeholder(frame: &mut Frame, area: Rect, block: Block, app: &App) {
@@ -388,10 +403,16 @@ fn placeholder(frame: &mut Frame, area: Rect, block: Block, app: &App) {
     }
 }
 
-fn draw_rod(ctx: &mut Context, rod: &RodShape, view: View, color: impl Fn(f64) -> Color) {
+fn draw_rod(
+    ctx: &mut Context,
+    rod: &RodShape,
+    view: View,
+    snap: Snap,
+    color: impl Fn(f64) -> Color,
+) {
     for w in rod.nodes.windows(2) {
-        let (x1, y1) = view.project(w[0].position);
-        let (x2, y2) = view.project(w[1].position);
+        let (x1, y1) = snap.point(view.project(w[0].position));
+        let (x2, y2) = snap.point(view.project(w[1].position));
         let k1 = 0.5 * (w[0].curvature[0] + w[1].curvature[0]);
         ctx.draw(&Segment {
             x1,
@@ -400,6 +421,36 @@ fn draw_rod(ctx: &mut Context, rod: &RodShape, view: View, color: impl Fn(f64) -
             y2,
             color: color(k1),
         });
+    }
+}
+
+/// Plotted coordinates and the views' extents rounded to a millionth of the natural
+/// assembly's size (far below a dot): a node on a braille dot's boundary (on a symmetry
+/// axis, at ±1e-24) then falls on the same dot whatever the last bits of the solve, and
+/// the picture does not change with rounding.
+#[derive(Clone, Copy, Debug)]
+struct Snap {
+    quantum: f64,
+}
+
+impl Snap {
+    fn of(g: &Geometry) -> Snap {
+        Snap {
+            quantum: 1e-6 * (2.0 * g.radius).max(g.height0()),
+        }
+    }
+
+    fn value(self, v: f64) -> f64 {
+        let q = self.quantum;
+        if q > 0.0 && q.is_finite() && v.is_finite() {
+            (v / q).round() * q
+        } else {
+            v
+        }
+    }
+
+    fn point(self, (x, y): (f64, f64)) -> (f64, f64) {
+        (self.value(x), self.value(y))
     }
 }
 
@@ -446,6 +497,7 @@ fn draw_view(
     let inner = block.inner(area);
     let (x, y) = view_extent(app, snapshot, view);
     let (x_bounds, y_bounds) = fit_scale(inner.width, inner.height, x, y, per_dot);
+    let snap = Snap::of(&app.case().geometry);
     let joints: Vec<(f64, f64)> = snapshot
         .rods
         .iter()
@@ -453,7 +505,7 @@ fn draw_view(
             r.joints
                 .iter()
                 .filter_map(|&s| position_at(&r.nodes, s))
-                .map(move |p| view.project(p))
+                .map(move |p| snap.point(view.project(p)))
         })
         .collect();
     let selected = app.selected_rod;
@@ -465,11 +517,11 @@ fn draw_view(
         .paint(|ctx| {
             for (i, rod) in snapshot.rods.iter().enumerate() {
                 if !highlight || i != selected {
-                    draw_rod(ctx, rod, view, |k1| scale.color(k1));
+                    draw_rod(ctx, rod, view, snap, |k1| scale.color(k1));
                 }
             }
             if let Some(rod) = snapshot.rods.get(selected).filter(|_| highlight) {
-                draw_rod(ctx, rod, view, |_| SELECTED);
+                draw_rod(ctx, rod, view, snap, |_| SELECTED);
             }
             ctx.draw(&Points {
                 coords: &joints,
@@ -751,9 +803,9 @@ fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
                 " ◆ step {} ε {:.5}: fx {} fy {} fz {} ",
                 p.step,
                 p.eps,
-                fmt_num(p.load[0]),
-                fmt_num(p.load[1]),
-                fmt_num(p.load[2])
+                fmt_load(p.load[0], &p.load),
+                fmt_load(p.load[1], &p.load),
+                fmt_load(p.load[2], &p.load)
             ))
             .alignment(Alignment::Right),
         );
