@@ -134,7 +134,8 @@ pub struct Newton {
     load_derivative_valid: bool,
     lu: SparseLu,
     /// The regularised symmetric `LDLᵀ` of a problem whose Jacobian is a KKT matrix (see
-    /// [`Problem::kkt_form`]), tried before LU at every factorisation.
+    /// [`Problem::kkt_structure`]), tried before LU at every factorisation once a first
+    /// LU has passed and unless exact solves are asked for.
     kkt: Option<Box<InertiaCounter>>,
     /// Which factorisation holds the current Jacobian.
     active: Factor,
@@ -328,12 +329,10 @@ impl Newton {
         let n = problem.unknowns();
         // by LU: the regularised LDLᵀ's refinement against a singular matrix does not
         // converge to the null vector
-        problem.jacobian(x, lambda, &mut self.residual, &mut self.values);
-        self.fresh = false;
-        self.load_solution_valid = false;
-        self.factorisations += 1;
-        self.factorize_lu(problem).ok()?;
-        self.fresh = true;
+        let exact = std::mem::replace(&mut self.exact, true);
+        let factorised = self.factorize_at(problem, x, lambda);
+        self.exact = exact;
+        factorised.ok()?;
         let mut v: Vec<f64> = (0..n)
             .map(|i| {
                 if i < np {
