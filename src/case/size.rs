@@ -119,7 +119,9 @@ impl SizeEstimate {
     }
 
     /// Memory of a solve (bytes): the matrix, two factorisations (the Newton LU and the
-    /// LDLᵀ of the stability count) at a value and an index each, and the state vectors;
+    /// LDLᵀ of the stability count; Newton's own LDLᵀ, of the stability's pattern, fits in
+    /// the margin: full thesis models of n = 8 and 16, 56 elements, measured 48 and 141 MB
+    /// against 73 and 264 MB estimated) at a value and an index each, and the state vectors;
     /// for a symmetric pair also the block factorisations held at once (two threads, each
     /// with a real and a realified complex one, about 1 + 4 times the pair's entries) and
     /// the warm start of every block's eigenvalue iteration (a realified vector each).
