@@ -28,7 +28,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, CholeskySymbolicParams, LdltRef,
     SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
-use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::{amd, SupernodalThreshold};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -216,16 +216,21 @@ impl KktStructure {
             supernodal_flop_ratio_threshold: threshold,
             ..Default::default()
         };
-        let ordering =
-            factorize_symbolic_cholesky(full.as_ref(), Side::Lower, SymmetricOrdering::Amd, params)
-                .map_err(|_| InertiaError::OutOfMemory)?;
-        let (perm, perm_inv): (Vec<usize>, Vec<usize>) = match ordering.perm() {
-            Some(p) => {
-                let (forward, inverse) = p.arrays();
-                (forward.to_vec(), inverse.to_vec())
-            }
-            None => ((0..n).collect(), (0..n).collect()),
-        };
+        // the ordering alone (faer's symbolic factorisation with `SymmetricOrdering::Amd`
+        // computes the same one, then a factorisation of the pattern it does not need)
+        let mut perm = vec![0usize; n];
+        let mut perm_inv = vec![0usize; n];
+        let nnz = full.row_idx().len();
+        let mut scratch = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, nnz))
+            .map_err(|_| InertiaError::OutOfMemory)?;
+        amd::order_maybe_unsorted(
+            &mut perm,
+            &mut perm_inv,
+            full.as_ref(),
+            amd::Control::default(),
+            MemStack::new(&mut scratch),
+        )
+        .map_err(|_| InertiaError::OutOfMemory)?;
         let mut columns: Vec<Vec<usize>> = vec![Vec::new(); n];
         let (fcp, fri) = (full.col_ptr(), full.row_idx());
         for col in 0..n {
