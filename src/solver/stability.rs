@@ -557,9 +557,10 @@ impl InertiaCounter<f64> {
     }
 
     /// Solves `K(σ) z = b` with the last factorisation, for `b` in `self.rhs` whose
-    /// constraint part is zero, into `self.solution`, refining up to `refinements` times
-    /// (until the correction is at rounding) against the unregularised `K_ρ0(σ)` (which has
-    /// the same solution as `K(σ)` for such `b`).
+    /// constraint part is zero (or carried into the primal one, [`InertiaCounter::solve_kkt`]),
+    /// into `self.solution`, refining up to `refinements` times (until the correction is at
+    /// rounding) against the unregularised `K_ρ0(σ)` (which has the same solution as `K(σ)`
+    /// for such `b`).
     fn solve_refined(&mut self, n_primal: usize, refinements: usize) {
         let n = self.rhs.len();
         let mut z = std::mem::take(&mut self.solution);
