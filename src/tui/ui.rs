@@ -261,7 +261,7 @@ impl K1Scale {
 /// A short number for the readout: as [`fmt_num`], with one digit in scientific notation
 /// and values below `1e-9` of `scale` shown as 0 (round-off of a symmetric state).
 pub fn fmt_short(v: f64, scale: f64) -> String {
-    if v.abs() <= 1e-9 * scale.abs() {
+    if is_round_off(v, scale) {
         return "0".into();
     }
     let a = v.abs();
@@ -271,11 +271,20 @@ pub fn fmt_short(v: f64, scale: f64) -> String {
     fmt_num(v)
 }
 
-/// A component of a load as [`fmt_num`], 0 when below `1e-9` of the load's largest
-/// component (the round-off of a zero lateral force of a symmetric state).
+/// Whether `v` is below `1e-9` of `scale`: the round-off of a zero (a lateral force or a
+/// curvature of a symmetric state).
+fn is_round_off(v: f64, scale: f64) -> bool {
+    v.abs() <= 1e-9 * scale.abs()
+}
+
+/// The largest magnitude among `v`: the scale of a vector's round-off.
+fn largest(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, c| m.max(c.abs()))
+}
+
+/// A component of a load as [`fmt_num`], 0 when it is the round-off of the load's largest.
 fn fmt_load(v: f64, load: &[f64; 3]) -> String {
-    let big = load.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-    if v.abs() <= 1e-9 * big {
+    if is_round_off(v, largest(load)) {
         return "0".into();
     }
     fmt_num(v)
@@ -674,7 +683,7 @@ fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     let values = curvature_at(&rod.nodes, at);
     let block = block.title_bottom(
         Line::from({
-            let big = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let big = largest(&values);
             format!(
                 " s/L {at:.2} κ1 {} κ2 {} Ω {} ",
                 fmt_short(values[0], big),
@@ -1240,7 +1249,7 @@ fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)
         ),
         None => ("–".into(), "–".into()),
     };
-    let big = p.load.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let big = largest(&p.load);
     // (priority to keep: 0 always, higher given up first; the spans)
     let mut fields: Vec<(u8, Vec<Span<'static>>)> = vec![
         (4, vec![Span::raw(format!("h {} m", fmt_num(p.height)))]),
@@ -1274,7 +1283,7 @@ fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)
     ));
     if let Some(r) = p.reactions.get(app.selected_rod) {
         let f = r.tip.force;
-        let big = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let big = largest(&f);
         fields.push((
             5,
             vec![Span::raw(format!(
