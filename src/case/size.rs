@@ -42,9 +42,10 @@ pub struct SizeEstimate {
     /// `n = 2m` rods (wavenumbers `p = 0 ..= m/2`), 0 for the full model, whose stability
     /// is the LDLᵀ already counted.
     pub blocks: f64,
-    /// Entries of the factorisations of all Bloch blocks of one stability check: the real
-    /// blocks (`p = 0`, and `p = m/2` for even `m`) as large as the pair's LDLᵀ, the complex
-    /// ones, realified, of twice the unknowns and about four times the entries.
+    /// Work of the factorisations of all Bloch blocks of one stability check, in entries of
+    /// a real factor: the real blocks (`p = 0`, and `p = m/2` for even `m`) as large as the
+    /// pair's LDLᵀ, the complex ones of the same pattern with complex entries (`LDLᴴ`),
+    /// each complex product four real ones.
     pub block_entries: f64,
     /// The key that sets the size most directly.
     pub key: &'static str,
@@ -123,11 +124,12 @@ impl SizeEstimate {
     /// the margin: full thesis models of n = 8 and 16, 56 elements, measured 48 and 141 MB
     /// against 73 and 264 MB estimated) at a value and an index each, and the state vectors;
     /// for a symmetric pair also the block factorisations held at once (two threads, each
-    /// with a real and a realified complex one, about 1 + 4 times the pair's entries) and
-    /// the warm start of every block's eigenvalue iteration (a realified vector each).
+    /// with a real and a complex one of the pair's pattern: 8 + 16 bytes an entry, and the
+    /// entries' working copies) and the warm start of every block's eigenvalue iteration
+    /// (a complex vector each).
     pub fn memory_bytes(&self) -> f64 {
         let blocks = if self.blocks > 0.0 {
-            2.0 * 16.0 * 5.0 * self.factor_entries + self.blocks * 8.0 * 2.0 * self.unknowns
+            2.0 * 2.0 * 24.0 * self.factor_entries + self.blocks * 16.0 * self.unknowns
         } else {
             0.0
         };

@@ -7,7 +7,6 @@ use super::system::System;
 use crate::model::quaternion::Quat;
 use crate::model::symmetry::TurnZ;
 use faer::c64;
-use faer::sparse::{Pair, SymbolicSparseColMat};
 use std::f64::consts::PI;
 
 /// Expands the state `x` of a symmetric pair (in `pair_system`'s layout) to the state of
@@ -67,10 +66,8 @@ pub fn expand_state(
 /// image of its left rod in sector `r` carries the phase `e^{2πipr/m}` on its coupling
 /// entries (row of the joint's multiplier × the left rod's positions) and the conjugate
 /// phase on their transposes. Blocks `p` and `m − p` are conjugate (same spectrum); `p = 0`
-/// (the pair itself) and `p = m/2` are real. A complex block `K = A + iB` is written as the
-/// real symmetric `[[A, −B], [B, A]]` of twice its size, whose eigenvalues are those of `K`,
-/// each twice; its unknowns are ordered primal (real, imaginary) then multipliers (real,
-/// imaginary), so that the primal unknowns come first as the inertia count expects.
+/// (the pair itself) and `p = m/2` are real. Every block is stored in the pair's pattern:
+/// the complex ones with complex entries, factorised as `LDLᴴ`.
 #[derive(Clone, Debug)]
 pub struct BlochBlocks {
     /// Sectors `m`.
@@ -80,15 +77,7 @@ pub struct BlochBlocks {
     /// For each stored entry of the pair's KKT pattern: the sector its coupling reaches and
     /// the sign of its phase, for the joints that tie the pair to another sector.
     phase: Vec<Option<(f64, usize)>>,
-    /// Pattern of a complex block written as a real one.
-    realified: SymbolicSparseColMat<usize>,
-    /// For each stored pair entry, its slots in the realified pattern: (re, re), (im, im),
-    /// and for phased entries (im, re) and (re, im).
-    slots: Vec<[usize; 4]>,
 }
-
-/// Slot of an entry absent from a realified block.
-const NO_SLOT: usize = usize::MAX;
 
 impl BlochBlocks {
     /// The blocks of a symmetric pair's system (`None` for a model without the symmetry).
@@ -120,54 +109,10 @@ impl BlochBlocks {
                 phase[entry(d, row)] = Some((-1.0, r));
             }
         }
-        let (n, n_primal) = (system.n, pair.n_primal);
-        let re = |i: usize| if i < n_primal { i } else { n_primal + i };
-        let im = |i: usize| if i < n_primal { n_primal + i } else { n + i };
-        let mut pairs = Vec::new();
-        for col in 0..n {
-            for p in cp[col]..cp[col + 1] {
-                let row = ri[p];
-                pairs.push(Pair::new(re(row), re(col)));
-                pairs.push(Pair::new(im(row), im(col)));
-                if phase[p].is_some() {
-                    pairs.push(Pair::new(im(row), re(col)));
-                    pairs.push(Pair::new(re(row), im(col)));
-                }
-            }
-        }
-        let (realified, _) = SymbolicSparseColMat::try_new_from_indices(2 * n, 2 * n, &pairs)
-            .expect("realified pattern indices are in range");
-        let (rcp, rri) = (realified.col_ptr(), realified.row_idx());
-        let slot = |row: usize, col: usize| {
-            let rows = &rri[rcp[col]..rcp[col + 1]];
-            rcp[col]
-                + rows
-                    .binary_search(&row)
-                    .expect("entry in the realified pattern")
-        };
-        let mut slots = Vec::with_capacity(ri.len());
-        for col in 0..n {
-            for p in cp[col]..cp[col + 1] {
-                let row = ri[p];
-                let mut s = [
-                    slot(re(row), re(col)),
-                    slot(im(row), im(col)),
-                    NO_SLOT,
-                    NO_SLOT,
-                ];
-                if phase[p].is_some() {
-                    s[2] = slot(im(row), re(col));
-                    s[3] = slot(re(row), im(col));
-                }
-                slots.push(s);
-            }
-        }
         Some(BlochBlocks {
             m,
-            n_primal,
+            n_primal: pair.n_primal,
             phase,
-            realified,
-            slots,
         })
     }
 
@@ -207,29 +152,6 @@ impl BlochBlocks {
         }
     }
 
-    /// The complex block `p` (`0 < p < m/2`) written as a real matrix in
-    /// [`BlochBlocks::realified_pattern`], from the pair's KKT values `pair`.
-    pub fn complex_block(&self, p: usize, pair: &[f64], out: &mut [f64]) {
-        out.iter_mut().for_each(|v| *v = 0.0);
-        for (k, &v) in pair.iter().enumerate() {
-            let s = self.slots[k];
-            match self.phase[k] {
-                None => {
-                    out[s[0]] += v;
-                    out[s[1]] += v;
-                }
-                Some((sign, r)) => {
-                    let (sin, cos) = (sign * self.angle(p, r)).sin_cos();
-                    let (a, b) = (v * cos, v * sin);
-                    out[s[0]] += a;
-                    out[s[1]] += a;
-                    out[s[2]] += b;
-                    out[s[3]] -= b;
-                }
-            }
-        }
-    }
-
     /// The complex Hermitian block `p` (`0 < p < m/2`) itself, in the pair's pattern, from
     /// the pair's KKT values `pair`: each phased coupling times `e^{±2πipr/m}`.
     pub fn hermitian_block(&self, p: usize, pair: &[f64], out: &mut [c64]) {
@@ -242,18 +164,6 @@ impl BlochBlocks {
                 }
             };
         }
-    }
-
-    /// Pattern of a complex block written as a real one.
-    pub fn realified_pattern(&self) -> &SymbolicSparseColMat<usize> {
-        &self.realified
-    }
-
-    /// The metric of a complex block written as a real one: the pair's, for the real and
-    /// the imaginary parts.
-    pub fn realified_metric(&self, metric: &[f64]) -> Vec<f64> {
-        debug_assert_eq!(metric.len(), self.n_primal);
-        metric.iter().chain(metric).copied().collect()
     }
 }
 

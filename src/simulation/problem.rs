@@ -47,7 +47,7 @@ struct Blocks {
     /// One workspace per thread.
     workers: [Worker; 2],
     /// The warm start of inverse iteration of each wavenumber `0 ..= m/2`.
-    warm: Vec<WarmStart>,
+    warm: Vec<BlockWarm>,
     residual: Vec<f64>,
     /// The pair's KKT values.
     pair: Vec<f64>,
@@ -57,21 +57,38 @@ struct Blocks {
     focus: Option<usize>,
 }
 
-/// What one thread needs to judge a block: the stability of the real blocks (the pair's
-/// pattern), of the complex ones written as real ones (the realified pattern, for their
-/// eigenvalues) and of the complex ones themselves (the pair's pattern, `LDLᴴ`, for their
-/// counts: half the size), each built on first use, and the block's values.
+/// The warm starts of one wavenumber's eigenvalue searches: on its real block (`p = 0`,
+/// `m/2`) or on its complex one.
+#[derive(Default)]
+struct BlockWarm {
+    real: WarmStart,
+    complex: WarmStart<c64>,
+}
+
+impl BlockWarm {
+    fn has_history(&self) -> bool {
+        self.real.has_history() || self.complex.has_history()
+    }
+
+    fn upper_estimate(&self) -> Option<f64> {
+        self.real
+            .upper_estimate()
+            .or_else(|| self.complex.upper_estimate())
+    }
+}
+
+/// What one thread needs to judge a block: the stability of the real blocks and of the
+/// complex ones (`LDLᴴ`), both in the pair's pattern and sharing its symbolic analysis,
+/// each built on first use, and the block's values.
 struct Worker {
     real: KktStability,
-    complex: KktStability,
     hermitian: KktStability<c64>,
     values: Vec<f64>,
     hermitian_values: Vec<c64>,
 }
 
-/// One Bloch block as a task on a worker sees it: counts of a complex block from the block
-/// itself, eigenvalues from its real form; the values of each form assembled when first
-/// asked for.
+/// One Bloch block as a task on a worker sees it: a real block or a complex one, its
+/// values assembled when first asked for.
 struct BlockView<'a> {
     p: usize,
     bloch: &'a BlochBlocks,
@@ -88,27 +105,19 @@ impl BlockView<'_> {
         !self.bloch.is_real(self.p)
     }
 
-    /// The block as a real matrix: its pattern, values and stability.
+    /// A real block (`p = 0`, `m/2`): its pattern, values and stability.
     fn real_form(&mut self) -> (&SymbolicSparseColMat<usize>, &[f64], &mut KktStability) {
+        debug_assert!(!self.is_complex());
         let w = &mut *self.worker;
         if self.p == 0 {
             return (self.pattern, self.pair, &mut w.real);
         }
-        if self.bloch.is_real(self.p) {
-            if !self.real_ready {
-                w.values.resize(self.pair.len(), 0.0);
-                self.bloch.real_block(self.p, self.pair, &mut w.values);
-                self.real_ready = true;
-            }
-            return (self.pattern, &w.values[..], &mut w.real);
-        }
-        let realified = self.bloch.realified_pattern();
         if !self.real_ready {
-            w.values.resize(realified.row_idx().len(), 0.0);
-            self.bloch.complex_block(self.p, self.pair, &mut w.values);
+            w.values.resize(self.pair.len(), 0.0);
+            self.bloch.real_block(self.p, self.pair, &mut w.values);
             self.real_ready = true;
         }
-        (realified, &w.values[..], &mut w.complex)
+        (self.pattern, &w.values[..], &mut w.real)
     }
 
     /// A complex block itself: the pair's pattern, its values and stability.
@@ -145,25 +154,49 @@ impl BlockView<'_> {
     }
 
     fn rounding_band(&mut self) -> Result<f64, InertiaError> {
-        let (pat, v, s) = self.real_form();
-        s.rounding_band(pat, v)
+        if self.is_complex() {
+            let (pat, v, s) = self.hermitian_form();
+            s.rounding_band(pat, v)
+        } else {
+            let (pat, v, s) = self.real_form();
+            s.rounding_band(pat, v)
+        }
     }
 
     fn lowest_eigenvalue(&mut self) -> Option<f64> {
-        let (pat, v, s) = self.real_form();
-        s.lowest_eigenvalue(pat, v)
+        if self.is_complex() {
+            let (pat, v, s) = self.hermitian_form();
+            s.lowest_eigenvalue(pat, v)
+        } else {
+            let (pat, v, s) = self.real_form();
+            s.lowest_eigenvalue(pat, v)
+        }
     }
 
     fn rough_lowest(&mut self) -> Option<f64> {
-        let (pat, v, s) = self.real_form();
-        s.rough_lowest(pat, v)
+        if self.is_complex() {
+            let (pat, v, s) = self.hermitian_form();
+            s.rough_lowest(pat, v)
+        } else {
+            let (pat, v, s) = self.real_form();
+            s.rough_lowest(pat, v)
+        }
     }
 
-    /// The eigenvalue nearest zero and its mode (primal unknowns of the real form).
+    /// The eigenvalue nearest zero and its mode: over the pair's primal unknowns, for a
+    /// complex block their real parts then their imaginary parts.
     fn nearest_zero(&mut self) -> Option<(f64, Vec<f64>)> {
-        let (pat, v, s) = self.real_form();
-        s.eigenvalue_nearest_zero(pat, v)
-            .map(|mu| (mu, s.nearest_zero_mode().to_vec()))
+        if self.is_complex() {
+            let (pat, v, s) = self.hermitian_form();
+            let mu = s.eigenvalue_nearest_zero(pat, v)?;
+            let mode = s.nearest_zero_mode();
+            let parts = mode.iter().map(|z| z.re).chain(mode.iter().map(|z| z.im));
+            Some((mu, parts.collect()))
+        } else {
+            let (pat, v, s) = self.real_form();
+            let mu = s.eigenvalue_nearest_zero(pat, v)?;
+            Some((mu, s.nearest_zero_mode().to_vec()))
+        }
     }
 }
 
@@ -225,22 +258,18 @@ impl RodProblem {
             .collect();
         let judge = match BlochBlocks::new(&model, &system) {
             Some(bloch) => {
-                let metric = metric(&model);
-                let length = model.length();
-                let realified_metric = bloch.realified_metric(&metric);
-                // the blocks of one pattern share its symbolic analysis on both threads
-                let real: KktStability = KktStability::new(metric.clone(), length);
-                let complex: KktStability = KktStability::with_copies(realified_metric, length, 2);
+                // the blocks, real and complex, share the pair's symbolic analysis on both
+                // threads
+                let real: KktStability = KktStability::new(metric(&model), model.length());
                 let worker = || Worker {
                     real: real.sharing(),
-                    complex: complex.sharing(),
                     hermitian: real.sharing(),
                     values: Vec::new(),
                     hermitian_values: Vec::new(),
                 };
                 Judge::Blocks(Box::new(Blocks {
                     workers: [worker(), worker()],
-                    warm: vec![WarmStart::default(); bloch.m / 2 + 1],
+                    warm: (0..=bloch.m / 2).map(|_| BlockWarm::default()).collect(),
                     bloch,
                     residual: vec![0.0; system.n],
                     pair: system.new_values(),
@@ -574,7 +603,7 @@ impl Blocks {
         task: impl Fn(&mut BlockView) -> Result<T, InertiaError> + Sync,
     ) -> Vec<(usize, Result<T, InertiaError>)> {
         let task: &BlockTask<T> = &task;
-        let mut jobs: [Vec<(usize, WarmStart)>; 2] = [Vec::new(), Vec::new()];
+        let mut jobs: [Vec<(usize, BlockWarm)>; 2] = [Vec::new(), Vec::new()];
         for (i, &p) in ps.iter().enumerate() {
             jobs[i % 2].push((p, std::mem::take(&mut self.warm[p])));
         }
@@ -602,30 +631,20 @@ impl Blocks {
 }
 
 impl Worker {
-    /// The stability that searches the eigenvalues of a real (or complex) block.
-    fn eigen(&mut self, real: bool) -> &mut KktStability {
-        if real {
-            &mut self.real
-        } else {
-            &mut self.complex
-        }
-    }
-
-    /// `task` on each block of `jobs` (wavenumber and warm start), the warm start put in
+    /// `task` on each block of `jobs` (wavenumber and warm starts), the warm start put in
     /// place for the task and taken back after it.
     fn run<T>(
         &mut self,
         bloch: &BlochBlocks,
         pattern: &SymbolicSparseColMat<usize>,
         pair: &[f64],
-        jobs: Vec<(usize, WarmStart)>,
+        jobs: Vec<(usize, BlockWarm)>,
         task: &BlockTask<T>,
-    ) -> Vec<(usize, WarmStart, Result<T, InertiaError>)> {
+    ) -> Vec<(usize, BlockWarm, Result<T, InertiaError>)> {
         jobs.into_iter()
             .map(|(p, mut warm)| {
-                // the warm start is that of the eigenvalue searches, on the real form
                 let real = bloch.is_real(p);
-                self.eigen(real).swap_warm_start(&mut warm);
+                self.swap_warm_start(real, &mut warm);
                 let mut view = BlockView {
                     p,
                     bloch,
@@ -636,10 +655,19 @@ impl Worker {
                     hermitian_ready: false,
                 };
                 let result = task(&mut view);
-                self.eigen(real).swap_warm_start(&mut warm);
+                self.swap_warm_start(real, &mut warm);
                 (p, warm, result)
             })
             .collect()
+    }
+
+    /// Exchanges the warm start of the searches on a real (or complex) block with `warm`.
+    fn swap_warm_start(&mut self, real: bool, warm: &mut BlockWarm) {
+        if real {
+            self.real.swap_warm_start(&mut warm.real);
+        } else {
+            self.hermitian.swap_warm_start(&mut warm.complex);
+        }
     }
 }
 

@@ -29,6 +29,10 @@ pub trait Scalar:
     fn from_real(x: f64) -> Self;
     fn conjugate(self) -> Self;
     fn real_part(self) -> f64;
+    /// `|x|²`.
+    fn abs2(self) -> f64;
+    /// `x / d` for a real `d`.
+    fn div_real(self, d: f64) -> Self;
 }
 
 impl Scalar for f64 {
@@ -41,6 +45,12 @@ impl Scalar for f64 {
     fn real_part(self) -> f64 {
         self
     }
+    fn abs2(self) -> f64 {
+        self * self
+    }
+    fn div_real(self, d: f64) -> f64 {
+        self / d
+    }
 }
 
 impl Scalar for c64 {
@@ -52,6 +62,12 @@ impl Scalar for c64 {
     }
     fn real_part(self) -> f64 {
         self.re
+    }
+    fn abs2(self) -> f64 {
+        self.re * self.re + self.im * self.im
+    }
+    fn div_real(self, d: f64) -> c64 {
+        c64::new(self.re / d, self.im / d)
     }
 }
 

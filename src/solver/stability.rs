@@ -110,26 +110,26 @@ pub struct InertiaCounter<T: Scalar = f64> {
     pub rho: f64,
     /// The last mode found by inverse iteration (primal unknowns), to start the next search
     /// from; empty until one is found.
-    last_mode: Vec<f64>,
+    last_mode: Vec<T>,
     /// The last lowest eigenvalues found (oldest first, at most four), to place the next
     /// shift just below the lowest eigenvalue they extrapolate to.
     lowest_history: Vec<f64>,
     /// The last mode nearest zero found (critical-point searches).
-    nearest_zero_mode: Vec<f64>,
+    nearest_zero_mode: Vec<T>,
     /// Whether the last inverse iteration met its tolerance.
     converged: bool,
     /// Scratch of inverse iteration: right-hand side, solution and refinement residual (all
     /// unknowns), iterate and Hessian product (primal unknowns).
-    rhs: Vec<f64>,
-    solution: Vec<f64>,
-    refinement: Vec<f64>,
+    rhs: Vec<T>,
+    solution: Vec<T>,
+    refinement: Vec<T>,
     /// A solve's right-hand side in the stored ordering.
-    permuted: Vec<f64>,
+    permuted: Vec<T>,
     /// A mode (primal unknowns, unit norm in the metric) that inverse iteration keeps its
     /// iterates orthogonal to; empty for none.
-    deflation: Vec<f64>,
-    iterate: Vec<f64>,
-    product: Vec<f64>,
+    deflation: Vec<T>,
+    iterate: Vec<T>,
+    product: Vec<T>,
     buffer: MemBuffer,
 }
 
@@ -360,13 +360,13 @@ impl<T: Scalar> InertiaCounter<T> {
             lowest_history: Vec::new(),
             nearest_zero_mode: Vec::new(),
             converged: false,
-            rhs: vec![0.0; n],
-            solution: vec![0.0; n],
-            refinement: vec![0.0; n],
-            permuted: vec![0.0; n],
+            rhs: vec![T::from_real(0.0); n],
+            solution: vec![T::from_real(0.0); n],
+            refinement: vec![T::from_real(0.0); n],
+            permuted: vec![T::from_real(0.0); n],
             deflation: Vec::new(),
-            iterate: vec![0.0; n_primal],
-            product: vec![0.0; n_primal],
+            iterate: vec![T::from_real(0.0); n_primal],
+            product: vec![T::from_real(0.0); n_primal],
             l_values: vec![T::from_real(0.0); symbolic.len_val()],
             work: vec![T::from_real(0.0); n],
             inverse_pivot: vec![0.0; n],
@@ -555,7 +555,9 @@ impl InertiaCounter<f64> {
         self.solve_refined(n_primal, refinements);
         z.copy_from_slice(&self.solution);
     }
+}
 
+impl<T: Scalar> InertiaCounter<T> {
     /// Solves `K(σ) z = b` with the last factorisation, for `b` in `self.rhs` whose
     /// constraint part is zero (or carried into the primal one, [`InertiaCounter::solve_kkt`]),
     /// into `self.solution`, refining up to `refinements` times (until the correction is at
@@ -575,27 +577,27 @@ impl InertiaCounter<f64> {
             for col in 0..n {
                 let j = s.perm[col];
                 for p in cp[col]..cp[col + 1] {
-                    // the stored upper triangle and its mirror image
+                    // the stored upper triangle and its mirror image (Hermitian)
                     let (i, v) = (s.perm[ri[p]], self.values[p]);
                     r[i] -= v * z[j];
                     if i != j {
-                        r[j] -= v * z[i];
+                        r[j] -= v.conjugate() * z[i];
                     }
                 }
             }
             for i in n_primal..n {
-                r[i] -= self.delta(i - n_primal) * z[i];
+                r[i] -= T::from_real(self.delta(i - n_primal)) * z[i];
             }
             self.ldlt_solve(&mut r);
             let mut correction: f64 = 0.0;
             let mut size: f64 = 0.0;
-            for (zi, ri) in z.iter_mut().zip(&r) {
+            for (zi, &ri) in z.iter_mut().zip(&r) {
                 *zi += ri;
-                correction = correction.max(ri.abs());
-                size = size.max(zi.abs());
+                correction = correction.max(ri.abs2());
+                size = size.max(zi.abs2());
             }
             // converged to rounding: further steps change nothing
-            if correction <= 1e-15 * size {
+            if correction.sqrt() <= 1e-15 * size.sqrt() {
                 break;
             }
         }
@@ -604,7 +606,7 @@ impl InertiaCounter<f64> {
     }
 
     /// Solves with the last factorisation in place, through the stored ordering.
-    fn ldlt_solve(&mut self, x: &mut [f64]) {
+    fn ldlt_solve(&mut self, x: &mut [T]) {
         let n = x.len();
         let perm = &self.structure.perm;
         let y = &mut self.permuted;
@@ -638,7 +640,7 @@ impl InertiaCounter<f64> {
     /// component along the lowest mode), and the bracket `[lo, σ]` is bisected by counts to
     /// a new `lo` before iterating again. Clustered spectra thus cost a few factorisations
     /// instead of hundreds of slowly converging iterations.
-    pub fn lowest_eigenvalue(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
+    pub fn lowest_eigenvalue(&mut self, kkt: &[T], metric: &[f64]) -> Option<f64> {
         // along a path: one factorisation at a shift just below the extrapolated lowest
         // eigenvalue, which the count confirms to be below the spectrum
         let mut start = None;
@@ -718,7 +720,7 @@ impl InertiaCounter<f64> {
     /// iterations from a shift below the spectrum (0 when nothing is below it). It tells
     /// which of several matrices is likely to hold the lowest eigenvalue; the iterate is
     /// kept as the warm start of the search that follows.
-    pub fn rough_lowest(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
+    pub fn rough_lowest(&mut self, kkt: &[T], metric: &[f64]) -> Option<f64> {
         self.shift_below_spectrum(kkt, metric)?;
         self.inverse_iteration(kkt, metric, ROUGH)
     }
@@ -741,7 +743,7 @@ impl InertiaCounter<f64> {
     }
 
     /// Eigenvalues of the constrained pencil below `sigma` (factorises at `sigma`).
-    fn count(&mut self, kkt: &[f64], sigma: f64, metric: &[f64]) -> Option<isize> {
+    fn count(&mut self, kkt: &[T], sigma: f64, metric: &[f64]) -> Option<isize> {
         let inertia = self.inertia(kkt, sigma, metric).ok()?;
         Some(self.unstable_directions(inertia).max(0))
     }
@@ -749,7 +751,7 @@ impl InertiaCounter<f64> {
     /// A shift below the spectrum, factorised: just below the last lowest eigenvalue when
     /// the inertia count confirms it (along a path it moves little), otherwise 0 if
     /// nothing is below 0, else −1, −4, −16, …
-    fn shift_below_spectrum(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
+    fn shift_below_spectrum(&mut self, kkt: &[T], metric: &[f64]) -> Option<f64> {
         if let Some(&last) = self.lowest_history.last() {
             let sigma = last - 0.1 * last.abs().max(1e-12);
             if self.count(kkt, sigma, metric) == Some(0) {
@@ -776,7 +778,7 @@ impl InertiaCounter<f64> {
             return;
         }
         let norm = (0..n)
-            .map(|i| metric[i] * self.last_mode[i].powi(2))
+            .map(|i| metric[i] * self.last_mode[i].abs2())
             .sum::<f64>()
             .sqrt()
             .max(1e-300);
@@ -787,13 +789,14 @@ impl InertiaCounter<f64> {
             .sqrt()
             .max(1e-300);
         for i in 0..n {
-            self.last_mode[i] = self.last_mode[i] / norm + 1e-2 * cold[i] / cold_norm;
+            self.last_mode[i] =
+                self.last_mode[i].div_real(norm) + T::from_real(1e-2 * cold[i] / cold_norm);
         }
     }
 
     /// The eigenvalue of the constrained pencil nearest zero (the one that crosses zero at
     /// a critical point).
-    pub fn eigenvalue_nearest_zero(&mut self, kkt: &[f64], metric: &[f64]) -> Option<f64> {
+    pub fn eigenvalue_nearest_zero(&mut self, kkt: &[T], metric: &[f64]) -> Option<f64> {
         self.inertia(kkt, 0.0, metric).ok()?;
         // the search keeps a warm start of its own: the mode nearest zero, not the lowest
         std::mem::swap(&mut self.last_mode, &mut self.nearest_zero_mode);
@@ -807,21 +810,21 @@ impl InertiaCounter<f64> {
     /// zero together, as a symmetric assembly's sway does on the full model).
     pub fn nearest_zero_orthogonal_to(
         &mut self,
-        kkt: &[f64],
+        kkt: &[T],
         metric: &[f64],
-        first: &[f64],
-    ) -> Option<(f64, Vec<f64>)> {
+        first: &[T],
+    ) -> Option<(f64, Vec<T>)> {
         let n_primal = self.iterate.len();
         let first = first.get(..n_primal)?;
         let norm = (0..n_primal)
-            .map(|i| metric[i] * first[i] * first[i])
+            .map(|i| metric[i] * first[i].abs2())
             .sum::<f64>()
             .sqrt();
         if !(norm > 0.0 && norm.is_finite()) {
             return None;
         }
         self.inertia(kkt, 0.0, metric).ok()?;
-        self.deflation = first.iter().map(|v| v / norm).collect();
+        self.deflation = first.iter().map(|&v| v.div_real(norm)).collect();
         // from the cold start: the warm starts are the first mode's
         let warm = std::mem::take(&mut self.last_mode);
         let nearest = self.inverse_iteration(kkt, metric, NEAREST_ZERO);
@@ -832,19 +835,17 @@ impl InertiaCounter<f64> {
 
     /// Inverse iteration with the last factorisation (of `K − σM`): converges to the
     /// eigenvalue nearest `σ`; returns its Rayleigh quotient with the unshifted Hessian.
-    fn inverse_iteration(
-        &mut self,
-        kkt: &[f64],
-        metric: &[f64],
-        accuracy: Accuracy,
-    ) -> Option<f64> {
+    fn inverse_iteration(&mut self, kkt: &[T], metric: &[f64], accuracy: Accuracy) -> Option<f64> {
         let n_primal = self.iterate.len();
+        let zero = T::from_real(0.0);
         // start from the last mode: along a path it changes little
         let mut u = std::mem::take(&mut self.iterate);
         if self.last_mode.len() == n_primal {
             u.copy_from_slice(&self.last_mode);
         } else {
-            u.copy_from_slice(&cold_start(metric));
+            for (ui, c) in u.iter_mut().zip(cold_start(metric)) {
+                *ui = T::from_real(c);
+            }
         }
         let mut estimate = f64::NAN;
         self.converged = false;
@@ -852,23 +853,24 @@ impl InertiaCounter<f64> {
         let mut hv = std::mem::take(&mut self.product);
         let mut found = true;
         for _ in 0..accuracy.iterations {
-            self.rhs.iter_mut().for_each(|b| *b = 0.0);
+            self.rhs.iter_mut().for_each(|b| *b = zero);
             for i in 0..n_primal {
-                self.rhs[i] = metric[i] * u[i];
+                self.rhs[i] = T::from_real(metric[i]) * u[i];
             }
             self.solve_refined(n_primal, accuracy.refinements);
             if !self.deflation.is_empty() {
                 let f = &self.deflation;
-                let c: f64 = (0..n_primal)
-                    .map(|i| metric[i] * self.solution[i] * f[i])
-                    .sum();
+                let mut c = zero;
+                for i in 0..n_primal {
+                    c += T::from_real(metric[i]) * self.solution[i] * f[i].conjugate();
+                }
                 for i in 0..n_primal {
                     self.solution[i] -= c * f[i];
                 }
             }
             let v = &self.solution;
             let norm = (0..n_primal)
-                .map(|i| metric[i] * v[i] * v[i])
+                .map(|i| metric[i] * v[i].abs2())
                 .sum::<f64>()
                 .sqrt();
             if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
@@ -876,10 +878,10 @@ impl InertiaCounter<f64> {
                 break;
             }
             for i in 0..n_primal {
-                u[i] = v[i] / norm;
+                u[i] = v[i].div_real(norm);
             }
-            // Rayleigh quotient of the Lagrangian, (uᵀ H u + 2 yᵀ J u) / uᵀ M u with H the
-            // primal block of the KKT values and y the multipliers of the solve (scaled
+            // Rayleigh quotient of the Lagrangian, (uᴴ H u + 2 Re yᴴ J u) / uᴴ M u with H
+            // the primal block of the KKT values and y the multipliers of the solve (scaled
             // with u): stationary at a constrained eigenpair for every variation of u, so
             // the solve's small constraint residual (the regularisation's δ) enters it
             // only to second order. Refined solves need it too: near a critical point the
@@ -887,18 +889,22 @@ impl InertiaCounter<f64> {
             // comparable to the eigenvalue itself), and with the plain quotient the eigenvalue
             // nearest zero scattered by 3e-5 J/m, placing the n = 8 sliding tips' double
             // point 1.6e-6 apart on the pair and on the full model (with it: 1e-11)
-            hv.iter_mut().for_each(|h| *h = 0.0);
+            hv.iter_mut().for_each(|h| *h = zero);
             let mut lagrange = 0.0;
             for (p, &(row, col)) in self.structure.k_entry.iter().enumerate() {
                 if col < n_primal {
                     if row < n_primal {
                         hv[row] += kkt[p] * u[col];
                     } else {
-                        lagrange += v[row] / norm * kkt[p] * u[col];
+                        lagrange +=
+                            (v[row].div_real(norm).conjugate() * kkt[p] * u[col]).real_part();
                     }
                 }
             }
-            let rq: f64 = (0..n_primal).map(|i| u[i] * hv[i]).sum::<f64>() + 2.0 * lagrange;
+            let rq: f64 = (0..n_primal)
+                .map(|i| (u[i].conjugate() * hv[i]).real_part())
+                .sum::<f64>()
+                + 2.0 * lagrange;
             let done = (rq - estimate).abs() <= accuracy.tolerance * rq.abs().max(1e-12);
             estimate = rq;
             if done {
@@ -952,14 +958,24 @@ fn cold_start(metric: &[f64]) -> Vec<f64> {
 }
 
 /// Where inverse iteration starts: the last mode found and the last lowest eigenvalue.
-#[derive(Clone, Debug, Default)]
-pub struct WarmStart {
-    mode: Vec<f64>,
+#[derive(Clone, Debug)]
+pub struct WarmStart<T: Scalar = f64> {
+    mode: Vec<T>,
     lowest: Vec<f64>,
-    nearest_zero: Vec<f64>,
+    nearest_zero: Vec<T>,
 }
 
-impl WarmStart {
+impl<T: Scalar> Default for WarmStart<T> {
+    fn default() -> Self {
+        WarmStart {
+            mode: Vec::new(),
+            lowest: Vec::new(),
+            nearest_zero: Vec::new(),
+        }
+    }
+}
+
+impl<T: Scalar> WarmStart<T> {
     /// Whether a lowest eigenvalue has been found with it before.
     pub fn has_history(&self) -> bool {
         !self.lowest.is_empty()
@@ -1038,9 +1054,6 @@ pub struct KktStability<T: Scalar = f64> {
     /// Length `ℓ` that weighs position unknowns against rotations in the regularisation
     /// (m; the rod length).
     length: f64,
-    /// Each eigenvalue of the problem appears this many times in the matrix (2 for a
-    /// complex Hermitian matrix written as a real one).
-    copies: usize,
 }
 
 impl<T: Scalar> KktStability<T> {
@@ -1048,13 +1061,6 @@ impl<T: Scalar> KktStability<T> {
     /// problem `H v = μ M v`, `M = diag(metric)` (zero on position unknowns), and `length`
     /// the model's length scale `ℓ` (the rod length, m).
     pub fn new(metric: Vec<f64>, length: f64) -> KktStability<T> {
-        KktStability::with_copies(metric, length, 1)
-    }
-
-    /// As [`KktStability::new`] for a matrix in which every eigenvalue appears `copies`
-    /// times (a complex Hermitian matrix written as a real one of twice its size has
-    /// `copies = 2`): counts are of distinct eigenvalues.
-    pub fn with_copies(metric: Vec<f64>, length: f64, copies: usize) -> KktStability<T> {
         let mean_metric =
             metric.iter().sum::<f64>() / metric.iter().filter(|&&m| m > 0.0).count().max(1) as f64;
         KktStability {
@@ -1063,11 +1069,10 @@ impl<T: Scalar> KktStability<T> {
             metric,
             mean_metric,
             length,
-            copies: copies.max(1),
         }
     }
 
-    /// The stability of other matrices of the same pattern, metric and copies (of real or
+    /// The stability of other matrices of the same pattern and metric (of real or
     /// complex entries), sharing this one's structure: the pattern's symbolic analysis is
     /// done once for all of them.
     pub fn sharing<U: Scalar>(&self) -> KktStability<U> {
@@ -1077,7 +1082,6 @@ impl<T: Scalar> KktStability<T> {
             metric: self.metric.clone(),
             mean_metric: self.mean_metric,
             length: self.length,
-            copies: self.copies,
         }
     }
 
@@ -1094,12 +1098,10 @@ impl<T: Scalar> KktStability<T> {
         kkt: &[T],
     ) -> Result<usize, InertiaError> {
         let mean_metric = self.mean_metric;
-        let copies = self.copies;
         let (counter, metric) = self.counter_and_metric(pattern)?;
         let tau = 1e-9 * counter.hessian_scale(kkt) / mean_metric;
         let inertia = counter.inertia(kkt, -tau, metric)?;
-        let counted = counter.unstable_directions(inertia).max(0) as usize;
-        Ok(counted.div_ceil(copies))
+        Ok(counter.unstable_directions(inertia).max(0) as usize)
     }
 
     /// The unstable directions (as [`KktStability::unstable_directions`] counts them) and
@@ -1147,11 +1149,9 @@ impl<T: Scalar> KktStability<T> {
         kkt: &[T],
         sigma: f64,
     ) -> Result<usize, InertiaError> {
-        let copies = self.copies;
         let (counter, metric) = self.counter_and_metric(pattern)?;
         let inertia = counter.inertia(kkt, sigma, metric)?;
-        let counted = counter.unstable_directions(inertia).max(0) as usize;
-        Ok(counted.div_ceil(copies))
+        Ok(counter.unstable_directions(inertia).max(0) as usize)
     }
 
     fn counter(
@@ -1185,11 +1185,11 @@ impl<T: Scalar> KktStability<T> {
     }
 }
 
-impl KktStability<f64> {
+impl<T: Scalar> KktStability<T> {
     /// Exchanges the warm start of inverse iteration (the last mode and lowest eigenvalue)
     /// with `warm` (so that one factorisation pattern can serve several matrices, each with
     /// its own warm start).
-    pub fn swap_warm_start(&mut self, warm: &mut WarmStart) {
+    pub fn swap_warm_start(&mut self, warm: &mut WarmStart<T>) {
         if let Some(c) = self.counter.as_mut() {
             std::mem::swap(&mut c.last_mode, &mut warm.mode);
             std::mem::swap(&mut c.lowest_history, &mut warm.lowest);
@@ -1199,7 +1199,7 @@ impl KktStability<f64> {
 
     /// The mode (primal unknowns, unit norm in the metric) of the last eigenvalue nearest
     /// zero found; empty before one is found.
-    pub fn nearest_zero_mode(&self) -> &[f64] {
+    pub fn nearest_zero_mode(&self) -> &[T] {
         self.counter
             .as_ref()
             .map_or(&[], |c| c.nearest_zero_mode.as_slice())
@@ -1209,7 +1209,7 @@ impl KktStability<f64> {
     pub fn lowest_eigenvalue(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
+        kkt: &[T],
     ) -> Option<f64> {
         let (counter, metric) = self.counter_and_metric(pattern).ok()?;
         counter.lowest_eigenvalue(kkt, metric)
@@ -1220,7 +1220,7 @@ impl KktStability<f64> {
     pub fn rough_lowest(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
+        kkt: &[T],
     ) -> Option<f64> {
         let (counter, metric) = self.counter_and_metric(pattern).ok()?;
         counter.rough_lowest(kkt, metric)
@@ -1231,9 +1231,9 @@ impl KktStability<f64> {
     pub fn nearest_zero_orthogonal_to(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
-        first: &[f64],
-    ) -> Option<(f64, Vec<f64>)> {
+        kkt: &[T],
+        first: &[T],
+    ) -> Option<(f64, Vec<T>)> {
         let (counter, metric) = self.counter_and_metric(pattern).ok()?;
         counter.nearest_zero_orthogonal_to(kkt, metric, first)
     }
@@ -1242,7 +1242,7 @@ impl KktStability<f64> {
     pub fn eigenvalue_nearest_zero(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
-        kkt: &[f64],
+        kkt: &[T],
     ) -> Option<f64> {
         let (counter, metric) = self.counter_and_metric(pattern).ok()?;
         counter.eigenvalue_nearest_zero(kkt, metric)
