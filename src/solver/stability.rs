@@ -817,7 +817,7 @@ impl<T: Scalar> InertiaCounter<T> {
         let n_primal = self.iterate.len();
         let first = first.get(..n_primal)?;
         let norm = (0..n_primal)
-            .map(|i| metric[i] * first[i].abs2())
+            .map(|i| weighted_abs2(metric[i], first[i]))
             .sum::<f64>()
             .sqrt();
         if !(norm > 0.0 && norm.is_finite()) {
@@ -870,7 +870,7 @@ impl<T: Scalar> InertiaCounter<T> {
             }
             let v = &self.solution;
             let norm = (0..n_primal)
-                .map(|i| metric[i] * v[i].abs2())
+                .map(|i| weighted_abs2(metric[i], v[i]))
                 .sum::<f64>()
                 .sqrt();
             if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
@@ -921,6 +921,12 @@ impl<T: Scalar> InertiaCounter<T> {
         self.product = hv;
         (found && estimate.is_finite()).then_some(estimate)
     }
+}
+
+/// `m |v|²`, multiplied as `(m v) v̄` (for real entries, the order the real searches have
+/// always used, so that their results stay as they were to the last bit).
+fn weighted_abs2<T: Scalar>(m: f64, v: T) -> f64 {
+    (T::from_real(m) * v * v.conjugate()).real_part()
 }
 
 /// The next lowest eigenvalue that the last ones `h` (oldest first) extrapolate to
