@@ -13,7 +13,7 @@ use crate::discretisation::system::System;
 use crate::model::loading::{Control, TipLoad};
 use crate::results::Stability;
 use crate::solver::problem::Problem;
-use crate::solver::stability::{InertiaError, KktStability, KktStructure, WarmStart};
+use crate::solver::stability::{InertiaError, KktStability, KktStructure, RoughLowest, WarmStart};
 use faer::c64;
 use faer::sparse::SymbolicSparseColMat;
 use std::sync::Arc;
@@ -163,17 +163,19 @@ impl BlockView<'_> {
         }
     }
 
-    fn lowest_eigenvalue(&mut self) -> Option<f64> {
+    /// The block's lowest eigenvalue, going on from a rough estimate of it at this state
+    /// when there is one.
+    fn lowest_eigenvalue(&mut self, rough: Option<RoughLowest>) -> Option<f64> {
         if self.is_complex() {
             let (pat, v, s) = self.hermitian_form();
-            s.lowest_eigenvalue(pat, v)
+            s.lowest_eigenvalue(pat, v, rough)
         } else {
             let (pat, v, s) = self.real_form();
-            s.lowest_eigenvalue(pat, v)
+            s.lowest_eigenvalue(pat, v, rough)
         }
     }
 
-    fn rough_lowest(&mut self) -> Option<f64> {
+    fn rough_lowest(&mut self) -> Option<RoughLowest> {
         if self.is_complex() {
             let (pat, v, s) = self.hermitian_form();
             s.rough_lowest(pat, v)
@@ -324,7 +326,7 @@ impl RodProblem {
                 self.system.evaluate(&self.model, x, residual, values);
                 let pattern = self.system.pattern();
                 let lowest_eigenvalue = if eigenvalue {
-                    stability.lowest_eigenvalue(pattern, values)
+                    stability.lowest_eigenvalue(pattern, values, None)
                 } else {
                     None
                 };
@@ -358,32 +360,40 @@ impl RodProblem {
                 .collect();
         }
         // without a lowest eigenvalue found before (the first state), the block likely to
-        // hold it is picked by a rough estimate on every block: a cold search through a
-        // block's cluster of eigenvalues costs tens of factorisations, and would be
-        // repeated on every block found to have an eigenvalue below it
-        if b.warm.iter().all(|w| !w.has_history()) {
-            let rough = b.run(pattern, &all, |b| Ok(b.rough_lowest()));
-            if let Some((p, _)) = rough
-                .into_iter()
-                .filter_map(|(p, r)| r.ok().flatten().map(|mu| (p, mu)))
-                .min_by(|a, b| a.1.total_cmp(&b.1))
-            {
-                b.lowest_wavenumber = p;
+        // hold it is picked by a rough estimate on every block (a cold search through a
+        // block's cluster of eigenvalues costs tens of factorisations, and would be repeated
+        // on every block found to have an eigenvalue below it), and that estimate, a
+        // Rayleigh quotient, is an upper estimate of the lowest eigenvalue; along a path the
+        // upper estimate is the extrapolation of the last ones
+        // (each block's search goes on from its rough estimate)
+        let mut rough: Vec<Option<RoughLowest>> = vec![None; all.len()];
+        let upper = if b.warm.iter().all(|w| !w.has_history()) {
+            for (p, r) in b.run(pattern, &all, |b| Ok(b.rough_lowest())) {
+                rough[p] = r.ok().flatten();
             }
-        }
+            let lowest = (0..all.len())
+                .filter_map(|p| rough[p].map(|r| (p, r.estimate)))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            lowest.map(|(p, mu)| {
+                b.lowest_wavenumber = p;
+                mu
+            })
+        } else {
+            b.warm[b.lowest_wavenumber].upper_estimate()
+        };
         let first = b.lowest_wavenumber;
-        // along a path, every block at once (both threads busy): the block that had the
-        // lowest eigenvalue searches it again, the others count below an upper estimate
-        // of it (the extrapolation of its last ones); a block with an eigenvalue below the
-        // estimate searches its own, and when the lowest comes out above the estimate the
-        // blocks that only counted are asked again at it
-        if let Some(upper) = b.warm[first].upper_estimate() {
+        // every block at once (both threads busy): the block that holds (or held) the
+        // lowest eigenvalue searches it, the others count below the upper estimate of it;
+        // a block with an eigenvalue below the estimate searches its own, and when the
+        // lowest comes out above the estimate the blocks that only counted are asked again
+        // at it
+        if let Some(upper) = upper {
             let below_or_lowest = |b: &mut BlockView, sigma: f64| -> Result<_, InertiaError> {
                 let (count, below) = b.unstable_and_below(sigma)?;
                 Ok((
                     count,
                     if below > 0 {
-                        b.lowest_eigenvalue()
+                        b.lowest_eigenvalue(rough[b.p])
                     } else {
                         None
                     },
@@ -393,7 +403,7 @@ impl RodProblem {
                 if b.p != first {
                     return below_or_lowest(b, upper);
                 }
-                let lowest = b.lowest_eigenvalue();
+                let lowest = b.lowest_eigenvalue(rough[b.p]);
                 let count = if clearly_stable(lowest, b.rounding_band()?) {
                     0
                 } else {
@@ -426,9 +436,11 @@ impl RodProblem {
             out.sort_by_key(|s| s.wavenumber);
             return Ok(out);
         }
+        // no upper estimate (one lowest eigenvalue known, or no rough estimate found): the
+        // block that held the lowest searches it, then the others count below it
         let [(_, head)] = b
             .run(pattern, &[first], |b| {
-                let lowest = b.lowest_eigenvalue();
+                let lowest = b.lowest_eigenvalue(None);
                 let count = if clearly_stable(lowest, b.rounding_band()?) {
                     0
                 } else {
@@ -453,7 +465,7 @@ impl RodProblem {
         for (p, r) in b.run(pattern, &others, |b| {
             let (count, below) = b.unstable_and_below(best)?;
             let lowest = if below > 0 {
-                b.lowest_eigenvalue()
+                b.lowest_eigenvalue(None)
             } else {
                 None
             };

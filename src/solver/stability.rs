@@ -640,7 +640,15 @@ impl<T: Scalar> InertiaCounter<T> {
     /// component along the lowest mode), and the bracket `[lo, σ]` is bisected by counts to
     /// a new `lo` before iterating again. Clustered spectra thus cost a few factorisations
     /// instead of hundreds of slowly converging iterations.
-    pub fn lowest_eigenvalue(&mut self, kkt: &[T], metric: &[f64]) -> Option<f64> {
+    ///
+    /// A rough estimate of the same values (by [`InertiaCounter::rough_lowest`]) saves the
+    /// search its first steps.
+    pub fn lowest_eigenvalue(
+        &mut self,
+        kkt: &[T],
+        metric: &[f64],
+        rough: Option<RoughLowest>,
+    ) -> Option<f64> {
         // along a path: one factorisation at a shift just below the extrapolated lowest
         // eigenvalue, which the count confirms to be below the spectrum
         let mut start = None;
@@ -654,7 +662,8 @@ impl<T: Scalar> InertiaCounter<T> {
                 start = Some((sigma, mu));
             }
         }
-        let (mut lo, mut mu) = match start {
+        let rough = rough.map(|r| (r.shift, r.estimate));
+        let (mut lo, mut mu) = match start.or(rough) {
             Some(s) => s,
             None => {
                 let lo = self.shift_below_spectrum(kkt, metric)?;
@@ -718,11 +727,13 @@ impl<T: Scalar> InertiaCounter<T> {
 
     /// A rough upper estimate of the lowest eigenvalue without a search: a few inverse
     /// iterations from a shift below the spectrum (0 when nothing is below it). It tells
-    /// which of several matrices is likely to hold the lowest eigenvalue; the iterate is
-    /// kept as the warm start of the search that follows.
-    pub fn rough_lowest(&mut self, kkt: &[T], metric: &[f64]) -> Option<f64> {
-        self.shift_below_spectrum(kkt, metric)?;
-        self.inverse_iteration(kkt, metric, ROUGH)
+    /// which of several matrices is likely to hold the lowest eigenvalue, and a search of
+    /// the lowest eigenvalue of the same values goes on from it (and from the iterate, kept
+    /// as the warm start).
+    pub fn rough_lowest(&mut self, kkt: &[T], metric: &[f64]) -> Option<RoughLowest> {
+        let shift = self.shift_below_spectrum(kkt, metric)?;
+        let estimate = self.inverse_iteration(kkt, metric, ROUGH)?;
+        Some(RoughLowest { estimate, shift })
     }
 
     /// A shift just below the lowest eigenvalue that the last ones extrapolate to
@@ -961,6 +972,15 @@ fn cold_start(metric: &[f64]) -> Vec<f64> {
         .enumerate()
         .map(|(i, m)| m * (1.0 + (i % 7) as f64 * 0.1))
         .collect()
+}
+
+/// A rough estimate of the lowest eigenvalue of one matrix ([`InertiaCounter::rough_lowest`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoughLowest {
+    /// A Rayleigh quotient: an upper estimate of the lowest eigenvalue (J/m).
+    pub estimate: f64,
+    /// A shift below the spectrum, confirmed by a count.
+    shift: f64,
 }
 
 /// Where inverse iteration starts: the last mode found and the last lowest eigenvalue.
@@ -1211,14 +1231,16 @@ impl<T: Scalar> KktStability<T> {
             .map_or(&[], |c| c.nearest_zero_mode.as_slice())
     }
 
-    /// Lowest eigenvalue of the constrained Hessian (J/m in the rods' metric).
+    /// Lowest eigenvalue of the constrained Hessian (J/m in the rods' metric), going on from
+    /// a rough estimate of the same values when there is one.
     pub fn lowest_eigenvalue(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
         kkt: &[T],
+        rough: Option<RoughLowest>,
     ) -> Option<f64> {
         let (counter, metric) = self.counter_and_metric(pattern).ok()?;
-        counter.lowest_eigenvalue(kkt, metric)
+        counter.lowest_eigenvalue(kkt, metric, rough)
     }
 
     /// A rough upper estimate of the lowest eigenvalue (see
@@ -1227,7 +1249,7 @@ impl<T: Scalar> KktStability<T> {
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
         kkt: &[T],
-    ) -> Option<f64> {
+    ) -> Option<RoughLowest> {
         let (counter, metric) = self.counter_and_metric(pattern).ok()?;
         counter.rough_lowest(kkt, metric)
     }
