@@ -168,10 +168,10 @@ impl BlockView<'_> {
     fn lowest_eigenvalue(&mut self, rough: Option<RoughLowest>) -> Option<f64> {
         if self.is_complex() {
             let (pat, v, s) = self.hermitian_form();
-            s.lowest_eigenvalue(pat, v, rough)
+            s.lowest_eigenvalue_after(pat, v, rough)
         } else {
             let (pat, v, s) = self.real_form();
-            s.lowest_eigenvalue(pat, v, rough)
+            s.lowest_eigenvalue_after(pat, v, rough)
         }
     }
 
@@ -326,7 +326,7 @@ impl RodProblem {
                 self.system.evaluate(&self.model, x, residual, values);
                 let pattern = self.system.pattern();
                 let lowest_eigenvalue = if eigenvalue {
-                    stability.lowest_eigenvalue(pattern, values, None)
+                    stability.lowest_eigenvalue(pattern, values)
                 } else {
                     None
                 };

@@ -1231,9 +1231,18 @@ impl<T: Scalar> KktStability<T> {
             .map_or(&[], |c| c.nearest_zero_mode.as_slice())
     }
 
-    /// Lowest eigenvalue of the constrained Hessian (J/m in the rods' metric), going on from
-    /// a rough estimate of the same values when there is one.
+    /// Lowest eigenvalue of the constrained Hessian (J/m in the rods' metric).
     pub fn lowest_eigenvalue(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[T],
+    ) -> Option<f64> {
+        self.lowest_eigenvalue_after(pattern, kkt, None)
+    }
+
+    /// As [`KktStability::lowest_eigenvalue`], going on from a rough estimate of the same
+    /// values when there is one.
+    pub fn lowest_eigenvalue_after(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
         kkt: &[T],
