@@ -606,8 +606,10 @@ impl Blocks {
     }
 
     /// `task` on the blocks of wavenumbers `ps` at the pair's KKT values in `self.pair`,
-    /// shared out between the two workers (the second on a thread of its own); results in
-    /// the order of `ps`.
+    /// shared out between the two workers (the second on a thread of its own) by the
+    /// parity of `p`: a block stays with the worker whose factorisation workspace it has
+    /// built (the first use of a workspace costs what a few factorisations do), and the
+    /// blocks of all wavenumbers are shared about evenly; results in the order of `ps`.
     fn run<T: Send>(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
@@ -616,14 +618,16 @@ impl Blocks {
     ) -> Vec<(usize, Result<T, InertiaError>)> {
         let task: &BlockTask<T> = &task;
         let mut jobs: [Vec<(usize, BlockWarm)>; 2] = [Vec::new(), Vec::new()];
-        for (i, &p) in ps.iter().enumerate() {
-            jobs[i % 2].push((p, std::mem::take(&mut self.warm[p])));
+        for &p in ps {
+            jobs[p % 2].push((p, std::mem::take(&mut self.warm[p])));
         }
         let (bloch, pair) = (&self.bloch, &self.pair);
         let [w0, w1] = &mut self.workers;
         let [j0, j1] = jobs;
         let (mut r0, r1) = if j1.is_empty() {
             (w0.run(bloch, pattern, pair, j0, task), Vec::new())
+        } else if j0.is_empty() {
+            (Vec::new(), w1.run(bloch, pattern, pair, j1, task))
         } else {
             std::thread::scope(|scope| {
                 let other = scope.spawn(|| w1.run(bloch, pattern, pair, j1, task));

@@ -745,6 +745,14 @@ impl<T: Scalar> InertiaCounter<T> {
         Some(predicted - margin)
     }
 
+    /// Exchanges the warm start (last mode, lowest eigenvalues, mode nearest zero) with
+    /// `warm`.
+    fn swap_warm_start(&mut self, warm: &mut WarmStart<T>) {
+        std::mem::swap(&mut self.last_mode, &mut warm.mode);
+        std::mem::swap(&mut self.lowest_history, &mut warm.lowest);
+        std::mem::swap(&mut self.nearest_zero_mode, &mut warm.nearest_zero);
+    }
+
     /// Appends `lowest` to the history that places the next shift.
     fn record_lowest(&mut self, lowest: f64) {
         if self.lowest_history.len() == 4 {
@@ -1080,6 +1088,8 @@ pub struct KktStability<T: Scalar = f64> {
     /// Length `ℓ` that weighs position unknowns against rotations in the regularisation
     /// (m; the rod length).
     length: f64,
+    /// A warm start handed over before the counter was built, for it.
+    pending: WarmStart<T>,
 }
 
 impl<T: Scalar> KktStability<T> {
@@ -1095,6 +1105,7 @@ impl<T: Scalar> KktStability<T> {
             metric,
             mean_metric,
             length,
+            pending: WarmStart::default(),
         }
     }
 
@@ -1108,6 +1119,7 @@ impl<T: Scalar> KktStability<T> {
             metric: self.metric.clone(),
             mean_metric: self.mean_metric,
             length: self.length,
+            pending: WarmStart::default(),
         }
     }
 
@@ -1204,7 +1216,9 @@ impl<T: Scalar> KktStability<T> {
     ) -> Result<(&mut InertiaCounter<T>, &[f64]), InertiaError> {
         if self.counter.is_none() {
             let structure = self.structure_for(pattern)?;
-            self.counter = Some(Box::new(InertiaCounter::with_structure(structure)?));
+            let mut counter = Box::new(InertiaCounter::with_structure(structure)?);
+            counter.swap_warm_start(&mut self.pending);
+            self.counter = Some(counter);
         }
         let counter = self.counter.as_mut().expect("built above");
         Ok((counter, &self.metric))
@@ -1216,10 +1230,9 @@ impl<T: Scalar> KktStability<T> {
     /// with `warm` (so that one factorisation pattern can serve several matrices, each with
     /// its own warm start).
     pub fn swap_warm_start(&mut self, warm: &mut WarmStart<T>) {
-        if let Some(c) = self.counter.as_mut() {
-            std::mem::swap(&mut c.last_mode, &mut warm.mode);
-            std::mem::swap(&mut c.lowest_history, &mut warm.lowest);
-            std::mem::swap(&mut c.nearest_zero_mode, &mut warm.nearest_zero);
+        match self.counter.as_mut() {
+            Some(c) => c.swap_warm_start(warm),
+            None => std::mem::swap(&mut self.pending, warm),
         }
     }
 
