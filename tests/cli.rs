@@ -1020,3 +1020,56 @@ fn the_next_run_removes_the_staging_folder_of_a_killed_run_and_nothing_else() {
         assert!(out.join(name).is_file(), "{name}");
     }
 }
+
+/// `spira bench --cold` times whole `spira run` processes of thesis n = 8 and n = 1 one after
+/// the other and reports each one's best and median and their ratios: the ratios are those
+/// of the times it prints (no wall-clock bound is asserted: the machine's load moves them).
+#[test]
+fn the_cold_bench_times_whole_runs_of_eight_helices_and_of_one_side_by_side() {
+    let dir = Scratch::new("bench-cold");
+    let out = spira(&dir.0, &["bench", "--cold", "--repeats", "3"]);
+    assert_success(&out);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(text.contains("cold `spira run` processes"), "{text}");
+    let row = |n: &str| -> (f64, f64) {
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(n))
+            .unwrap_or_else(|| panic!("no row for n = {n}: {text}"));
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .skip(1)
+            .take(2)
+            .map(|x| x.parse().expect("a time in ms"))
+            .collect();
+        assert!(v[0] > 0.0 && v[0] <= v[1], "best then median: {line}");
+        (v[0], v[1])
+    };
+    let (best8, median8) = row("8");
+    let (best1, median1) = row("1");
+    let ratios = text
+        .lines()
+        .find_map(|l| l.strip_prefix("n = 8 / n = 1: "))
+        .unwrap_or_else(|| panic!("no ratio line: {text}"));
+    let r: Vec<f64> = ratios
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter(|s| !s.is_empty())
+        .take(2)
+        .map(|x| x.parse().expect("a ratio"))
+        .collect();
+    // ratios printed to 0.01, times to 0.1 ms (of tens of ms)
+    let close = |a: f64, b: f64| (a - b).abs() <= 0.006 + 0.01 * b;
+    assert!(
+        close(r[0], best8 / best1),
+        "{ratios} against {best8} / {best1}"
+    );
+    assert!(
+        close(r[1], median8 / median1),
+        "{ratios} against {median8} / {median1}"
+    );
+    // a case file has no place here: the bench runs its own two cases (a usage error)
+    let refused = spira(&dir.0, &["bench", "x.toml", "--cold"]);
+    assert_eq!(refused.status.code(), Some(2));
+    let err = stderr(&refused);
+    assert!(err.contains("cannot be used with '--cold'"), "{err}");
+}
