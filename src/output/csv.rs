@@ -531,27 +531,25 @@ pub struct NonFinite {
 /// Checks that no cell of `csv` (a table of this module) is `NaN`, `inf` or `-inf`, and
 /// says the first column that holds one.
 pub fn check_finite(csv: &str) -> Result<(), NonFinite> {
-    let body: String = csv
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .flat_map(|l| [l, "\n"])
-        .collect();
+    const NON_FINITE: [&[u8]; 6] = [b"nan", b"inf", b"-inf", b"+inf", b"infinity", b"-infinity"];
     let mut reader = ::csv::ReaderBuilder::new()
         .flexible(true)
-        .from_reader(body.as_bytes());
-    let header = reader.headers().cloned().unwrap_or_default();
-    for (k, record) in reader.records().enumerate() {
-        let Ok(record) = record else { continue };
+        .comment(Some(b'#'))
+        .from_reader(csv.as_bytes());
+    let header = reader.byte_headers().cloned().unwrap_or_default();
+    let mut record = ::csv::ByteRecord::new();
+    let mut row = 0;
+    // bytes read from memory: no reading error can occur
+    while let Ok(true) = reader.read_byte_record(&mut record) {
+        row += 1;
         for (i, cell) in record.iter().enumerate() {
-            let t = cell.trim().to_ascii_lowercase();
-            if matches!(
-                t.as_str(),
-                "nan" | "inf" | "-inf" | "+inf" | "infinity" | "-infinity"
-            ) {
+            let t = cell.trim_ascii();
+            if NON_FINITE.iter().any(|w| t.eq_ignore_ascii_case(w)) {
+                let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
                 return Err(NonFinite {
-                    column: header.get(i).unwrap_or("?").to_string(),
-                    row: k + 1,
-                    value: cell.to_string(),
+                    column: header.get(i).map_or("?".to_string(), text),
+                    row,
+                    value: text(cell),
                 });
             }
         }
