@@ -613,12 +613,16 @@ impl<T: Scalar> InertiaCounter<T> {
         for (yi, &from) in y.iter_mut().zip(perm) {
             *yi = x[from];
         }
-        LdltRef::new(&self.structure.symbolic, &self.l_values).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(y, n, 1),
-            Par::Seq,
-            MemStack::new(&mut self.buffer),
-        );
+        match &self.structure.reach {
+            Some(reach) => reach.solve_in_place(&self.l_values, &self.inverse_pivot, y),
+            None => LdltRef::new(&self.structure.symbolic, &self.l_values)
+                .solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(y, n, 1),
+                    Par::Seq,
+                    MemStack::new(&mut self.buffer),
+                ),
+        }
         for (&yi, &to) in y.iter().zip(perm) {
             x[to] = yi;
         }
