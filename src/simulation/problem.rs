@@ -99,6 +99,20 @@ struct BlockView<'a> {
     hermitian_ready: bool,
 }
 
+/// `$body` on the block `$view` as its own kind: `$pat`, `$v`, `$s` its pattern, values and
+/// stability, of real entries (`p = 0`, `m/2`) or complex ones.
+macro_rules! on_block {
+    ($view:expr, |$pat:ident, $v:ident, $s:ident| $body:expr) => {
+        if $view.is_complex() {
+            let ($pat, $v, $s) = $view.hermitian_form();
+            $body
+        } else {
+            let ($pat, $v, $s) = $view.real_form();
+            $body
+        }
+    };
+}
+
 impl BlockView<'_> {
     /// Whether the block is complex (`0 < p < m/2`).
     fn is_complex(&self) -> bool {
@@ -134,55 +148,25 @@ impl BlockView<'_> {
     }
 
     fn unstable_directions(&mut self) -> Result<usize, InertiaError> {
-        if self.is_complex() {
-            let (pat, v, s) = self.hermitian_form();
-            s.unstable_directions(pat, v)
-        } else {
-            let (pat, v, s) = self.real_form();
-            s.unstable_directions(pat, v)
-        }
+        on_block!(self, |pat, v, s| s.unstable_directions(pat, v))
     }
 
     fn unstable_and_below(&mut self, sigma: f64) -> Result<(usize, usize), InertiaError> {
-        if self.is_complex() {
-            let (pat, v, s) = self.hermitian_form();
-            s.unstable_and_below(pat, v, sigma)
-        } else {
-            let (pat, v, s) = self.real_form();
-            s.unstable_and_below(pat, v, sigma)
-        }
+        on_block!(self, |pat, v, s| s.unstable_and_below(pat, v, sigma))
     }
 
     fn rounding_band(&mut self) -> Result<f64, InertiaError> {
-        if self.is_complex() {
-            let (pat, v, s) = self.hermitian_form();
-            s.rounding_band(pat, v)
-        } else {
-            let (pat, v, s) = self.real_form();
-            s.rounding_band(pat, v)
-        }
+        on_block!(self, |pat, v, s| s.rounding_band(pat, v))
     }
 
     /// The block's lowest eigenvalue, going on from a rough estimate of it at this state
     /// when there is one.
     fn lowest_eigenvalue(&mut self, rough: Option<RoughLowest>) -> Option<f64> {
-        if self.is_complex() {
-            let (pat, v, s) = self.hermitian_form();
-            s.lowest_eigenvalue_after(pat, v, rough)
-        } else {
-            let (pat, v, s) = self.real_form();
-            s.lowest_eigenvalue_after(pat, v, rough)
-        }
+        on_block!(self, |pat, v, s| s.lowest_eigenvalue_after(pat, v, rough))
     }
 
     fn rough_lowest(&mut self) -> Option<RoughLowest> {
-        if self.is_complex() {
-            let (pat, v, s) = self.hermitian_form();
-            s.rough_lowest(pat, v)
-        } else {
-            let (pat, v, s) = self.real_form();
-            s.rough_lowest(pat, v)
-        }
+        on_block!(self, |pat, v, s| s.rough_lowest(pat, v))
     }
 
     /// The eigenvalue nearest zero and its mode: over the pair's primal unknowns, for a

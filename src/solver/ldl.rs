@@ -233,26 +233,41 @@ mod tests {
         (cp, ri)
     }
 
-    /// `L D Lᴴ` rebuilt from the factor reproduces an indefinite Hermitian matrix.
-    #[test]
-    fn factor_reproduces_an_indefinite_hermitian_matrix() {
-        let n = 5;
-        let a: Vec<Vec<c64>> = (0..n)
+    /// An indefinite Hermitian matrix: diagonal entries negative where `negative(i)`, small
+    /// complex couplings.
+    fn indefinite_hermitian(n: usize, negative: impl Fn(usize) -> bool) -> Vec<Vec<c64>> {
+        let scale = n as f64;
+        (0..n)
             .map(|i| {
                 (0..n)
                     .map(|j| {
                         let (x, y) = (i as f64, j as f64);
                         if i == j {
-                            c64::new(if i % 2 == 0 { 4.0 + x } else { -3.0 - x }, 0.0)
+                            c64::new(if negative(i) { -3.0 - x } else { 4.0 + x }, 0.0)
                         } else {
                             let s = if i < j { 1.0 } else { -1.0 };
-                            c64::new(0.3 * (x + y) / 5.0, s * 0.2 * (x - y).abs() / 5.0)
+                            c64::new(0.3 * (x + y) / scale, s * 0.2 * (x - y).abs() / scale)
                         }
                     })
                     .collect()
             })
-            .collect();
-        let (acp, ari, av) = upper(&a);
+            .collect()
+    }
+
+    /// `a` factorised with a dense pattern of `L`: the reach, the factor, the inverted
+    /// pivots, the work (left zero) and the pattern of `L`.
+    #[allow(clippy::type_complexity)]
+    fn factorised(
+        a: &[Vec<c64>],
+    ) -> (
+        RowReach,
+        Vec<c64>,
+        Vec<f64>,
+        Vec<c64>,
+        (Vec<usize>, Vec<usize>),
+    ) {
+        let n = a.len();
+        let (acp, ari, av) = upper(a);
         let (lcp, lri) = dense_factor(n);
         let reach = RowReach::new(&lcp, &lri).expect("small factor");
         let mut l = vec![c64::new(0.0, 0.0); lri.len()];
@@ -261,6 +276,15 @@ mod tests {
         reach
             .factorize(&acp, &ari, &av, &mut l, &mut work, &mut inv)
             .expect("nonsingular");
+        (reach, l, inv, work, (lcp, lri))
+    }
+
+    /// `L D Lᴴ` rebuilt from the factor reproduces an indefinite Hermitian matrix.
+    #[test]
+    fn factor_reproduces_an_indefinite_hermitian_matrix() {
+        let n = 5;
+        let a = indefinite_hermitian(n, |i| i % 2 == 1);
+        let (_, l, _, work, (lcp, lri)) = factorised(&a);
         // dense L (unit diagonal) and D
         let mut ld = vec![vec![c64::new(0.0, 0.0); n]; n];
         let mut d = vec![0.0; n];
@@ -293,30 +317,8 @@ mod tests {
     #[test]
     fn solve_inverts_an_indefinite_hermitian_matrix() {
         let n = 6;
-        let a: Vec<Vec<c64>> = (0..n)
-            .map(|i| {
-                (0..n)
-                    .map(|j| {
-                        let (x, y) = (i as f64, j as f64);
-                        if i == j {
-                            c64::new(if i % 3 == 0 { -5.0 - x } else { 6.0 + x }, 0.0)
-                        } else {
-                            let s = if i < j { 1.0 } else { -1.0 };
-                            c64::new(0.4 * (x + y) / 6.0, s * 0.3 * (x - y).abs() / 6.0)
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
-        let (acp, ari, av) = upper(&a);
-        let (lcp, lri) = dense_factor(n);
-        let reach = RowReach::new(&lcp, &lri).expect("small factor");
-        let mut l = vec![c64::new(0.0, 0.0); lri.len()];
-        let mut work = vec![c64::new(0.0, 0.0); n];
-        let mut inv = vec![0.0; n];
-        reach
-            .factorize(&acp, &ari, &av, &mut l, &mut work, &mut inv)
-            .expect("nonsingular");
+        let a = indefinite_hermitian(n, |i| i % 3 == 0);
+        let (reach, l, inv, _, _) = factorised(&a);
         let b: Vec<c64> = (0..n)
             .map(|i| c64::new(1.0 + i as f64, 0.5 - i as f64))
             .collect();
