@@ -14,8 +14,10 @@ use std::path::{Path, PathBuf};
 pub struct SessionEvent {
     /// Index in the path of the first point under the change (the next point).
     pub from_point: usize,
-    /// `ε` asked for when the change was made.
-    pub eps: f64,
+    /// Load parameter `λ` asked for when the change was made (`ε` under displacement
+    /// control, `P/Pcrit` under load control); `eps` in a session file of version 1.
+    #[serde(alias = "eps")]
+    pub parameter: f64,
     pub what: String,
 }
 
@@ -72,7 +74,7 @@ pub fn load_csv(
             for e in events {
                 out.push_str(&format!(
                     "# event: from point {} (eps asked {:.6}): {}\n",
-                    e.from_point, e.eps, e.what
+                    e.from_point, e.parameter, e.what
                 ));
             }
             out.push_str(line);

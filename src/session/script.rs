@@ -1,6 +1,26 @@
 //! A session as a small TOML script of the jobs the solver ran, saved by the explorer and
 //! replayed headless by `spira replay SESSION.toml --out DIR` through the same solver code
 //! ([`worker::run_jobs`]), so the replay writes the explorer's CSVs.
+//!
+//! The format has a version ([`VERSION`]). Version 2 names the load parameter `λ` (the
+//! compression ratio `ε` under displacement control, `P/Pcrit` under load control)
+//! `parameter`, in the actions and the events:
+//!
+//! ```toml
+//! version = 2
+//! label = "thesis"
+//!
+//! [[events]]
+//! from_point = 1
+//! parameter = 0.0
+//! what = "tip translation slide"
+//!
+//! [[actions]]
+//! do = "advance"
+//! parameter = 0.05
+//! ```
+//!
+//! Version 1 (no `version` key) called it `eps`; it is still read.
 
 use super::export::{self, SessionEvent};
 use super::worker::{self, Job, Part, WorkerEvent};
@@ -14,39 +34,49 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "do", rename_all = "kebab-case")]
 pub enum Action {
-    /// A new simulation with `helices` helices under `boundary`, at `ε = 0`.
+    /// A new simulation with `helices` helices under `boundary`, at `λ = 0`.
     Start {
         helices: usize,
         boundary: BoundaryConditions,
     },
-    /// Continue the path to `ε = eps`; with `steps`, stop after that many accepted
-    /// internal steps with the next one `step_length` long (a step the explorer's user
-    /// cancelled part of the way, replayed to the state it reached).
+    /// Continue the path to load parameter `parameter`; with `steps`, stop after that many
+    /// accepted internal steps with the next one `step_length` long (a step the explorer's
+    /// user cancelled part of the way, replayed to the state it reached).
     Advance {
-        eps: f64,
+        #[serde(alias = "eps")]
+        parameter: f64,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         steps: Option<usize>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         step_length: Option<f64>,
     },
     /// Switch onto the branch of bifurcation `index` (of the critical points found since
-    /// the start, from 0) on the side `sign` (±1), and follow it to `ε = eps`.
+    /// the start, from 0) on the side `sign` (±1), and follow it to load parameter
+    /// `parameter`.
     Switch {
         index: usize,
         sign: f64,
-        eps: f64,
+        #[serde(alias = "eps")]
+        parameter: f64,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         steps: Option<usize>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         step_length: Option<f64>,
     },
-    /// Change the boundary conditions at the current `ε`.
+    /// Change the boundary conditions at the current `λ`.
     Boundary { boundary: BoundaryConditions },
 }
+
+/// The version of the session format written: 2 names the load parameter `parameter`
+/// (version 1, without a `version` key, named it `eps`).
+pub const VERSION: u32 = 2;
 
 /// A saved session.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Script {
+    /// The version of the format the file was written in (1 when it has no `version` key).
+    #[serde(default = "first_version")]
+    pub version: u32,
     /// The case file (`None`: the built-in case).
     pub case: Option<PathBuf>,
     /// The case label the exports are named after.
@@ -56,6 +86,11 @@ pub struct Script {
     pub events: Vec<SessionEvent>,
     /// The jobs since the last start, in the order the solver ran them.
     pub actions: Vec<Action>,
+}
+
+/// The version of a file without a `version` key.
+fn first_version() -> u32 {
+    1
 }
 
 /// Why a session could not be saved, read or replayed.
@@ -75,6 +110,10 @@ pub enum ScriptError {
     },
     #[error("writing the session: {0}")]
     Serialise(#[from] toml::ser::Error),
+    #[error(
+        "session file {path} is of version {version}; this spira reads versions 1 to {VERSION}"
+    )]
+    Version { path: PathBuf, version: u32 },
     #[error("the session has no start action")]
     NoStart,
     #[error("replaying the session: {0}")]
@@ -89,25 +128,25 @@ impl Action {
                 helices: case.geometry.helices,
                 boundary: case.boundary,
             }),
-            Job::Advance(eps) => Some(Action::Advance {
-                eps: *eps,
+            Job::Advance(parameter) => Some(Action::Advance {
+                parameter: *parameter,
                 steps: None,
                 step_length: None,
             }),
-            Job::AdvancePart { eps, part } => Some(Action::Advance {
-                eps: *eps,
+            Job::AdvancePart { parameter, part } => Some(Action::Advance {
+                parameter: *parameter,
                 steps: Some(part.steps),
                 step_length: Some(part.step_length),
             }),
             Job::Switch {
                 index,
                 sign,
-                eps,
+                parameter,
                 part,
             } => Some(Action::Switch {
                 index: *index,
                 sign: *sign,
-                eps: *eps,
+                parameter: *parameter,
                 steps: part.map(|p| p.steps),
                 step_length: part.map(|p| p.step_length),
             }),
@@ -134,23 +173,23 @@ impl Action {
                 Job::Start(Box::new(c))
             }
             Action::Advance {
-                eps,
+                parameter,
                 steps,
                 step_length,
             } => match part(steps, step_length) {
-                Some(part) => Job::AdvancePart { eps, part },
-                None => Job::Advance(eps),
+                Some(part) => Job::AdvancePart { parameter, part },
+                None => Job::Advance(parameter),
             },
             Action::Switch {
                 index,
                 sign,
-                eps,
+                parameter,
                 steps,
                 step_length,
             } => Job::Switch {
                 index,
                 sign,
-                eps,
+                parameter,
                 part: part(steps, step_length),
             },
             Action::Boundary { boundary } => Job::SetBoundary(boundary),
@@ -188,6 +227,7 @@ impl Script {
             .rposition(|j| matches!(j, Job::Start(_)))
             .unwrap_or(0);
         Script {
+            version: VERSION,
             case,
             label,
             events,
@@ -202,15 +242,29 @@ impl Script {
         ))
     }
 
+    /// Reads a session file of any version up to [`VERSION`].
     pub fn read(path: &Path) -> Result<Script, ScriptError> {
         let text = std::fs::read_to_string(path).map_err(|source| ScriptError::Io {
             path: path.to_path_buf(),
             source,
         })?;
-        toml::from_str(&text).map_err(|source| ScriptError::Parse {
+        Script::parse(&text, path)
+    }
+
+    /// A session from the text of a session file (`path` names it in errors), of any
+    /// version up to [`VERSION`]: version 1's `eps` is read as the load parameter.
+    pub fn parse(text: &str, path: &Path) -> Result<Script, ScriptError> {
+        let script: Script = toml::from_str(text).map_err(|source| ScriptError::Parse {
             path: path.to_path_buf(),
             source,
-        })
+        })?;
+        if !(1..=VERSION).contains(&script.version) {
+            return Err(ScriptError::Version {
+                path: path.to_path_buf(),
+                version: script.version,
+            });
+        }
+        Ok(script)
     }
 
     pub fn write(&self, path: &Path) -> Result<(), ScriptError> {

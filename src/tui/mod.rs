@@ -82,7 +82,7 @@ pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Res
     let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
     app.case_file = case_file;
-    app.no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
+    app.view.no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
     let result = event_loop(&mut terminal.terminal, &mut app, &worker, &stop);
     drop(terminal);
     done.store(true, Ordering::Relaxed);
@@ -259,7 +259,7 @@ where
         }
         if dirty {
             let size = terminal.size().map_err(Into::into)?;
-            app.too_small = size.width < ui::MIN_WIDTH || size.height < ui::MIN_HEIGHT;
+            app.view.too_small = size.width < ui::MIN_WIDTH || size.height < ui::MIN_HEIGHT;
             terminal.draw(|f| ui::draw(f, app)).map_err(Into::into)?;
             dirty = false;
         }
@@ -392,7 +392,7 @@ pub fn measure_responsiveness(
         height,
         key_to_frame: Vec::new(),
         step_times: Vec::new(),
-        step: app.step,
+        step: app.screen.step,
         key_to_frame_long: Vec::new(),
         cancel_to_idle: None,
     };

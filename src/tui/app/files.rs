@@ -1,0 +1,102 @@
+//! What leaves the explorer as files: the exports of the state on screen and its path, and
+//! the session saved as a replayable script.
+
+use super::{App, Message};
+use crate::session::export;
+use crate::session::script::Script;
+use std::path::{Path, PathBuf};
+
+impl App {
+    /// File names of an export of the current state.
+    pub fn export_names(&self) -> Option<[String; 3]> {
+        let point = &self.screen.state.as_ref()?.point;
+        Some(export::names(&self.case_label(), point.step, point.eps))
+    }
+
+    fn place(&self) -> String {
+        if self.out_dir == Path::new(".") {
+            String::new()
+        } else {
+            format!(" in {}", self.out_dir.display())
+        }
+    }
+
+    /// Writes the current state and the load path so far (with the conditions of each
+    /// point and the session's events) into [`App::out_dir`], in the formats of
+    /// `spira run`, and says so in the message line.
+    pub fn export(&mut self) -> Vec<PathBuf> {
+        let written = match self.screen.state.as_ref() {
+            Some(state) => export::write(
+                &self.out_dir,
+                &self.case_label(),
+                &state.snapshot,
+                &self.screen.path,
+                &self.screen.conditions,
+                &self.screen.events,
+            ),
+            None => Err(std::io::Error::other("no converged state yet")),
+        };
+        match written {
+            Ok(files) => {
+                let names: Vec<String> = files
+                    .iter()
+                    .filter_map(|f| f.file_name())
+                    .map(|f| f.to_string_lossy().into_owned())
+                    .collect();
+                self.message = Some(Message::Info(format!(
+                    "wrote {}{}",
+                    names.join(", "),
+                    self.place()
+                )));
+                files
+            }
+            Err(e) => {
+                self.message = Some(Message::Error(format!("export failed: {e}")));
+                vec![]
+            }
+        }
+    }
+
+    /// The session so far as a replayable script.
+    pub fn script(&self) -> Script {
+        let case = self
+            .case_file
+            .as_ref()
+            .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()));
+        let from = self
+            .screen
+            .events
+            .iter()
+            .rposition(|e| e.from_point == 0 && (e.what.starts_with("n =") || e.what == "reset"))
+            .unwrap_or(0);
+        Script::of(
+            case,
+            self.case_label(),
+            self.screen.events[from..].to_vec(),
+            &self.replay.ran(),
+        )
+    }
+
+    /// Writes [`App::script`] to `<case>-session.toml` in [`App::out_dir`].
+    pub fn save_session(&mut self) -> Option<PathBuf> {
+        let name = format!("{}-session.toml", export::sanitise(&self.case_label()));
+        let file = self.out_dir.join(name);
+        let saved = std::fs::create_dir_all(&self.out_dir)
+            .map_err(|e| e.to_string())
+            .and_then(|()| self.script().write(&file).map_err(|e| e.to_string()));
+        match saved {
+            Ok(()) => {
+                self.message = Some(Message::Info(format!(
+                    "saved the session to {}; spira replay {} --out DIR writes its CSVs",
+                    file.display(),
+                    file.display()
+                )));
+                Some(file)
+            }
+            Err(e) => {
+                self.message = Some(Message::Error(format!("saving the session failed: {e}")));
+                None
+            }
+        }
+    }
+}

@@ -1,0 +1,50 @@
+//! The critical-point list (`x`): the critical points crossed so far, over the screen.
+
+use super::colours::DIM;
+use super::draw_overlay;
+use crate::tui::app::App;
+use ratatui::layout::Rect;
+use ratatui::style::{Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::Frame;
+
+/// The critical points crossed so far, as a list over the screen, the chosen one
+/// highlighted (a bifurcation's branch is switched onto from here).
+pub(super) fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
+    let mut lines = vec![Line::from(Span::styled(
+        "  #  kind           ε         fz/(n Pcrit)  unstable  p",
+        Style::new().fg(DIM),
+    ))];
+    if app.screen.critical.is_empty() {
+        lines.push(Line::from(" none crossed on this path yet"));
+    }
+    for (i, c) in app.screen.critical.iter().enumerate() {
+        let text = format!(
+            "{} {i:>2}  {:<13} {:>9.5}  {:>12.5}  {} → {}{}",
+            if i == app.view.critical_cursor {
+                '▸'
+            } else {
+                ' '
+            },
+            c.kind.name(),
+            c.eps,
+            c.load[2],
+            c.unstable_before,
+            c.unstable_after,
+            c.wavenumber.map_or(String::new(), |p| format!("     {p}"))
+        );
+        let style = if i == app.view.critical_cursor {
+            Style::new().add_modifier(Modifier::REVERSED)
+        } else {
+            Style::new()
+        };
+        lines.push(Line::from(Span::styled(text, style)));
+    }
+    if !app.screen.critical.is_empty() {
+        lines.push(Line::from(Span::styled(
+            " ↑↓ choose · ⏎/g switch onto its branch (G: other side)",
+            Style::new().fg(DIM),
+        )));
+    }
+    draw_overlay(frame, area, lines, " critical points ", " x closes ");
+}
