@@ -11,6 +11,8 @@ use spira::case::Case;
 use spira::discretisation::shape::Order;
 use spira::model::boundary::{BoundaryConditions, Rotation, Translation};
 use spira::output;
+use spira::session::export::SessionEvent;
+use spira::session::script::{Action as ScriptAction, Script};
 use spira::session::worker::{coalesce, Job, Request, Solved, Worker, WorkerEvent};
 use spira::simulation::Simulation;
 use spira::study::{Reference, Rung, RungResult, Study, Values};
@@ -149,13 +151,16 @@ fn start_asks_for_the_natural_state_of_the_case() {
         other => panic!("expected Start, got {other:?}"),
     }
     assert!(app.busy());
-    assert!(app.state.is_none());
+    assert!(app.screen.state.is_none());
 }
 
 #[test]
 fn arrows_and_vim_keys_step_compression_by_the_user_step() {
     let (mut app, _sim) = started(small_case(1));
-    assert_eq!(app.step, 0.05, "default step is target / steps of the case");
+    assert_eq!(
+        app.screen.step, 0.05,
+        "default step is target / steps of the case"
+    );
     let r = only_request(&app.handle_key(key(KeyCode::Right)));
     assert_eq!(r.job, Job::Advance(0.05));
     // a second press while the first is solving goes on from the requested ε
@@ -174,22 +179,22 @@ fn plus_and_minus_choose_the_step_from_the_list_and_stop_at_its_ends() {
     // issue 9: Δε from a fixed list, so that 0.05 can always be returned to
     let (mut app, _sim) = started(small_case(1));
     assert!(app.handle_key(ch('+')).is_empty());
-    assert_eq!(app.step, 0.1);
+    assert_eq!(app.screen.step, 0.1);
     app.handle_key(ch('-'));
     app.handle_key(ch('-'));
-    assert_eq!(app.step, 0.02);
+    assert_eq!(app.screen.step, 0.02);
     app.handle_key(ch('+'));
-    assert_eq!(app.step, 0.05, "back to 0.05");
+    assert_eq!(app.screen.step, 0.05, "back to 0.05");
     for _ in 0..20 {
         app.handle_key(ch('-'));
     }
-    assert_eq!(app.step, spira::tui::app::MIN_STEP);
-    assert_eq!(app.step, 0.005);
+    assert_eq!(app.screen.step, spira::tui::app::MIN_STEP);
+    assert_eq!(app.screen.step, 0.005);
     for _ in 0..20 {
         app.handle_key(ch('='));
     }
-    assert_eq!(app.step, spira::tui::app::MAX_STEP);
-    assert_eq!(app.step, 0.1);
+    assert_eq!(app.screen.step, spira::tui::app::MAX_STEP);
+    assert_eq!(app.screen.step, 0.1);
     assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("largest")));
     let r = only_request(&app.handle_key(ch('l')));
     assert_eq!(r.job, Job::Advance(0.1));
@@ -201,7 +206,10 @@ fn stepping_stops_at_the_target() {
     case.loading.target = 0.12;
     case.loading.steps = 1;
     let (mut app, _sim) = started(case);
-    assert_eq!(app.step, 0.1, "the listed step nearest target / steps");
+    assert_eq!(
+        app.screen.step, 0.1,
+        "the listed step nearest target / steps"
+    );
     assert_eq!(
         only_request(&app.handle_key(ch('l'))).job,
         Job::Advance(0.1)
@@ -235,24 +243,24 @@ fn a_step_outside_the_geometry_is_refused_with_a_message() {
         Some(Message::Error(m)) => assert!(m.contains("ε = 1.00000"), "{m}"),
         other => panic!("expected an error message, got {other:?}"),
     }
-    assert!((app.requested_eps - 0.9).abs() < 1e-12);
+    assert!((app.screen.requested_parameter - 0.9).abs() < 1e-12);
 }
 
 #[test]
 fn up_down_j_k_select_the_rod_and_wrap() {
     let (mut app, _sim) = started(small_case(4));
     assert_eq!(app.rods(), 4);
-    assert_eq!(app.selected_rod, 0);
+    assert_eq!(app.view.selected_rod, 0);
     app.handle_key(key(KeyCode::Up));
-    assert_eq!(app.selected_rod, 3);
+    assert_eq!(app.view.selected_rod, 3);
     app.handle_key(ch('j'));
-    assert_eq!(app.selected_rod, 0);
+    assert_eq!(app.view.selected_rod, 0);
     app.handle_key(key(KeyCode::Down));
     app.handle_key(ch('j'));
-    assert_eq!(app.selected_rod, 2);
+    assert_eq!(app.view.selected_rod, 2);
     let effects = app.handle_key(ch('k'));
     assert!(effects.is_empty(), "selection needs no solve");
-    assert_eq!(app.selected_rod, 1);
+    assert_eq!(app.view.selected_rod, 1);
 }
 
 #[test]
@@ -280,14 +288,14 @@ fn condition_keys_toggle_each_condition_and_ask_for_a_resolve() {
         "{:?}",
         app.message
     );
-    assert_eq!(app.boundary, b5, "undone");
+    assert_eq!(app.screen.boundary, b5, "undone");
     let b7 = bc(only_request(&app.handle_key(ch('p'))));
     assert!(!b7.joints);
     // each toggle builds on the last asked-for conditions
     assert_eq!(b7.base.rotation, Rotation::Free);
     assert_eq!(b7.tip.translation, Translation::Slide);
     assert_eq!(b7.tip.rotation, Rotation::Clamped);
-    assert_eq!(app.boundary, b7);
+    assert_eq!(app.screen.boundary, b7);
 }
 
 #[test]
@@ -299,25 +307,25 @@ fn n_changes_the_helices_and_starts_over_ignoring_old_answers() {
         Job::Start(c) => assert_eq!(c.geometry.helices, 16),
         other => panic!("expected Start, got {other:?}"),
     }
-    assert_eq!(app.helices, 16);
-    assert!(app.path.is_empty() && app.state.is_none());
-    assert_eq!(app.requested_eps, 0.0);
+    assert_eq!(app.screen.helices, 16);
+    assert!(app.screen.path.is_empty() && app.screen.state.is_none());
+    assert_eq!(app.screen.requested_parameter, 0.0);
     // the answer to the step asked before the restart belongs to the old simulation
     assert!(app
         .on_worker_event(answer(&step, solved(&sim, 1)))
         .is_empty());
-    assert!(app.path.is_empty(), "stale answer ignored");
+    assert!(app.screen.path.is_empty(), "stale answer ignored");
     assert!(app.busy());
     // issue 9: no wrap-around, n stops at 16 (and N at 1)
     assert!(app.handle_key(ch('n')).is_empty(), "no wrap 16 -> 1");
-    assert_eq!(app.helices, 16);
+    assert_eq!(app.screen.helices, 16);
     assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("largest")));
     let r = only_request(&app.handle_key(ch('N')));
     assert!(matches!(&r.job, Job::Start(c) if c.geometry.helices == 8));
     for _ in 0..5 {
         app.handle_key(ch('N'));
     }
-    assert_eq!(app.helices, 1, "no wrap 1 -> 16");
+    assert_eq!(app.screen.helices, 1, "no wrap 1 -> 16");
     assert_eq!(app.case_label(), "small-n1");
 }
 
@@ -329,17 +337,17 @@ fn a_change_of_n_asks_before_it_discards_a_long_path() {
         sim.advance_to(0.05 * k as f64).expect("converges");
         app.on_worker_event(answer(&r, solved(&sim, k)));
     }
-    assert_eq!(app.path.len(), 6);
+    assert_eq!(app.screen.path.len(), 6);
     assert!(app.handle_key(ch('n')).is_empty(), "asks first");
     assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("again to confirm")));
     // another key keeps the path
     assert!(app.handle_key(ch('j')).is_empty());
-    assert_eq!(app.path.len(), 6);
-    assert_eq!(app.helices, 1);
+    assert_eq!(app.screen.path.len(), 6);
+    assert_eq!(app.screen.helices, 1);
     app.handle_key(ch('n'));
     let r = only_request(&app.handle_key(ch('n')));
     assert!(matches!(&r.job, Job::Start(c) if c.geometry.helices == 2));
-    assert!(app.path.is_empty());
+    assert!(app.screen.path.is_empty());
 }
 
 #[test]
@@ -357,10 +365,10 @@ fn reset_returns_to_the_case_conditions_and_step() {
         }
         other => panic!("expected Start, got {other:?}"),
     }
-    assert_eq!(app.boundary, BoundaryConditions::default());
-    assert_eq!(app.step, 0.05);
-    assert_eq!(app.requested_eps, 0.0);
-    assert!(app.path.is_empty());
+    assert_eq!(app.screen.boundary, BoundaryConditions::default());
+    assert_eq!(app.screen.step, 0.05);
+    assert_eq!(app.screen.requested_parameter, 0.0);
+    assert!(app.screen.path.is_empty());
 }
 
 #[test]
@@ -370,7 +378,7 @@ fn space_runs_step_by_step_to_the_target_and_pauses() {
     case.loading.steps = 3;
     let (mut app, mut sim) = started(case);
     let mut r = only_request(&app.handle_key(ch(' ')));
-    assert!(app.running);
+    assert!(app.requests.running);
     let mut reached = vec![];
     loop {
         let Job::Advance(eps) = r.job else {
@@ -385,8 +393,8 @@ fn space_runs_step_by_step_to_the_target_and_pauses() {
         }
     }
     assert_eq!(reached, vec![0.05, 0.1, 0.15]);
-    assert!(!app.running, "stops at the target");
-    assert_eq!(app.path.len(), 4);
+    assert!(!app.requests.running, "stops at the target");
+    assert_eq!(app.screen.path.len(), 4);
     assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("target")));
 }
 
@@ -395,7 +403,7 @@ fn space_while_running_pauses_and_the_answer_in_flight_asks_no_more() {
     let (mut app, mut sim) = started(small_case(1));
     let r = only_request(&app.handle_key(ch(' ')));
     assert!(app.handle_key(ch(' ')).is_empty());
-    assert!(!app.running);
+    assert!(!app.requests.running);
     let Job::Advance(eps) = r.job else {
         panic!("expected Advance")
     };
@@ -420,10 +428,13 @@ fn a_failed_step_shows_the_reason_and_keeps_the_last_state() {
     });
     assert!(effects.is_empty());
     assert_eq!(app.message, Some(Message::Error(reason.into())));
-    assert!(!app.running && !app.busy());
+    assert!(!app.requests.running && !app.busy());
     assert_eq!(app.eps(), Some(0.0), "last converged state stays");
-    assert_eq!(app.requested_eps, 0.0, "the next step starts from it");
-    assert_eq!(app.path.len(), 1);
+    assert_eq!(
+        app.screen.requested_parameter, 0.0,
+        "the next step starts from it"
+    );
+    assert_eq!(app.screen.path.len(), 1);
     // a new request clears the error
     only_request(&app.handle_key(ch('l')));
     assert_eq!(app.message, None);
@@ -433,7 +444,7 @@ fn a_failed_step_shows_the_reason_and_keeps_the_last_state() {
 fn a_refused_condition_change_shows_the_conditions_in_force() {
     let (mut app, _sim) = started(small_case(2));
     let r = only_request(&app.handle_key(ch('p')));
-    assert!(!app.boundary.joints);
+    assert!(!app.screen.boundary.joints);
     app.on_worker_event(WorkerEvent::Failed {
         generation: r.generation,
         seq: r.seq,
@@ -441,7 +452,7 @@ fn a_refused_condition_change_shows_the_conditions_in_force() {
         boundary: Some(BoundaryConditions::default()),
         interrupted: None,
     });
-    assert!(app.boundary.joints, "back to what the solver holds");
+    assert!(app.screen.boundary.joints, "back to what the solver holds");
 }
 
 #[test]
@@ -452,10 +463,10 @@ fn quit_keys_and_help_overlay() {
     let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
     assert_eq!(app.handle_key(ctrl_c), vec![Effect::Quit]);
     assert!(app.handle_key(ch('?')).is_empty());
-    assert!(app.show_help);
+    assert!(app.view.show_help);
     // any key closes the help and does nothing else
     assert!(app.handle_key(ch('l')).is_empty());
-    assert!(!app.show_help);
+    assert!(!app.view.show_help);
     app.handle_key(ch('?'));
     assert_eq!(
         app.handle_key(ch('q')),
@@ -472,7 +483,7 @@ fn key_releases_are_ignored() {
     let mut release = key(KeyCode::Right);
     release.kind = KeyEventKind::Release;
     assert!(app.handle_key(release).is_empty());
-    assert_eq!(app.requested_eps, 0.0);
+    assert_eq!(app.screen.requested_parameter, 0.0);
 }
 
 #[test]
@@ -498,7 +509,7 @@ fn e_exports_state_load_path_and_reactions_in_the_run_formats() {
         ]
     );
     let read = |name: &str| std::fs::read_to_string(dir.join(name)).expect("written");
-    let state = app.state.as_ref().unwrap();
+    let state = app.screen.state.as_ref().unwrap();
     assert_eq!(
         read("small-step1-eps0.0500-state.csv"),
         output::state_csv("small", &state.snapshot)
@@ -507,9 +518,14 @@ fn e_exports_state_load_path_and_reactions_in_the_run_formats() {
     let load = read("small-step1-eps0.0500-load.csv");
     assert_eq!(
         load,
-        spira::session::export::load_csv("small", &app.path, &app.conditions, &app.events)
+        spira::session::export::load_csv(
+            "small",
+            &app.screen.path,
+            &app.screen.conditions,
+            &app.screen.events
+        )
     );
-    let run_format = output::load_csv("small", &app.path);
+    let run_format = output::load_csv("small", &app.screen.path);
     let data = |t: &str| -> Vec<String> {
         t.lines()
             .filter(|l| !l.starts_with('#'))
@@ -523,7 +539,7 @@ fn e_exports_state_load_path_and_reactions_in_the_run_formats() {
     assert!(data(&load)[1].ends_with("base fixed/clamped tip fixed/clamped joints on"));
     assert_eq!(
         read("small-step1-eps0.0500-reactions.csv"),
-        output::reactions_csv("small", &app.path)
+        output::reactions_csv("small", &app.screen.path)
     );
     match &app.message {
         Some(Message::Info(m)) => {
@@ -598,20 +614,20 @@ fn the_solver_thread_answers_and_the_last_request_wins() {
     settle(&mut app, &worker, effects);
     assert_close(app.eps(), 0.15);
     assert!(
-        app.path.len() == 2 || app.path.len() == 3,
+        app.screen.path.len() == 2 || app.screen.path.len() == 3,
         "{}",
-        app.path.len()
+        app.screen.path.len()
     );
-    let steps: Vec<usize> = app.path.iter().map(|p| p.step).collect();
-    assert_eq!(steps, (0..app.path.len()).collect::<Vec<_>>());
+    let steps: Vec<usize> = app.screen.path.iter().map(|p| p.step).collect();
+    assert_eq!(steps, (0..app.screen.path.len()).collect::<Vec<_>>());
     // a condition change re-solves at the same ε
     let effects = app.handle_key(ch('p'));
     settle(&mut app, &worker, effects);
-    let state = app.state.as_ref().unwrap();
+    let state = app.screen.state.as_ref().unwrap();
     assert!(!state.boundary.joints);
     assert_close(Some(state.point.eps), 0.15);
     // asking again for what is in force needs no solve and adds no point
-    let n = app.path.len();
+    let n = app.screen.path.len();
     let effects = app.handle_key(ch('p'));
     let effects2 = app.handle_key(ch('p'));
     let mut all = effects;
@@ -619,10 +635,10 @@ fn the_solver_thread_answers_and_the_last_request_wins() {
     settle(&mut app, &worker, all);
     assert!(!app.busy());
     assert!(
-        app.path.len() <= n + 1,
+        app.screen.path.len() <= n + 1,
         "the toggle back and forth coalesces"
     );
-    assert!(!app.state.as_ref().unwrap().boundary.joints);
+    assert!(!app.screen.state.as_ref().unwrap().boundary.joints);
     worker.join();
 }
 
@@ -651,8 +667,8 @@ fn the_solver_thread_reports_failures_and_keeps_the_state() {
         other => panic!("expected the failure on screen, got {other:?}"),
     }
     assert_eq!(
-        app.boundary,
-        app.state.as_ref().unwrap().boundary,
+        app.screen.boundary,
+        app.screen.state.as_ref().unwrap().boundary,
         "what is asked for falls back to what is in force"
     );
     worker.join();
@@ -911,7 +927,7 @@ fn screen_while_solving_the_natural_state() {
     app.on_worker_event(WorkerEvent::Started {
         generation: r.generation,
         seq: r.seq,
-        job: r.job.describe(),
+        job: r.job.describe("ε"),
     });
     let screen = text(&draw(&app, 80, 24));
     assert!(screen.contains("solving the natural state"));
@@ -1028,11 +1044,11 @@ fn synthetic_study() -> Study {
 fn w_shows_the_work_precision_chart_and_asks_for_one_study() {
     let (mut app, _sim) = started(small_case(2));
     let r = precision_request(&app.handle_key(ch('w')));
-    assert!(app.show_precision);
+    assert!(app.view.show_precision);
     match &r.job {
         Job::Precision(case) => {
             assert_eq!(case.geometry.helices, 2);
-            assert_eq!(case.boundary, app.boundary);
+            assert_eq!(case.boundary, app.screen.boundary);
         }
         other => panic!("{other:?}"),
     }
@@ -1044,9 +1060,9 @@ fn w_shows_the_work_precision_chart_and_asks_for_one_study() {
     ));
     // hiding and showing again asks for nothing new while the study is under way
     assert!(app.handle_key(ch('w')).is_empty());
-    assert!(!app.show_precision);
+    assert!(!app.view.show_precision);
     assert!(app.handle_key(ch('w')).is_empty());
-    assert!(app.show_precision);
+    assert!(app.view.show_precision);
 }
 
 #[test]
@@ -1200,7 +1216,11 @@ fn the_mesh_chosen_for_an_accuracy_is_on_the_status_line() {
     let mut app = App::new(case, std::env::temp_dir());
     let start = app.start();
     settle(&mut app, &worker, start);
-    let mesh = app.mesh.clone().expect("a mesh chosen for the accuracy");
+    let mesh = app
+        .screen
+        .mesh
+        .clone()
+        .expect("a mesh chosen for the accuracy");
     assert!(mesh.estimated_error <= 1e-3);
     assert_eq!(app.eps(), Some(0.0));
     let screen = text(&draw(&app, 80, 24));
@@ -1212,7 +1232,9 @@ fn the_mesh_chosen_for_an_accuracy_is_on_the_status_line() {
     );
     assert!(screen.contains(&want), "`{want}` missing:\n{screen}");
     // the state on screen is of that mesh
-    let nodes = app.state.as_ref().unwrap().snapshot.rods[0].nodes.len();
+    let nodes = app.screen.state.as_ref().unwrap().snapshot.rods[0]
+        .nodes
+        .len();
     assert_eq!(nodes, mesh.order.degree() * mesh.elements + 1);
     worker.join();
 }
@@ -1230,7 +1252,7 @@ fn c_cancels_the_solve_and_the_answer_keeps_the_last_state() {
     app.handle_key(ch(' '));
     let r = only_request(&app.handle_key(ch('l')));
     assert_eq!(app.handle_key(ch('c')), vec![Effect::Cancel(r.seq)]);
-    assert!(!app.running, "cancelling stops continuous loading");
+    assert!(!app.requests.running, "cancelling stops continuous loading");
     let effects = app.on_worker_event(WorkerEvent::Failed {
         generation: r.generation,
         seq: r.seq,
@@ -1240,7 +1262,7 @@ fn c_cancels_the_solve_and_the_answer_keeps_the_last_state() {
         interrupted: Some(spira::solver::interrupt::Interruption::Cancelled),
     });
     assert!(effects.is_empty());
-    assert!(!app.busy() && app.solving.is_none());
+    assert!(!app.busy() && app.requests.solving.is_none());
     assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("cancelled")));
     assert_eq!(app.eps(), Some(0.0), "last converged state stays");
 }
@@ -1298,7 +1320,7 @@ fn the_worker_answers_cancelled_requests_without_solving_and_stops_at_its_budget
         }
         other => panic!("expected the budget's message, got {other:?}"),
     }
-    assert_eq!((app.helices, app.eps()), (1, Some(0.0)));
+    assert_eq!((app.screen.helices, app.eps()), (1, Some(0.0)));
     worker.join();
 }
 
@@ -1309,7 +1331,7 @@ fn the_status_line_shows_elapsed_time_and_progress_of_a_solve() {
     app.on_worker_event(WorkerEvent::Started {
         generation: r.generation,
         seq: r.seq,
-        job: Job::Advance(0.05).describe(),
+        job: Job::Advance(0.05).describe("ε"),
     });
     app.on_worker_event(WorkerEvent::Progress {
         generation: r.generation,
@@ -1359,7 +1381,7 @@ fn a_critical_point_crossed_is_announced_marked_and_listed() {
         }
         other => panic!("expected the announcement, got {other:?}"),
     }
-    assert_eq!(app.critical.len(), 1);
+    assert_eq!(app.screen.critical.len(), 1);
     let screen = text(&draw(&app, 80, 24));
     assert!(
         screen.contains("×critical 1 (x lists)"),
@@ -1373,7 +1395,7 @@ fn a_critical_point_crossed_is_announced_marked_and_listed() {
     assert_snapshot("critical_list_80x24", &screen);
     // a restart forgets them
     app.handle_key(ch('r'));
-    assert!(app.critical.is_empty());
+    assert!(app.screen.critical.is_empty());
 }
 
 #[test]
@@ -1391,17 +1413,17 @@ fn the_readout_and_the_cursors_give_the_numbers() {
         app.handle_key(ch('.'));
     }
     assert_eq!(
-        app.cursor,
+        app.view.cursor,
         spira::tui::app::CURSOR_STEPS,
         "stops at s/L = 1"
     );
     app.handle_key(ch('<'));
     let screen = text(&draw(&app, 160, 48));
     assert!(screen.contains("s/L 1.00 κ1"), "{screen}");
-    let k = app.path_cursor.expect("on the path");
-    assert_eq!(k, app.path.len() - 2);
+    let k = app.view.path_cursor.expect("on the path");
+    assert_eq!(k, app.screen.path.len() - 2);
     assert!(
-        screen.contains(&format!("◆ step {} ε", app.path[k].step)),
+        screen.contains(&format!("◆ step {} ε", app.screen.path[k].step)),
         "load-path cursor:\n{screen}"
     );
     assert_snapshot("cursors_160x48", &screen);
@@ -1435,7 +1457,7 @@ fn v_gives_one_view_the_whole_left_area() {
 #[test]
 fn no_color_legends_tell_the_curves_apart_by_their_marks() {
     let mut app = compressed_app();
-    app.no_color = true;
+    app.view.no_color = true;
     let screen = text(&draw(&app, 100, 30));
     for label in ["━κ1", "•κ2", "▀Ω", "━fx", "•fy", "▀fz"] {
         assert!(screen.contains(label), "legend {label}:\n{screen}");
@@ -1446,14 +1468,14 @@ fn no_color_legends_tell_the_curves_apart_by_their_marks() {
 #[test]
 fn keys_do_nothing_behind_the_too_small_screen() {
     let (mut app, _sim) = started(small_case(1));
-    app.too_small = true;
+    app.view.too_small = true;
     for c in ['l', 'n', 'b', ' ', 'e', '?'] {
         assert!(
             app.handle_key(ch(c)).is_empty(),
             "{c} acts behind the message"
         );
     }
-    assert!(!app.show_help);
+    assert!(!app.view.show_help);
     assert_eq!(app.handle_key(ch('q')), vec![Effect::Quit]);
 }
 
@@ -1469,6 +1491,7 @@ fn a_saved_session_replays_to_the_explorers_csvs() {
     }
     worker.join();
     assert!(app
+        .screen
         .events
         .iter()
         .any(|e| e.what.contains("tip translation slide")));
@@ -1542,8 +1565,12 @@ fn a_toggle_into_a_free_rigid_motion_is_refused_naming_it_and_undone() {
         app.handle_key(ch('t')).is_empty(),
         "no solve for a refused toggle"
     );
-    assert_eq!(app.boundary.tip.translation, Translation::Fixed, "undone");
-    assert_eq!(app.boundary.base.translation, Translation::Slide);
+    assert_eq!(
+        app.screen.boundary.tip.translation,
+        Translation::Fixed,
+        "undone"
+    );
+    assert_eq!(app.screen.boundary.base.translation, Translation::Slide);
     // the message is the case reader's, for the same conditions in a file
     let file = Case::parse(
         "[geometry]\nhelices = 8\n[boundary]\nbase = { translation = \"slide\" }\ntip = { translation = \"slide\" }\n",
@@ -1562,7 +1589,8 @@ fn a_toggle_into_a_free_rigid_motion_is_refused_naming_it_and_undone() {
         other => panic!("expected the refusal, got {other:?}"),
     }
     assert!(
-        !app.events
+        !app.screen
+            .events
             .iter()
             .any(|e| e.what.contains("tip translation")),
         "a refused toggle is no event of the session"
@@ -1571,7 +1599,11 @@ fn a_toggle_into_a_free_rigid_motion_is_refused_naming_it_and_undone() {
     let (mut app, _sim) = started(small_case(1));
     only_request(&app.handle_key(ch('B')));
     assert!(app.handle_key(ch('T')).is_empty());
-    assert_eq!(app.boundary.tip.rotation, Rotation::Clamped, "undone");
+    assert_eq!(
+        app.screen.boundary.tip.rotation,
+        Rotation::Clamped,
+        "undone"
+    );
     assert!(
         matches!(&app.message, Some(Message::Error(m)) if m.contains("turn about its chord") && m.contains("undone")),
         "{:?}",
@@ -1581,7 +1613,7 @@ fn a_toggle_into_a_free_rigid_motion_is_refused_naming_it_and_undone() {
     let (mut app, _sim) = started(small_case(8));
     only_request(&app.handle_key(ch('B')));
     only_request(&app.handle_key(ch('T')));
-    assert_eq!(app.boundary.tip.rotation, Rotation::Free);
+    assert_eq!(app.screen.boundary.tip.rotation, Rotation::Free);
 }
 
 #[test]
@@ -1610,12 +1642,15 @@ fn a_cancelled_natural_state_keeps_the_previous_simulation() {
     let effects = app.handle_key(ch('l'));
     settle(&mut app, &worker, effects);
     assert_close(app.eps(), 0.05);
-    let before = app.path.clone();
+    let before = app.screen.path.clone();
     // n = 2 asked for, and cancelled before the solver takes it (the cancel reaches the
     // solver first, so the test does not depend on timing)
     let start = app.handle_key(ch('n'));
     assert!(matches!(&only_request(&start).job, Job::Start(c) if c.geometry.helices == 2));
-    assert!(app.state.is_none(), "the new simulation is being solved");
+    assert!(
+        app.screen.state.is_none(),
+        "the new simulation is being solved"
+    );
     let cancel = app.handle_key(ch('c'));
     assert!(
         matches!(cancel.as_slice(), [Effect::Cancel(_)]),
@@ -1624,23 +1659,23 @@ fn a_cancelled_natural_state_keeps_the_previous_simulation() {
     send_all(&worker, cancel);
     send_all(&worker, start);
     settle_with(&mut app, &worker, |_, _| {});
-    assert_eq!(app.helices, 1, "back to the previous n");
-    assert_eq!(app.path, before, "the previous path is back");
+    assert_eq!(app.screen.helices, 1, "back to the previous n");
+    assert_eq!(app.screen.path, before, "the previous path is back");
     assert_close(app.eps(), 0.05);
     match &app.message {
         Some(Message::Info(m)) => assert!(m.contains("cancelled"), "{m}"),
         other => panic!("expected the cancellation, got {other:?}"),
     }
     assert!(
-        !app.events.iter().any(|e| e.what.starts_with("n =")),
+        !app.screen.events.iter().any(|e| e.what.starts_with("n =")),
         "{:?}",
-        app.events
+        app.screen.events
     );
     // the solver kept it too: the next step continues the previous path
     let effects = app.handle_key(ch('l'));
     settle(&mut app, &worker, effects);
     assert_close(app.eps(), 0.1);
-    assert_eq!(app.path.len(), 3);
+    assert_eq!(app.screen.path.len(), 3);
     assert!(
         !matches!(
             app.script().actions.first(),
@@ -1779,8 +1814,12 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
         settle(&mut app, &worker, effects);
     }
     assert_close(app.eps(), 0.35);
-    assert_eq!(app.critical.len(), 1, "one bifurcation crossed by ε = 0.35");
-    let fundamental = app.path.last().unwrap().clone();
+    assert_eq!(
+        app.screen.critical.len(),
+        1,
+        "one bifurcation crossed by ε = 0.35"
+    );
+    let fundamental = app.screen.path.last().unwrap().clone();
     // the key does nothing outside the list
     assert!(app.handle_key(key(KeyCode::Enter)).is_empty());
     app.handle_key(ch('x'));
@@ -1790,14 +1829,14 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
     let effects = app.handle_key(key(KeyCode::Enter));
     let r = only_request(&effects);
     assert!(
-        matches!(r.job, Job::Switch { index: 0, sign, eps, part: None } if sign == 1.0 && (eps - 0.35).abs() < 1e-12),
+        matches!(r.job, Job::Switch { index: 0, sign, parameter, part: None } if sign == 1.0 && (parameter - 0.35).abs() < 1e-12),
         "{:?}",
         r.job
     );
     settle(&mut app, &worker, effects);
-    assert!(!app.show_critical, "the list closes");
+    assert!(!app.view.show_critical, "the list closes");
     assert_close(app.eps(), 0.35);
-    let switched = app.path.last().unwrap().clone();
+    let switched = app.screen.path.last().unwrap().clone();
     // `spira run` of the same case with branch = "switch", to the same ε in the same steps
     let run = spira::run::run_path(
         &pair_case("switch", 0.35, 7).for_explorer(),
@@ -1822,6 +1861,7 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
         .fold(0.0, f64::max);
     assert!(apart > 1e-6, "the switched branch is another one: {apart}");
     assert!(app
+        .screen
         .events
         .iter()
         .any(|e| e.what.contains("switch onto the branch")));
@@ -1900,4 +1940,132 @@ fn the_model_named_is_the_one_of_the_state_on_screen() {
     let step = only_request(&app.handle_key(key(KeyCode::Right)));
     app.on_worker_event(answer(&step, solved(&full, 1)));
     assert!(!app.solves_pair());
+}
+
+/// A session of every kind of action, with an event, as the explorer saves it.
+fn every_action_session() -> Script {
+    let bc = BoundaryConditions::default();
+    let mut slide = bc;
+    slide.tip.translation = Translation::Slide;
+    Script {
+        version: spira::session::script::VERSION,
+        case: Some(PathBuf::from("cases/thesis.toml")),
+        label: "thesis".into(),
+        events: vec![SessionEvent {
+            from_point: 2,
+            parameter: 0.05,
+            what: "tip translation slide".into(),
+        }],
+        actions: vec![
+            ScriptAction::Start {
+                helices: 2,
+                boundary: bc,
+            },
+            ScriptAction::Advance {
+                parameter: 0.05,
+                steps: None,
+                step_length: None,
+            },
+            ScriptAction::Boundary { boundary: slide },
+            ScriptAction::Advance {
+                parameter: 0.1,
+                steps: Some(3),
+                step_length: Some(0.0025),
+            },
+            ScriptAction::Switch {
+                index: 0,
+                sign: -1.0,
+                parameter: 0.15,
+                steps: None,
+                step_length: None,
+            },
+        ],
+    }
+}
+
+/// A version-1 session file (no `version` key; the load parameter called `eps`), as the
+/// explorer saved it before the format named the load parameter.
+const VERSION_1_SESSION: &str = r#"# spira session: replay with `spira replay FILE --out DIR`
+case = "cases/thesis.toml"
+label = "thesis"
+
+[[events]]
+from_point = 2
+eps = 0.05
+what = "tip translation slide"
+
+[[actions]]
+do = "start"
+helices = 2
+
+[actions.boundary]
+joints = true
+
+[actions.boundary.base]
+translation = "fixed"
+rotation = "clamped"
+
+[actions.boundary.tip]
+translation = "fixed"
+rotation = "clamped"
+
+[[actions]]
+do = "advance"
+eps = 0.05
+
+[[actions]]
+do = "boundary"
+
+[actions.boundary]
+joints = true
+
+[actions.boundary.base]
+translation = "fixed"
+rotation = "clamped"
+
+[actions.boundary.tip]
+translation = "slide"
+rotation = "clamped"
+
+[[actions]]
+do = "advance"
+eps = 0.1
+steps = 3
+step_length = 0.0025
+
+[[actions]]
+do = "switch"
+index = 0
+sign = -1.0
+eps = 0.15
+"#;
+
+#[test]
+fn a_version_1_session_file_is_still_read() {
+    let read = Script::parse(VERSION_1_SESSION, Path::new("old-session.toml")).expect("reads");
+    assert_eq!(
+        read.version, 1,
+        "a file without a version key is of version 1"
+    );
+    let mut want = every_action_session();
+    want.version = 1;
+    assert_eq!(read, want, "eps is read as the load parameter");
+}
+
+#[test]
+fn a_version_2_session_round_trips() {
+    let session = every_action_session();
+    let text = session.to_toml().expect("writes");
+    assert!(text.contains("\nversion = 2\n"), "{text}");
+    assert!(text.contains("\nparameter = 0.15\n"), "{text}");
+    assert!(!text.contains("eps"), "{text}");
+    let dir = temp_dir("session-v2");
+    let file = dir.join("thesis-session.toml");
+    session.write(&file).expect("saved");
+    assert_eq!(Script::read(&file).expect("reads"), session);
+    let newer = text.replace("version = 2", "version = 3");
+    assert!(
+        Script::parse(&newer, &file).is_err(),
+        "a version this spira does not know is refused"
+    );
 }
