@@ -2058,7 +2058,7 @@ fn a_version_2_session_round_trips() {
     let text = session.to_toml().expect("writes");
     assert!(text.contains("\nversion = 2\n"), "{text}");
     assert!(text.contains("\nparameter = 0.15\n"), "{text}");
-    assert!(!text.contains("eps"), "{text}");
+    assert!(!text.contains("\neps ="), "{text}");
     let dir = temp_dir("session-v2");
     let file = dir.join("thesis-session.toml");
     session.write(&file).expect("saved");
