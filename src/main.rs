@@ -436,7 +436,7 @@ fn run(
         "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}",
         "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)", "unstable"
     );
-    let eps = case.output_eps(target, steps);
+    let eps = case.output_parameters(target, steps);
     let t0 = Instant::now();
     // Ctrl-C (or SIGTERM, SIGHUP) stops the path at its last converged state; the files
     // are written as after a failure. A second signal ends the process, but never while
@@ -712,7 +712,7 @@ fn bench(path: Option<&Path>, repeats: usize) -> Result<()> {
     let (mut case, _) = resolve(load_case(path)?)?;
     // the full model first, the symmetric pair (what "auto" solves) beside it
     case.discretisation.symmetric = false;
-    let eps = case.output_eps(case.loading.target, case.loading.steps);
+    let eps = case.output_parameters(case.loading.target, case.loading.steps);
     println!(
         "spira bench: case {} (n = {}, {} {:?} elements per rod), eps 0 -> {} in {} output steps, {} timed runs after a warm-up",
         case.name,
