@@ -15,7 +15,8 @@ pub struct SessionEvent {
     /// Index in the path of the first point under the change (the next point).
     pub from_point: usize,
     /// Load parameter `λ` asked for when the change was made (`ε` under displacement
-    /// control, `P/Pcrit` under load control); `eps` in a session file of version 1.
+    /// control, `P/Pcrit` under load control); version 1 of the session format named it
+    /// by its symbol under displacement control.
     #[serde(alias = "eps")]
     pub parameter: f64,
     pub what: String,
@@ -40,10 +41,10 @@ pub fn sanitise(name: &str) -> String {
     }
 }
 
-/// File names of an export of the state at output step `step` and `ε = eps` of case
-/// `label`: state, load path, reactions.
-pub fn names(label: &str, step: usize, eps: f64) -> [String; 3] {
-    let stem = format!("{}-step{step}-eps{eps:.4}", sanitise(label));
+/// File names of an export of the state at output step `step` and compression ratio
+/// `ratio` of case `label`: state, load path, reactions.
+pub fn names(label: &str, step: usize, ratio: f64) -> [String; 3] {
+    let stem = format!("{}-step{step}-eps{ratio:.4}", sanitise(label));
     [
         format!("{stem}-state.csv"),
         format!("{stem}-load.csv"),

@@ -68,7 +68,7 @@ pub enum Action {
 }
 
 /// The version of the session format written: 2 names the load parameter `parameter`
-/// (version 1, without a `version` key, named it `eps`).
+/// (version 1, without a `version` key, named it by its symbol under displacement control).
 pub const VERSION: u32 = 2;
 
 /// A saved session.
@@ -252,7 +252,7 @@ impl Script {
     }
 
     /// A session from the text of a session file (`path` names it in errors), of any
-    /// version up to [`VERSION`]: version 1's `eps` is read as the load parameter.
+    /// version up to [`VERSION`].
     pub fn parse(text: &str, path: &Path) -> Result<Script, ScriptError> {
         let script: Script = toml::from_str(text).map_err(|source| ScriptError::Parse {
             path: path.to_path_buf(),

@@ -26,12 +26,14 @@ pub(super) fn interruption(e: &SolveError) -> Option<Interruption> {
     }
 }
 
-/// A failure in the user's terms: what was asked for, where the path stopped, why.
-pub(super) fn describe_failure(e: &SolveError, asked: Asked, elapsed: Duration) -> String {
-    let symbol = match e.control {
-        crate::model::loading::Control::Displacement => "ε",
-        crate::model::loading::Control::Force => "P/Pcrit",
-    };
+/// A failure in the user's terms: what was asked for, where the path stopped, why; `symbol`
+/// is the load parameter's.
+pub(super) fn describe_failure(
+    e: &SolveError,
+    asked: Asked,
+    symbol: &str,
+    elapsed: Duration,
+) -> String {
     let what = match asked {
         Asked::Parameter(parameter) => format!("{symbol} → {parameter:.5}"),
         Asked::Boundary => "the new boundary conditions".to_string(),

@@ -68,10 +68,9 @@ impl Solver {
 
     /// The symbol of the simulation's load parameter (`ε` before there is one).
     pub(super) fn symbol(&self) -> &'static str {
-        match self.sim.as_ref().map(Simulation::control) {
-            Some(crate::model::loading::Control::Force) => "P/Pcrit",
-            _ => "ε",
-        }
+        self.sim
+            .as_ref()
+            .map_or("ε", |s| s.load_parameter().symbol())
     }
 
     /// Hands the simulation the interrupt of this job and an observer that reports the
@@ -244,7 +243,12 @@ impl Solver {
             Err(e) if interruption(&e).is_some() => events.push(WorkerEvent::Failed {
                 generation,
                 seq,
-                reason: describe_failure(&e, Asked::Start(case.geometry.helices), t0.elapsed()),
+                reason: describe_failure(
+                    &e,
+                    Asked::Start(case.geometry.helices),
+                    case.load_parameter().symbol(),
+                    t0.elapsed(),
+                ),
                 boundary: self.sim.as_ref().map(Simulation::boundary_conditions),
                 interrupted: interruption(&e),
             }),
@@ -357,12 +361,13 @@ impl Solver {
                 interrupted: None,
             }];
         };
-        let before = sim.eps();
+        let symbol = sim.load_parameter().symbol();
+        let ratio_before = sim.eps();
         let (state_before, lambda_before) = (sim.state().to_vec(), sim.parameter());
         match step(sim) {
             Ok(()) => self.solved(seq, true, t0).into_iter().collect(),
             Err(e) => {
-                let moved = sim.eps() != before;
+                let moved = sim.eps() != ratio_before;
                 let boundary = Some(sim.boundary_conditions());
                 // what a replay needs: the steps taken, or none when nothing changed
                 let changed = sim.parameter() != lambda_before || sim.state() != state_before;
@@ -381,7 +386,7 @@ impl Solver {
                 events.push(WorkerEvent::Failed {
                     generation,
                     seq,
-                    reason: describe_failure(&e, asked, t0.elapsed()),
+                    reason: describe_failure(&e, asked, symbol, t0.elapsed()),
                     boundary,
                     interrupted: interruption(&e),
                 });

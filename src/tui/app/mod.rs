@@ -18,6 +18,7 @@ pub use state::{Progress, Replay, Requests, Screen, View, ViewMode};
 use super::keys::Action;
 use super::stability;
 use crate::case::Case;
+use crate::model::loading::{Control, LoadParameter};
 use crate::session::worker::{Job, Request};
 use crate::study::Study;
 use std::path::PathBuf;
@@ -194,22 +195,25 @@ impl App {
         self.screen.state.as_ref().map(|s| s.point.parameter)
     }
 
+    /// What the case's load parameter `λ` is.
+    pub fn load_parameter(&self) -> LoadParameter {
+        self.case.load_parameter()
+    }
+
     /// The load parameter's symbol as the screen and the messages print it: `ε` under
     /// displacement control, `P/Pcrit` under load control.
     pub fn symbol(&self) -> &'static str {
-        match self.case.loading.control {
-            crate::model::loading::Control::Displacement => "ε",
-            crate::model::loading::Control::Force => "P/Pcrit",
-        }
+        self.load_parameter().symbol()
     }
 
     /// The load parameter of a point as the screen shows it: under displacement control
-    /// the compression ratio `eps` measured at the tip (the prescribed `λ` up to round-off),
-    /// under load control `λ = parameter` (`P/Pcrit`).
-    pub fn shown_parameter(&self, eps: f64, parameter: f64) -> f64 {
-        match self.case.loading.control {
-            crate::model::loading::Control::Displacement => eps,
-            crate::model::loading::Control::Force => parameter,
+    /// the compression ratio `ratio` measured at the tip (the prescribed `λ` up to
+    /// round-off), under load control `λ = parameter` (`P/Pcrit`).
+    pub fn shown_parameter(&self, ratio: f64, parameter: f64) -> f64 {
+        if self.load_parameter() == LoadParameter::axial(Control::Displacement) {
+            ratio
+        } else {
+            parameter
         }
     }
 
