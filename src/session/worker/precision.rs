@@ -1,11 +1,16 @@
 //! Work-precision studies on their own thread, a [`Latest`](crate::session::latest::Latest)
 //! job: a newer request stops the study in progress after its current mesh.
 
-use super::{Job, Request, WorkerEvent, PRECISION_REPEATS};
+use super::event::WorkerEvent;
+use super::job::{Job, Request};
 use crate::session::latest::Context;
 use crate::study::{run_study, Ladder, Problem, StudyError};
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};
+
+/// Timed runs per mesh of the explorer's work-precision study (after a warm-up each): one,
+/// to keep the study short; `spira precision` takes the best of several.
+pub const PRECISION_REPEATS: usize = 1;
 
 /// A work-precision study on the precision thread: progress after each mesh, then the
 /// study; it stops after the current mesh when a newer request arrives (and then reports

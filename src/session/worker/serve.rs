@@ -1,8 +1,10 @@
 //! The solver thread's loop: take the pending requests, keep those the later ones do not
 //! replace, run the next one under its interrupt, send its answers.
 
+use super::cancel::Cancel;
+use super::event::WorkerEvent;
+use super::job::{coalesce, Request};
 use super::solver::Solver;
-use super::{coalesce, Cancel, Request, WorkerEvent};
 use crate::simulation::Simulation;
 use crate::solver::interrupt::{Interrupt, Interruption};
 use std::collections::VecDeque;

@@ -1,8 +1,9 @@
 //! The solves the solver thread runs: it owns the [`Simulation`] of the current generation
 //! and answers each job with the converged states it reached and how the job ended.
 
+use super::event::{Solved, WorkerEvent};
 use super::failure::{describe_failure, interruption, Asked};
-use super::{Job, Part, Request, Solved, WorkerEvent, PROGRESS_INTERVAL};
+use super::job::{Job, Part, Request};
 use crate::case::Case;
 use crate::discretisation::bulk;
 use crate::model::boundary::BoundaryConditions;
@@ -15,7 +16,10 @@ use crate::study::resolve_accuracy;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// Shortest interval between two [`WorkerEvent::Progress`] reports of one solve.
+pub const PROGRESS_INTERVAL: Duration = Duration::from_millis(50);
 
 /// Runs `jobs` in order on this thread with the solver thread's code (no time budget, no
 /// cancellation, no coalescing) and returns its answers: a replay of a session.

@@ -1,10 +1,10 @@
 //! The user's transitions: a key press, its action, and what each action asks of the
 //! solver.
 
-use super::{
-    default_step, App, Effect, Message, PrecisionView, CANCELLING, CONFIRM_DISCARD, CURSOR_STEPS,
-    HELICES, STEPS,
+use super::explorer::{
+    default_step, App, Effect, Message, PrecisionView, CANCELLING, CONFIRM_DISCARD, HELICES, STEPS,
 };
+use super::state::CURSOR_STEPS;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
 use crate::session::export::SessionEvent;
 use crate::session::worker::Job;

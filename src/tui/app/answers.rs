@@ -1,8 +1,8 @@
 //! The solver's answers: each moves the requests' bookkeeping on, and a converged state or
 //! a failure changes what is on screen.
 
+use super::explorer::{App, Effect, Message, PrecisionView, CANCELLING};
 use super::state::Progress;
-use super::{App, Effect, Message, PrecisionView, CANCELLING};
 use crate::model::boundary::BoundaryConditions;
 use crate::results::Snapshot;
 use crate::session::worker::{Solved, WorkerEvent};

@@ -1,7 +1,7 @@
 //! What leaves the explorer as files: the exports of the state on screen and its path, and
 //! the session saved as a replayable script.
 
-use super::{App, Message};
+use super::explorer::{App, Message};
 use crate::session::export;
 use crate::session::script::Script;
 use std::path::{Path, PathBuf};

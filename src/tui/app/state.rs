@@ -2,13 +2,15 @@
 //! how it is shown ([`View`]), the requests in flight ([`Requests`]) and the jobs the solver
 //! ran for a replay ([`Replay`]).
 
-use super::CURSOR_STEPS;
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{CriticalPoint, LoadPoint};
 use crate::session::export::SessionEvent;
 use crate::session::worker::{Job, Part, Solved};
 use crate::study::MeshChoice;
 use std::time::{Duration, Instant};
+
+/// Positions of the curvature plot's cursor along `s/L`: `0, 1/CURSOR_STEPS, …, 1`.
+pub const CURSOR_STEPS: usize = 32;
 
 /// What is on screen: the simulation, its path and the session's changes. A new
 /// simulation keeps a clone of it until its natural state arrives, to bring back if that

@@ -1,7 +1,7 @@
 //! The critical-point list (`x`): the critical points crossed so far, over the screen.
 
 use super::colours::DIM;
-use super::draw_overlay;
+use super::overlay::draw_overlay;
 use crate::tui::app::App;
 use ratatui::layout::Rect;
 use ratatui::style::{Modifier, Style};

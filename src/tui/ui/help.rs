@@ -1,7 +1,7 @@
 //! The keys overlay (`?`), made from the key table the key handling reads.
 
 use super::colours::DIM;
-use super::draw_overlay;
+use super::overlay::draw_overlay;
 use crate::tui::app::App;
 use crate::tui::keys::BINDINGS;
 use ratatui::layout::Rect;

@@ -13,6 +13,7 @@ mod curvature;
 mod help;
 mod load;
 mod numbers;
+mod overlay;
 mod precision;
 pub mod shapes;
 mod status;
@@ -26,7 +27,7 @@ use super::app::App;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::{Modifier, Style};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
+use ratatui::widgets::{Paragraph, Wrap};
 use ratatui::Frame;
 
 /// Smallest usable terminal.
@@ -89,34 +90,6 @@ pub fn draw_too_small(frame: &mut Frame, area: Rect) {
         Paragraph::new(text)
             .alignment(Alignment::Center)
             .wrap(Wrap { trim: true }),
-        rect,
-    );
-}
-
-/// A box of `lines` centred over the screen, titled, with how to close it at the bottom.
-pub(super) fn draw_overlay(
-    frame: &mut Frame,
-    area: Rect,
-    lines: Vec<Line>,
-    title: &str,
-    close: &str,
-) {
-    let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3).min(area.width);
-    let height = (lines.len() as u16 + 2).min(area.height);
-    let rect = Rect {
-        x: area.x + (area.width - width) / 2,
-        y: area.y + (area.height - height) / 2,
-        width,
-        height,
-    };
-    frame.render_widget(Clear, rect);
-    frame.render_widget(
-        Paragraph::new(lines).block(
-            Block::new()
-                .borders(Borders::ALL)
-                .title(title.to_string())
-                .title_bottom(Line::from(close.to_string()).alignment(Alignment::Right)),
-        ),
         rect,
     );
 }
