@@ -1,4 +1,4 @@
-//! The explorer: a ratatui terminal UI around the continuation solver (issue 4).
+//! The explorer: a ratatui terminal UI around the continuation solver.
 //!
 //! [`app`] holds the state and its transitions (no terminal), the solver runs on its own
 //! thread ([`crate::session`]), [`ui`] draws. This module owns the terminal: raw mode and the alternate
@@ -403,8 +403,8 @@ pub fn measure_responsiveness(
     for _ in 0..steps {
         measure_step(&mut app, &worker, &mut terminal, &mut result, deadline)?;
     }
-    // a long solve: the same case with internal steps of at most 1e-5 in ε (issue 9's
-    // hanging scene, both ends sliding, is refused now as a free rigid motion)
+    // a long solve: the same case with internal steps of at most 1e-5 in ε (a case with
+    // both ends sliding would be refused as a free rigid motion)
     let mut slow = app.case().clone();
     slow.solver.initial_step = LONG_SOLVE_STEP;
     slow.solver.max_step = LONG_SOLVE_STEP;

@@ -242,7 +242,7 @@ fn boundary_line(app: &App) -> Line<'static> {
             m.estimated_error
         )));
     }
-    // the elastic hypotheses, when they are not the thesis's (issue 11)
+    // the elastic hypotheses, when they are not the thesis's
     let case = app.case();
     let hypotheses = match (case.rod.stress_free, case.rod.energy) {
         (_, crate::model::elasticity::Energy::Sadowsky(_)) => Some("Sadowsky ribbons"),
