@@ -15,7 +15,7 @@ use spira::model::boundary::BoundaryConditions;
 use spira::model::elasticity::{Elasticity, Energy, Ribbon, StressFree};
 use spira::model::helix::{Chirality, Helix};
 use spira::model::loading::Control;
-use spira::model::loading::TipLoad;
+use spira::model::loading::Loads;
 use spira::model::quaternion;
 use spira::model::stiffness::Stiffness;
 use spira::simulation::Simulation;
@@ -371,7 +371,7 @@ fn perturbed_system(order: Order, elasticity: Elasticity) -> (DiscreteModel, Sys
     );
     let bc = BoundaryConditions::default();
     let x0 = model.natural_state();
-    let sys = System::new(&model, bc, &x0, TipLoad::Height(model.height0()));
+    let sys = System::new(&model, bc, &x0, &Loads::axial(Control::Displacement), 0.0);
     let mut x = x0;
     x.resize(sys.n, 0.0);
     for (i, v) in x.iter_mut().enumerate() {

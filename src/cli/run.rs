@@ -45,7 +45,7 @@ pub fn run(
 ) -> Result<()> {
     let (case, target, steps, choice) = prepare(path, to, steps, force)?;
     print_heading(&case, target, steps);
-    let parameters = case.output_eps(target, steps);
+    let parameters = case.output_parameters(target, steps);
     let t0 = Instant::now();
     // Ctrl-C (or SIGTERM, SIGHUP) stops the path at its last converged state; the files
     // are written as after a failure. A second signal ends the process, but never while

@@ -16,7 +16,7 @@ use super::element::{self, ElementTerms};
 use super::model::{DiscreteModel, End};
 use crate::model::assembly::RodId;
 use crate::model::boundary::BoundaryConditions;
-use crate::model::loading::TipLoad;
+use crate::model::loading::{AxisLoad, Loads, SupportAxis};
 use crate::model::quaternion::{self, Quat};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
 use nalgebra::{Vector3, Vector4};
@@ -67,8 +67,15 @@ pub struct System {
     linear_row: usize,
     /// Total number of unknowns (primal and multipliers).
     pub n: usize,
-    /// The axial loading of the tips.
-    pub tip_load: TipLoad,
+    /// What is applied to the assembly, as functions of the load parameter.
+    loads: Loads,
+    /// The load parameter the system is set to.
+    lambda: f64,
+    /// The units of the tip support's axial measures: the natural tip height `h0` (m), in
+    /// which the compression ratio is measured, and the Euler load `Pcrit` (N), in which the
+    /// dead tip load is.
+    height0: f64,
+    pcrit: f64,
     pattern: SymbolicSparseColMat<usize>,
     slots: Vec<usize>,
 }
@@ -83,13 +90,17 @@ pub struct Evaluation {
 impl System {
     /// Builds the constraints of `bc`, holding what they hold at the values of the state
     /// `x` (so that a change of conditions mid-path continues from the current state),
-    /// with the tips loaded by `tip_load`.
+    /// under `loads` at load parameter `lambda`.
     pub fn new(
         model: &DiscreteModel,
         bc: BoundaryConditions,
         x: &[f64],
-        tip_load: TipLoad,
+        loads: &Loads,
+        lambda: f64,
     ) -> System {
+        let height0 = model.height0();
+        let pcrit = model.stiffness.euler_load(model.length());
+        let tip_height = tip_height(loads, height0, lambda);
         let mut row = model.n_primal;
         let mut compat_rows = Vec::new();
         for rod in &model.rods {
@@ -103,9 +114,9 @@ impl System {
         }
         let linear_row = row;
         let mut linear = Vec::new();
-        for (id, rod) in model.rods.iter().enumerate() {
+        for id in 0..model.rods.len() {
             for (end, cond) in [(End::Base, bc.base), (End::Tip, bc.tip)] {
-                support_constraints(model, x, id, rod, end, cond, tip_load, &mut linear);
+                support_constraints(model, x, id, end, cond, tip_height, &mut linear);
             }
         }
         if bc.joints {
@@ -121,7 +132,10 @@ impl System {
             unit_rows,
             linear_row,
             n,
-            tip_load,
+            loads: loads.clone(),
+            lambda,
+            height0,
+            pcrit,
             pattern: SymbolicSparseColMat::new_checked(n, n, vec![0; n + 1], None, vec![]),
             slots: Vec::new(),
         };
@@ -167,20 +181,36 @@ impl System {
         SparseColMatRef::new(self.pattern.as_ref(), values)
     }
 
-    /// Sets the tip loading; the kind (height or force) must stay the one the system was
-    /// built with, since it decides the constraints.
-    pub fn set_tip_load(&mut self, tip_load: TipLoad) {
-        debug_assert_eq!(
-            std::mem::discriminant(&tip_load),
-            std::mem::discriminant(&self.tip_load)
-        );
-        self.tip_load = tip_load;
-        if let TipLoad::Height(h) = tip_load {
+    /// What is applied to the assembly.
+    pub fn loads(&self) -> &Loads {
+        &self.loads
+    }
+
+    /// The load parameter the system is set to.
+    pub fn parameter(&self) -> f64 {
+        self.lambda
+    }
+
+    /// Sets the load parameter: the prescribed motions of the supports and the dead loads
+    /// take their values at `lambda`.
+    pub fn set_parameter(&mut self, lambda: f64) {
+        self.lambda = lambda;
+        if let Some(h) = tip_height(&self.loads, self.height0, lambda) {
             for c in &mut self.linear {
                 if matches!(c.role, Role::TipHeight { .. }) {
                     c.value = h;
                 }
             }
+        }
+    }
+
+    /// The dead force (N) on every rod's tip along z at the current load parameter: `−P`,
+    /// `P = Pcrit · (P/Pcrit)` (compressive positive), when the tip support's z carries a
+    /// dead load.
+    fn tip_force_z(&self) -> Option<f64> {
+        match self.loads.tip.axis(SupportAxis::Z) {
+            AxisLoad::Force(r) => Some(-(self.pcrit * r.at(self.lambda))),
+            AxisLoad::Motion(_) => None,
         }
     }
 
@@ -279,23 +309,31 @@ impl System {
             .map(|(i, _)| self.linear_row + i)
     }
 
-    /// `∂R/∂P` of the tip load parameter: the tip-height rows (`∂g/∂h = −1`) under
-    /// displacement control, the tip z unknowns (`+1`) under load control.
-    pub fn load_derivative(&self, model: &DiscreteModel) -> Vec<f64> {
-        let mut d = vec![0.0; self.n];
-        match self.tip_load {
-            TipLoad::Height(_) => {
+    /// Whether `∂R/∂λ` is the same at every state and load parameter (the loads' values
+    /// are affine in `λ` and none depends on the state).
+    pub fn load_derivative_is_constant(&self) -> bool {
+        self.loads.along_rods.is_empty()
+    }
+
+    /// `∂R/∂λ` at the state `x` and load parameter `lambda`, from the loads: on the tip-height rows
+    /// `∂g/∂λ = −∂h/∂λ = h0 ∂ε/∂λ` under a prescribed axial motion; on the tip z unknowns
+    /// `−∂F/∂λ = Pcrit ∂(P/Pcrit)/∂λ` under a dead axial load.
+    pub fn load_derivative(&self, model: &DiscreteModel, _x: &[f64], lambda: f64, out: &mut [f64]) {
+        out.fill(0.0);
+        match self.loads.tip.axis(SupportAxis::Z) {
+            AxisLoad::Motion(r) => {
+                let rate = self.height0 * r.rate(lambda);
                 for row in self.height_rows() {
-                    d[row] = -1.0;
+                    out[row] = rate;
                 }
             }
-            TipLoad::Force(_) => {
+            AxisLoad::Force(r) => {
+                let rate = self.pcrit * r.rate(lambda);
                 for rod in &model.rods {
-                    d[rod.r_dof(rod.end_vertex(End::Tip), 2)] = 1.0;
+                    out[rod.r_dof(rod.end_vertex(End::Tip), 2)] = rate;
                 }
             }
         }
-        d
     }
 
     fn assemble(
@@ -378,10 +416,10 @@ impl System {
                 residual[row] = norm2 - 1.0;
             }
         }
-        if let TipLoad::Force(p) = self.tip_load {
-            // potential of the dead load: +P z_tip per rod
+        if let Some(f) = self.tip_force_z() {
+            // potential of the dead load: −F z_tip per rod
             for rod in &model.rods {
-                residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] += p;
+                residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] -= f;
             }
         }
         for (i, c) in self.linear.iter().enumerate() {
@@ -446,9 +484,9 @@ impl System {
                 }
             }
         }
-        if let (TipLoad::Force(p), End::Tip) = (self.tip_load, end) {
-            // under load control the tip is loaded by the dead load itself
-            force[2] -= p;
+        if let (Some(f), End::Tip) = (self.tip_force_z(), end) {
+            // under a dead axial load the tip is loaded by the dead load itself
+            force[2] += f;
         }
         let q = model.quaternion(x, rod, node);
         let moment = Vector3::from_fn(|i, _| {
@@ -457,5 +495,14 @@ impl System {
             0.5 * fq.dot(&quaternion::mul(&e, &q))
         });
         (force, moment)
+    }
+}
+
+/// The tip's height (m) at load parameter `lambda` when the tip support's z is a prescribed
+/// motion: `h = h0 (1 − ε)`, `ε` the compression ratio it prescribes.
+fn tip_height(loads: &Loads, height0: f64, lambda: f64) -> Option<f64> {
+    match loads.tip.axis(SupportAxis::Z) {
+        AxisLoad::Motion(r) => Some(height0 * (1.0 - r.at(lambda))),
+        AxisLoad::Force(_) => None,
     }
 }

@@ -12,7 +12,7 @@ use crate::discretisation::symmetry::expand_state;
 use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
-use crate::model::loading::{Control, TipLoad};
+use crate::model::loading::{AxisLoad, Control, LoadParameter, Loads, SupportAxis};
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, Stability};
 use crate::solver::continuation::Critical;
 use crate::solver::continuation::{
@@ -71,11 +71,10 @@ impl Simulation {
     ) -> Result<Simulation, SolveError> {
         let model = case.model();
         let x0 = model.natural_state();
-        let control = case.loading.control;
         Simulation::start(
             model,
             case.boundary,
-            control,
+            case.loads(),
             x0,
             case.solver,
             interrupt,
@@ -104,13 +103,13 @@ impl Simulation {
         x: Vec<f64>,
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
-        Simulation::start(model, bc, control, x, settings, None, None)
+        Simulation::start(model, bc, Loads::axial(control), x, settings, None, None)
     }
 
     fn start(
         model: DiscreteModel,
         bc: BoundaryConditions,
-        control: Control,
+        loads: Loads,
         mut x: Vec<f64>,
         settings: ContinuationSettings,
         interrupt: Option<Interrupt>,
@@ -118,13 +117,10 @@ impl Simulation {
     ) -> Result<Simulation, SolveError> {
         x.truncate(model.n_primal);
         let eps = 1.0 - mean_tip_height(&model, &x) / model.height0();
-        let lambda = match control {
-            Control::Displacement => eps,
-            Control::Force => 0.0,
-        };
-        let tip = TipLoad::at(control, lambda, model.height0(), pcrit(&model));
-        let system = System::new(&model, bc, &x, tip);
-        let problem = RodProblem::new(model, system, control);
+        let lambda = parameter_of_state(&loads, eps);
+        let control = loads.control();
+        let system = System::new(&model, bc, &x, &loads, lambda);
+        let problem = RodProblem::new(model, system);
         let path = Continuation::new_with(problem, x, lambda, settings, interrupt, observer)
             .map_err(|e| solve_error(e, control, eps))?;
         Ok(Simulation {
@@ -200,7 +196,17 @@ impl Simulation {
     }
 
     pub fn control(&self) -> Control {
-        self.rods().control
+        self.loads().control()
+    }
+
+    /// What is applied to the assembly, as functions of the load parameter.
+    pub fn loads(&self) -> &Loads {
+        self.system().loads()
+    }
+
+    /// What the load parameter `λ` is (its symbol, unit and label for the faces).
+    pub fn load_parameter(&self) -> LoadParameter {
+        self.loads().parameter
     }
 
     /// Current load parameter `λ`.
@@ -398,9 +404,9 @@ impl Simulation {
                 reason: StopReason::SymmetricPair,
             }));
         };
-        let (control, bc) = (self.control(), self.boundary_conditions());
-        let tip = TipLoad::at(control, cp.parameter, full.height0(), pcrit(&full));
-        let natural = System::new(&full, bc, &full.natural_state(), tip);
+        let bc = self.boundary_conditions();
+        let loads = self.loads().clone();
+        let natural = System::new(&full, bc, &full.natural_state(), &loads, cp.parameter);
         let mut x = vec![0.0; natural.n];
         expand_state(
             self.model(),
@@ -422,7 +428,7 @@ impl Simulation {
             &mut near,
         );
         // the supports hold what they hold at the critical state, as the pair's did
-        let system = System::new(&full, bc, &x[..full.n_primal], tip);
+        let system = System::new(&full, bc, &x[..full.n_primal], &loads, cp.parameter);
         // the branches of a double point leave it along particular directions of its
         // plane (where the symmetry's higher-order terms are extremal, at multiples of
         // π/2m for a wavenumber-1 mode): the directions φ = jπ/2m are tried in turn
@@ -441,7 +447,7 @@ impl Simulation {
             })
             .collect();
         let mut order: Vec<(f64, usize)> = {
-            let mut probe = RodProblem::new(full.clone(), system.clone(), control);
+            let mut probe = RodProblem::new(full.clone(), system.clone());
             let mut residual = vec![0.0; x.len()];
             directions
                 .iter()
@@ -461,7 +467,7 @@ impl Simulation {
         let mut last = None;
         for (_, j) in order {
             let along = &directions[j];
-            let problem = RodProblem::new(full.clone(), system.clone(), control);
+            let problem = RodProblem::new(full.clone(), system.clone());
             let pair = (self.model().clone(), self.system().clone());
             match self.path.switch_onto_problem(
                 problem,
@@ -560,15 +566,18 @@ impl Simulation {
             Control::Force => -self.load_point(0).load[2],
         };
         let model = self.model().clone();
-        let tip = TipLoad::at(control, lambda, model.height0(), pcrit(&model));
+        let loads = Loads {
+            along_rods: self.loads().along_rods.clone(),
+            ..Loads::axial(control)
+        };
         let x = self.state();
-        let system = System::new(&model, bc, &x[..model.n_primal], tip);
+        let system = System::new(&model, bc, &x[..model.n_primal], &loads, lambda);
         // inextensibility and unit-norm multipliers keep their rows; support and joint
         // multipliers enter the KKT matrix linearly and restart from zero
         let keep = system.linear_row(0).min(x.len());
         let x = x[..keep].to_vec();
         let eps = self.eps();
-        let problem = RodProblem::new(model, system, control);
+        let problem = RodProblem::new(model, system);
         self.path
             .restart_with(problem, x, lambda)
             .map_err(|e| solve_error(e, control, eps))
@@ -628,7 +637,8 @@ impl Simulation {
             &full,
             system.bc,
             &full.natural_state(),
-            TipLoad::Height(full.height0()),
+            &Loads::axial(Control::Displacement),
+            0.0,
         );
         let mut x = vec![0.0; full_system.n];
         expand_state(pair, system, &critical.state, &full, &full_system, &mut x);
@@ -693,6 +703,16 @@ impl Simulation {
 /// Compression ratio `ε = 1 − h/h0` of state `x`, from the mean tip height.
 fn eps_of(model: &DiscreteModel, x: &[f64]) -> f64 {
     1.0 - mean_tip_height(model, x) / model.height0()
+}
+
+/// The load parameter at which a state of compression ratio `eps` starts a path under
+/// `loads`: `ε` itself when the parameter prescribes the axial motion (the supports then
+/// hold the tips where the state has them), zero otherwise.
+fn parameter_of_state(loads: &Loads, eps: f64) -> f64 {
+    match (loads.parameter.axis, loads.tip.axis(SupportAxis::Z)) {
+        (SupportAxis::Z, AxisLoad::Motion(r)) => (eps - r.at_zero) / r.per_unit,
+        _ => 0.0,
+    }
 }
 
 fn solve_error(e: ContinuationError, control: Control, eps: f64) -> SolveError {

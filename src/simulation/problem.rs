@@ -10,7 +10,6 @@
 use crate::discretisation::model::{DiscreteModel, End};
 use crate::discretisation::symmetry::BlochBlocks;
 use crate::discretisation::system::System;
-use crate::model::loading::{Control, TipLoad};
 use crate::results::Stability;
 use crate::solver::problem::Problem;
 use crate::solver::stability::{InertiaError, KktStability, KktStructure, RoughLowest, WarmStart};
@@ -22,10 +21,6 @@ use std::sync::Arc;
 pub struct RodProblem {
     pub(super) model: DiscreteModel,
     pub(super) system: System,
-    pub(super) control: Control,
-    /// `∂R/∂λ`: constant, since the load parameter enters the tip constraints or the dead
-    /// load linearly.
-    load_derivative: Vec<f64>,
     /// Where stability is judged: this model, or the full model behind a symmetric pair.
     judge: Judge,
 }
@@ -234,14 +229,8 @@ pub fn mean_tip_height(model: &DiscreteModel, x: &[f64]) -> f64 {
 }
 
 impl RodProblem {
-    /// The problem of `system` (built on `model`) under `control`.
-    pub fn new(model: DiscreteModel, system: System, control: Control) -> RodProblem {
-        let rate = TipLoad::rate(control, model.height0(), pcrit(&model));
-        let load_derivative = system
-            .load_derivative(&model)
-            .into_iter()
-            .map(|v| v * rate)
-            .collect();
+    /// The problem of `system` (built on `model`, loaded by the system's loads).
+    pub fn new(model: DiscreteModel, system: System) -> RodProblem {
         let judge = match BlochBlocks::new(&model, &system) {
             Some(bloch) => {
                 // the blocks, real and complex, share the pair's symbolic analysis on both
@@ -272,15 +261,8 @@ impl RodProblem {
         RodProblem {
             model,
             system,
-            control,
-            load_derivative,
             judge,
         }
-    }
-
-    /// The tip loading at load parameter `lambda`.
-    pub fn tip_load(&self, lambda: f64) -> TipLoad {
-        tip_load(&self.model, self.control, lambda)
     }
 
     /// Whether this is a symmetric pair, its stability judged by Bloch blocks.
@@ -677,10 +659,6 @@ pub fn pcrit(model: &DiscreteModel) -> f64 {
     model.stiffness.euler_load(model.length())
 }
 
-fn tip_load(model: &DiscreteModel, control: Control, lambda: f64) -> TipLoad {
-    TipLoad::at(control, lambda, model.height0(), pcrit(model))
-}
-
 impl Problem for RodProblem {
     fn unknowns(&self) -> usize {
         self.system.n
@@ -695,7 +673,7 @@ impl Problem for RodProblem {
     }
 
     fn residual(&mut self, x: &[f64], lambda: f64, residual: &mut [f64]) -> f64 {
-        self.system.set_tip_load(self.tip_load(lambda));
+        self.system.set_parameter(lambda);
         self.system.residual(&self.model, x, residual).energy
     }
 
@@ -706,7 +684,7 @@ impl Problem for RodProblem {
         residual: &mut [f64],
         jacobian: &mut [f64],
     ) -> f64 {
-        self.system.set_tip_load(self.tip_load(lambda));
+        self.system.set_parameter(lambda);
         self.system
             .evaluate(&self.model, x, residual, jacobian)
             .energy
@@ -730,12 +708,13 @@ impl Problem for RodProblem {
         self.system.residual_weights(&self.model, weights);
     }
 
-    fn load_derivative(&mut self, _x: &[f64], _lambda: f64, out: &mut [f64]) {
-        out.copy_from_slice(&self.load_derivative);
+    /// From the loads at `lambda`.
+    fn load_derivative(&mut self, x: &[f64], lambda: f64, out: &mut [f64]) {
+        self.system.load_derivative(&self.model, x, lambda, out);
     }
 
     fn load_derivative_is_constant(&self) -> bool {
-        true
+        self.system.load_derivative_is_constant()
     }
 
     fn unstable_directions(&mut self, x: &[f64], _lambda: f64) -> Result<usize, InertiaError> {
@@ -794,6 +773,6 @@ impl Problem for RodProblem {
 
     /// The system keeps the tip load of the converged point (reactions are read from it).
     fn restore(&mut self, _x: &[f64], lambda: f64) {
-        self.system.set_tip_load(self.tip_load(lambda));
+        self.system.set_parameter(lambda);
     }
 }

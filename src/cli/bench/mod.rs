@@ -59,13 +59,14 @@ fn bench_path(path: Option<&Path>, repeats: usize) -> Result<()> {
     let (mut case, _) = resolve(load_case(path)?)?;
     // the full model first, the symmetric pair (what "auto" solves) beside it
     case.discretisation.symmetric = false;
-    let parameters = case.output_eps(case.loading.target, case.loading.steps);
+    let parameters = case.output_parameters(case.loading.target, case.loading.steps);
     println!(
-        "spira bench: case {} (n = {}, {} {:?} elements per rod), eps 0 -> {} in {} output steps, {} timed runs after a warm-up",
+        "spira bench: case {} (n = {}, {} {:?} elements per rod), {} 0 -> {} in {} output steps, {} timed runs after a warm-up",
         case.name,
         case.geometry.helices,
         case.discretisation.elements,
         case.discretisation.order,
+        case.load_parameter().ascii(),
         case.loading.target,
         case.loading.steps,
         repeats.max(1)
