@@ -91,8 +91,7 @@ impl<P: Problem> Continuation<P> {
     /// `near` is another state of the new problem on the same path (the reduced model's
     /// last accepted state, expanded), from which the critical state is re-solved when the
     /// Jacobian at `x` itself is singular.
-    // the critical state, its mode and step are those of `switch_onto`, with the new
-    // problem and `near`: the simulation's call site passes them as they are
+    // the new problem and `near` on top of `switch_onto`'s state, load, mode, sign and step
     #[allow(clippy::too_many_arguments)]
     pub fn switch_onto_problem(
         &mut self,
