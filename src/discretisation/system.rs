@@ -418,20 +418,7 @@ impl System {
                     sink.add(lrow + j, rb, 1.0);
                 }
             }
-            for k in 0..rod.mesh.quaternion_nodes() {
-                let row = self.unit_row(id, k);
-                let mu = x[row];
-                let mut norm2 = 0.0;
-                for c in 0..4 {
-                    let d = rod.q_dof(k, c);
-                    norm2 += x[d] * x[d];
-                    residual[d] += 2.0 * mu * x[d];
-                    sink.add(d, d, 2.0 * mu);
-                    sink.add(d, row, 2.0 * x[d]);
-                    sink.add(row, d, 2.0 * x[d]);
-                }
-                residual[row] = norm2 - 1.0;
-            }
+            self.assemble_unit_norms(model, id, x, residual, sink);
         }
         if let Some(f) = self.tip_force_z() {
             // potential of the dead load: −F z_tip per rod
@@ -439,6 +426,39 @@ impl System {
                 residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] -= f;
             }
         }
+        self.assemble_linear(x, residual, sink);
+        Evaluation { energy, potential }
+    }
+
+    /// The unit-norm rows `|q|² − 1 = 0` of rod `id`'s quaternion nodes, with their
+    /// multipliers' terms `μ (|q|² − 1)` in the balance of the quaternions.
+    fn assemble_unit_norms(
+        &self,
+        model: &DiscreteModel,
+        id: RodId,
+        x: &[f64],
+        residual: &mut [f64],
+        sink: &mut dyn Sink,
+    ) {
+        let rod = &model.rods[id];
+        for k in 0..rod.mesh.quaternion_nodes() {
+            let row = self.unit_row(id, k);
+            let mu = x[row];
+            let mut norm2 = 0.0;
+            for c in 0..4 {
+                let d = rod.q_dof(k, c);
+                norm2 += x[d] * x[d];
+                residual[d] += 2.0 * mu * x[d];
+                sink.add(d, d, 2.0 * mu);
+                sink.add(d, row, 2.0 * x[d]);
+                sink.add(row, d, 2.0 * x[d]);
+            }
+            residual[row] = norm2 - 1.0;
+        }
+    }
+
+    /// The linear constraints' rows `a·x − b` and their multipliers' terms `ν a`.
+    fn assemble_linear(&self, x: &[f64], residual: &mut [f64], sink: &mut dyn Sink) {
         for (i, c) in self.linear.iter().enumerate() {
             let row = self.linear_row + i;
             let nu = x[row];
@@ -451,7 +471,6 @@ impl System {
             }
             residual[row] = g;
         }
-        Evaluation { energy, potential }
     }
 
     /// The force per unit length (N/m) of the loads along the rods at load parameter
