@@ -916,7 +916,7 @@ fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result<()>
         ("precision.csv".to_string(), study.csv()),
         ("precision.svg".to_string(), study.svg_for(&command_line())?),
     ];
-    spira::output::files::write_folder(out, &files, spira::output::files::is_precision_file)
+    spira::output::files::write_folder(out, &files, spira::output::precision::is_precision_file)
         .with_context(|| format!("writing results into {}", out.display()))?;
     println!(
         "wrote {}, {} in {:.1} s",

@@ -125,7 +125,7 @@ pub fn run_sweep(
     let out = &opts.out;
     std::fs::create_dir_all(out).map_err(|reason| write_err(out, reason))?;
     // case folders a killed sweep was writing
-    crate::output::files::remove_stale(out);
+    crate::output::staging::remove_stale(out);
     let interrupt = opts.interrupt.as_ref();
     let interrupted = || interrupt.is_some_and(|i| i.check().is_some());
     let empty = SweepTable::new(&sweep.axes);
@@ -345,7 +345,7 @@ fn solve(case: &Case, interrupt: Option<&Interrupt>) -> Result<Solved, String> {
 
 /// Writes a case folder atomically: the result files, `case.toml`, then the marker (the row
 /// `make_row` gives, told of a failure to write the result files), all into a temporary
-/// folder beside the target (named by its owner, [`crate::output::files::staging_dir`]),
+/// folder beside the target (named by its owner, [`crate::output::staging::staging_dir`]),
 /// renamed into place. No signal ends the process during it (it holds the writes), so the
 /// temporary folder is never left behind but by `kill -9`, and then the next sweep into
 /// `out` removes it. Returns the row.
@@ -358,7 +358,7 @@ fn write_folder(
 ) -> std::io::Result<Vec<String>> {
     // declared first, dropped last: after the temporary folder is removed
     let _writing = crate::output::files::hold_writes();
-    let tmp = crate::output::files::staging_dir(out, &format!(".spira-{}-", c.id))?;
+    let tmp = crate::output::staging::staging_dir(out, &format!(".spira-{}-", c.id))?;
     let mut failure = None;
     if let Some(s) = solved {
         let o = &s.outcome;
@@ -379,7 +379,7 @@ fn write_folder(
         // an incomplete folder (no marker) of an earlier run
         std::fs::remove_dir_all(&target)?;
     }
-    std::fs::remove_file(tmp.path().join(crate::output::files::OWNER_FILE))?;
+    std::fs::remove_file(tmp.path().join(crate::output::staging::OWNER_FILE))?;
     let kept = tmp.keep();
     if let Err(e) = std::fs::rename(&kept, &target) {
         let _ = std::fs::remove_dir_all(&kept);
