@@ -11,7 +11,7 @@ use spira::output::read::RunTables;
 use spira::run::{run_path, run_path_steps};
 use spira::session::script::{replay_into, Script};
 use spira::solver::interrupt::Interrupt;
-use spira::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem};
+use spira::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Subject};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -824,7 +824,7 @@ fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
     println!(
         "choosing the mesh for accuracy {:e} on the response ({}) from two coarse solves per element order:",
         acc.target,
-        Problem::Path(Box::new(case.clone())).response_label()
+        Subject::Path(Box::new(case.clone())).response_label()
     );
     let (resolved, choice) = resolve_accuracy(&case)?;
     if let Some(c) = &choice {
@@ -855,7 +855,7 @@ fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result<()>
     end_on_signal_between_writes();
     let case = Case::from_file(path)?;
     check_size(&case, force)?;
-    let problem = Problem::Path(Box::new(case.clone()));
+    let problem = Subject::Path(Box::new(case.clone()));
     let ladder = Ladder::standard(&problem);
     println!(
         "spira precision: case {} ({}), {} meshes, each timed by {}",
