@@ -10,8 +10,8 @@
 //!
 //! Every number drawn is read from the tables: nothing here computes mechanics.
 //!
-//! One file per figure ([`load`], [`curvature`], [`views`]) and the look they share
-//! ([`style`]); [`run_figures`] draws the set a run folder asks for.
+//! One file per figure (`load`, `curvature`, `views`) and the look they share
+//! (`style`); [`run_figures`] draws the set a run folder asks for.
 
 mod curvature;
 mod load;
