@@ -180,3 +180,137 @@ fn numbered(name: &str, prefix: &str, suffix: &str) -> bool {
         .and_then(|r| r.strip_suffix(suffix))
         .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::staging::{host_name, process_alive, remove_stale, OWNER_FILE};
+
+    #[test]
+    fn a_folder_write_replaces_the_files_of_its_kind_and_keeps_others() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let out = dir.path().join("out");
+        std::fs::create_dir(&out).expect("folder");
+        for name in [
+            "mode-0.csv",
+            "mode-12.csv",
+            "critical.csv",
+            "notes.txt",
+            "mode-x.csv",
+        ] {
+            std::fs::write(out.join(name), "old").expect("write");
+        }
+        let files = vec![
+            ("load.csv".to_string(), "a\n1\n".to_string()),
+            ("state.csv".to_string(), "b\n2\n".to_string()),
+        ];
+        write_folder(&out, &files, is_run_file).expect("write");
+        assert_eq!(
+            listing(&out),
+            ["load.csv", "mode-x.csv", "notes.txt", "state.csv"]
+        );
+        // nothing left beside the folder but the folder
+        assert_eq!(listing(dir.path()), ["out"]);
+    }
+
+    #[test]
+    fn a_failed_folder_write_leaves_the_previous_files() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let out = dir.path().join("out");
+        std::fs::create_dir_all(out.join("state.csv")).expect("a folder named state.csv");
+        std::fs::write(out.join("load.csv"), "old").expect("write");
+        let files = vec![
+            ("load.csv".to_string(), "new".to_string()),
+            ("state.csv".to_string(), "new".to_string()),
+        ];
+        assert!(write_folder(&out, &files, is_run_file).is_err());
+        assert_eq!(listing(&out), ["load.csv", "state.csv"]);
+        assert_eq!(
+            std::fs::read_to_string(out.join("load.csv")).unwrap(),
+            "old"
+        );
+        assert_eq!(listing(dir.path()), ["out"]);
+    }
+
+    /// A staging folder as [`staging_dir`] makes it, owned by process `pid` of `host`.
+    fn fake_staging(parent: &Path, name: &str, pid: u32, host: &str) -> PathBuf {
+        let p = parent.join(name);
+        std::fs::create_dir_all(p.join("new")).expect("folder");
+        std::fs::write(p.join("new/load.csv"), "half written").expect("write");
+        std::fs::write(p.join(OWNER_FILE), format!("pid {pid}\nhost {host}\n")).expect("owner");
+        p
+    }
+
+    /// The id of a process that has ended (and been reaped).
+    fn dead_pid() -> u32 {
+        let mut child = std::process::Command::new("true")
+            .spawn()
+            .expect("spawn true");
+        let pid = child.id();
+        child.wait().expect("wait");
+        assert!(process_alive(pid) != Some(true), "{pid} is gone");
+        pid
+    }
+
+    #[test]
+    fn the_next_write_removes_staging_folders_whose_process_is_gone_and_nothing_else() {
+        let dir = tempfile::tempdir().expect("scratch folder");
+        let host = host_name();
+        let dead = dead_pid();
+        let me = std::process::id();
+        fake_staging(dir.path(), ".spira-staging-killed", dead, &host);
+        // a sweep's case folder that a killed sweep was writing
+        fake_staging(dir.path(), ".spira-001_target-0.1-killed", dead, &host);
+        // in use: this process's
+        fake_staging(dir.path(), ".spira-staging-live", me, &host);
+        // another machine's (a shared file system): its process cannot be told, recent
+        fake_staging(dir.path(), ".spira-staging-remote", dead, "another-host");
+        // not spira's: no owner file, an unreadable one, another prefix, a file
+        std::fs::create_dir_all(dir.path().join(".spira-staging-nomarker/new")).expect("folder");
+        let odd = dir.path().join(".spira-staging-odd");
+        std::fs::create_dir(&odd).expect("folder");
+        std::fs::write(odd.join(OWNER_FILE), "pid twelve\n").expect("write");
+        fake_staging(dir.path(), "staging-killed", dead, &host);
+        fake_staging(dir.path(), ".other-staging", dead, &host);
+        std::fs::write(dir.path().join(".spira-staging-file"), "x").expect("write");
+        let files = vec![("load.csv".to_string(), "a\n1\n".to_string())];
+        write_folder(&dir.path().join("out"), &files, is_run_file).expect("write");
+        assert_eq!(
+            listing(dir.path()),
+            [
+                ".other-staging",
+                ".spira-staging-file",
+                ".spira-staging-live",
+                ".spira-staging-nomarker",
+                ".spira-staging-odd",
+                ".spira-staging-remote",
+                "out",
+                "staging-killed",
+            ]
+        );
+        // the live one is whole
+        assert!(dir
+            .path()
+            .join(".spira-staging-live/new/load.csv")
+            .is_file());
+        // and once its process is gone, the next cleaning takes it
+        std::fs::write(
+            dir.path().join(".spira-staging-live").join(OWNER_FILE),
+            format!("pid {dead}\nhost {host}\n"),
+        )
+        .expect("write");
+        assert_eq!(
+            remove_stale(dir.path()),
+            [dir.path().join(".spira-staging-live")]
+        );
+    }
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .expect("folder")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+}
