@@ -6,7 +6,7 @@ use spira::case::Case;
 use spira::model::loading::Control;
 use spira::output::precision::ChoiceReport as _;
 use spira::results::LoadPoint;
-use spira::study::{resolve_accuracy, MeshChoice, Problem};
+use spira::study::{resolve_accuracy, MeshChoice, Subject};
 
 /// The case with its mesh: when it gives an accuracy instead, the mesh chosen for it, said
 /// on the way.
@@ -17,7 +17,7 @@ pub fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
     println!(
         "choosing the mesh for accuracy {:e} on the response ({}) from two coarse solves per element order:",
         acc.target,
-        Problem::Path(Box::new(case.clone())).response_label()
+        Subject::Path(Box::new(case.clone())).response_label()
     );
     let (resolved, choice) = resolve_accuracy(&case)?;
     if let Some(c) = &choice {

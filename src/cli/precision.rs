@@ -5,7 +5,7 @@ use super::{check_size, command_line};
 use anyhow::{Context, Result};
 use spira::case::Case;
 use spira::output::precision::StudyReport as _;
-use spira::study::{run_study, Ladder, Problem};
+use spira::study::{run_study, Ladder, Subject};
 use std::path::Path;
 use std::time::Instant;
 
@@ -16,7 +16,7 @@ pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result
     end_on_signal_between_writes();
     let case = Case::from_file(path)?;
     check_size(&case, force)?;
-    let problem = Problem::Path(Box::new(case.clone()));
+    let problem = Subject::Path(Box::new(case.clone()));
     let ladder = Ladder::standard(&problem);
     println!(
         "spira precision: case {} ({}), {} meshes, each timed by {}",
@@ -77,7 +77,7 @@ pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result
         ("precision.csv".to_string(), study.csv()),
         ("precision.svg".to_string(), study.svg_for(&command_line())?),
     ];
-    spira::output::files::write_folder(out, &files, spira::output::files::is_precision_file)
+    spira::output::files::write_folder(out, &files, spira::output::precision::is_precision_file)
         .with_context(|| format!("writing results into {}", out.display()))?;
     println!(
         "wrote {}, {} in {:.1} s",

@@ -4,7 +4,7 @@
 use super::signals::stop_on_signal;
 use anyhow::{bail, Result};
 use spira::sweep::{
-    merge_dirs, run_sweep, workers, CaseStatus, Combine, Progress, RunOptions, Shard, Sweep,
+    merge_dirs, run_sweep, workers, CaseFinished, CaseStatus, Combine, RunOptions, Shard, Sweep,
     SweepReport,
 };
 use std::io::{IsTerminal as _, Write as _};
@@ -85,7 +85,7 @@ fn print_heading(sweep: &Sweep, path: &Path, shard: Shard, cases: usize, out: &P
 
 /// The progress of a finished case: on a terminal one line, rewritten (a failure stays on
 /// its own line), elsewhere one line per case.
-fn print_progress(p: &Progress, terminal: bool) {
+fn print_progress(p: &CaseFinished, terminal: bool) {
     let eta = p
         .eta()
         .map(|d| format!(", ETA {:.0} s", d.as_secs_f64()))

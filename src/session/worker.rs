@@ -22,7 +22,7 @@ use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::{Observer, StopReason};
 use crate::solver::interrupt::{Interrupt, Interruption};
-use crate::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Problem, Study, StudyError};
+use crate::study::{resolve_accuracy, run_study, Ladder, MeshChoice, Study, StudyError, Subject};
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};
@@ -348,7 +348,7 @@ fn run_precision(request: Request, ctx: &Context<Request, WorkerEvent>) {
     else {
         return;
     };
-    let problem = Problem::Path(case);
+    let problem = Subject::Path(case);
     let ladder = Ladder::standard(&problem);
     let study = panic::catch_unwind(AssertUnwindSafe(|| {
         run_study(&problem, &ladder, PRECISION_REPEATS, |p| {
