@@ -970,7 +970,7 @@ fn a_signal_during_the_write_phase_leaves_the_old_files_or_the_whole_new_set() {
 /// one without an owner file, and folders and files that are not spira's.
 #[test]
 fn the_next_run_removes_the_staging_folder_of_a_killed_run_and_nothing_else() {
-    use spira::output::files::{owner_record, OWNER_FILE};
+    use spira::output::staging::{owner_record, OWNER_FILE};
     let dir = Scratch::new("stale-staging");
     let case = dir.write("tiny.toml", common::TINY_CASE);
     // a process that has ended: a run killed by SIGKILL

@@ -752,7 +752,7 @@ fn a_generic_line_chart_draws_solid_and_dashed_curves_and_shaded_intervals() {
 
 #[test]
 fn the_files_of_a_run_include_its_states_joints_and_figures_but_not_a_study() {
-    use spira::output::files::{is_figure_file, is_run_file};
+    use spira::output::run_folder::{is_figure_file, is_run_file};
     for name in [
         "state-0.csv",
         "state-12.csv",

@@ -14,8 +14,8 @@ use spira::model::elasticity::{Elasticity, Energy, Ribbon, StressFree};
 use spira::model::love::LoveHelix;
 use spira::output::precision::{ChoiceReport, StudyReport};
 use spira::study::{
-    choose_mesh, measured, resolve_accuracy, run_study, Ladder, Measure, Problem, Reference, Rung,
-    Study, Values,
+    choose_mesh, measured, resolve_accuracy, run_study, Ladder, Measure, Reference, Rung, Study,
+    Subject, Values,
 };
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -28,7 +28,7 @@ fn thesis(n: usize) -> Case {
     Case::from_file(Path::new(&format!("cases/thesis-n{n}.toml"))).expect("shipped case")
 }
 
-fn study(problem: &Problem, ladder: &Ladder) -> Study {
+fn study(problem: &Subject, ladder: &Ladder) -> Study {
     run_study(problem, ladder, 0, |_| ControlFlow::Continue(())).expect("study")
 }
 
@@ -121,7 +121,7 @@ fn orders_on_loves_helix_hold_for_every_elastic_hypothesis() {
 }
 
 fn check_orders_on_loves_helix(love: LoveHelix) {
-    let problem = Problem::Love(love);
+    let problem = Subject::Love(love);
     // linear 32..256 and quadratic 16..128: finer meshes reach the Newton tolerance's floor
     // (about 1e-9 relative in Fz)
     let ladder = Ladder::doubling(&problem, 4, 4);
@@ -183,7 +183,7 @@ fn orders_on_the_thesis_helix_hold_with_the_continuums_reference_curvatures() {
 
 fn check_orders_on_the_thesis_helix(mut case: Case) -> Study {
     case.loading.steps = 2;
-    let problem = Problem::Path(Box::new(case));
+    let problem = Subject::Path(Box::new(case));
     let ladder = Ladder::doubling(&problem, 5, 4);
     assert_eq!(
         ladder.rungs.iter().map(|r| r.elements).collect::<Vec<_>>(),
@@ -265,7 +265,7 @@ fn check_orders_on_the_thesis_helix(mut case: Case) -> Study {
 fn critical_load_of_eulers_column_converges_at_the_order_of_an_eigenvalue() {
     let text = "name = \"euler\"\n[geometry]\nradius = 0.0\nlength = 1.0\n[loading]\ncontrol = \"force\"\ntarget = 1.1\nsteps = 1\n[discretisation]\norder = \"linear\"\n";
     let case = Case::parse(text, "euler.toml", "euler").expect("valid case");
-    let problem = Problem::Path(Box::new(case));
+    let problem = Subject::Path(Box::new(case));
     let exact = Values {
         response: 0.0,
         curvature: vec![],
@@ -298,7 +298,7 @@ fn critical_load_of_eulers_column_converges_at_the_order_of_an_eigenvalue() {
 
 #[test]
 fn meshes_chosen_for_an_accuracy_meet_it_on_loves_helix() {
-    let problem = Problem::Love(LoveHelix::thesis(0.0125));
+    let problem = Subject::Love(LoveHelix::thesis(0.0125));
     let exact = LoveHelix::thesis(0.0125).force();
     for target in [1e-3, 1e-5, 1e-7] {
         let choice =
@@ -325,7 +325,7 @@ fn meshes_chosen_for_an_accuracy_meet_it_on_the_thesis_helix() {
     let mut case = thesis(1);
     case.loading.target = 0.2;
     case.loading.steps = 2;
-    let problem = Problem::Path(Box::new(case.clone()));
+    let problem = Subject::Path(Box::new(case.clone()));
     // reference: Richardson on quadratic 128 and 256 elements/rod (error about 1e-8)
     let ladder = Ladder {
         rungs: vec![
@@ -370,7 +370,7 @@ fn meshes_chosen_for_an_accuracy_meet_it_on_the_thesis_helix() {
 
 #[test]
 fn an_accuracy_out_of_reach_is_an_error_not_a_huge_mesh() {
-    let problem = Problem::Love(LoveHelix::thesis(0.0125));
+    let problem = Subject::Love(LoveHelix::thesis(0.0125));
     let e = choose_mesh(&problem, 1e-15, &[Order::Linear]).expect_err("out of reach");
     assert!(e.to_string().contains("out of reach"), "{e}");
     assert!(e.to_string().contains("Newton tolerance"), "{e}");
@@ -420,7 +420,7 @@ fn polylines(svg: &str, color: &str) -> Vec<usize> {
 
 #[test]
 fn the_chart_is_well_formed_svg_with_one_line_per_element_order_per_panel() {
-    let problem = Problem::Love(LoveHelix::thesis(0.0125));
+    let problem = Subject::Love(LoveHelix::thesis(0.0125));
     let s = study(&problem, &Ladder::doubling(&problem, 3, 3));
     let svg = s.svg_for("spira precision love.toml").expect("drawn");
     assert!(svg.starts_with("<svg "));

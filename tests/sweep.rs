@@ -410,8 +410,8 @@ fn a_terminated_sweep_leaves_only_complete_case_folders_and_its_table() {
         std::fs::create_dir(folder).expect("folder");
         std::fs::write(folder.join("load.csv"), "half").expect("write");
         std::fs::write(
-            folder.join(spira::output::files::OWNER_FILE),
-            spira::output::files::owner_record(pid),
+            folder.join(spira::output::staging::OWNER_FILE),
+            spira::output::staging::owner_record(pid),
         )
         .expect("owner");
     }

@@ -23,7 +23,7 @@ pub use limits::{
     PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
 };
 pub use motion::{free_motion_of, FreeMotion};
-pub use settings::{Accuracy, Discretisation, Geometry, Loading};
+pub use settings::{AccuracyTarget, Discretisation, Geometry, Loading};
 pub use size::{available_memory, SizeEstimate, TooLarge, LONG_STEP_SECONDS};
 pub use target::TargetError;
 

@@ -1,4 +1,4 @@
-//! Rigid motions the supports leave free (issue 12): the infinitesimal rigid motions of the
+//! Rigid motions the supports leave free: the infinitesimal rigid motions of the
 //! rods that every support and every pin joint allows, found by linear algebra on the
 //! natural geometry. A rod moves rigidly by a translation `t` and a rotation `ω`; an end at
 //! `X` then moves by `t + ω × X`. What each end holds:
@@ -22,7 +22,7 @@
 //! (`tests/free_motion.rs` solves every combination of the supports).
 
 use super::settings::Geometry;
-use crate::model::assembly::Assembly;
+use crate::model::assembly::{Assembly, Joint};
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
 use crate::model::loading::Control;
 use nalgebra::{DMatrix, Vector3};
@@ -57,22 +57,62 @@ pub fn free_motion_of(
     let n = geometry.helices.max(1);
     let assembly = Assembly::new(n, geometry.radius, geometry.pitch, geometry.length);
     let rods = assembly.rods.len();
-    let scale = geometry.length.max(geometry.radius).max(f64::MIN_POSITIVE);
-    let tip_height_held = control == Control::Displacement;
-    // groups of rods moving as one body: right and left rods crossing three times or more
-    let mut group: Vec<usize> = (0..rods).collect();
-    fn root(g: &mut [usize], mut i: usize) -> usize {
-        while g[i] != i {
-            g[i] = g[g[i]];
-            i = g[i];
-        }
-        i
-    }
     let joints = if b.joints && rods > 1 {
         assembly.joints.as_slice()
     } else {
         &[]
     };
+    let supports = Supports {
+        assembly: &assembly,
+        b,
+        joints,
+        scale: geometry.length.max(geometry.radius).max(f64::MIN_POSITIVE),
+        tip_height_held: control == Control::Displacement,
+    };
+    let (mut body, comps) = bodies(rods, joints);
+    let mut seen = Vec::new();
+    for &comp in &comps {
+        if seen.contains(&comp) {
+            continue;
+        }
+        seen.push(comp);
+        let members: Vec<usize> = (0..rods).filter(|&i| comps[i] == comp).collect();
+        let groups = bodies_of(&members, &mut body);
+        let column = |i: usize| 6 * groups.binary_search(&body[i]).expect("a group");
+        let mut gram = Gram(DMatrix::<f64>::zeros(6 * groups.len(), 6 * groups.len()));
+        supports.support_rows(&mut gram, &members, &column);
+        supports.joint_rows(&mut gram, comp, &comps, &column);
+        let free = null_space_of_gram(gram.0);
+        if free.is_empty() {
+            continue;
+        }
+        // a translation among the free motions, or else the rod turning fastest in one
+        let found = Found {
+            assembly: &assembly,
+            scale: supports.scale,
+            n,
+            one_rod: members.len() == 1,
+            translation: translation_in(&free, groups.len()),
+            turning: fastest_turning(&free, &members, &column),
+        };
+        return Some(describe(b, &found));
+    }
+    None
+}
+
+/// The root of `i` in the union-find forest `g` (paths halved on the way).
+fn root(g: &mut [usize], mut i: usize) -> usize {
+    while g[i] != i {
+        g[i] = g[g[i]];
+        i = g[i];
+    }
+    i
+}
+
+/// The rods as rigid bodies: the body of each rod (right and left rods crossing three times
+/// or more move as one), and the component of each (bodies tied by the remaining joints).
+fn bodies(rods: usize, joints: &[Joint]) -> (Vec<usize>, Vec<usize>) {
+    let mut group: Vec<usize> = (0..rods).collect();
     let mut crossings = std::collections::HashMap::<(usize, usize), usize>::new();
     for j in joints {
         *crossings.entry((j.right, j.left)).or_default() += 1;
@@ -83,78 +123,114 @@ pub fn free_motion_of(
             group[a] = c;
         }
     }
-    // components: groups tied by the remaining joints
-    let mut component: Vec<usize> = (0..rods).map(|i| root(&mut group, i)).collect();
-    let mut comp_of = component.clone();
+    let body: Vec<usize> = (0..rods).map(|i| root(&mut group, i)).collect();
+    let mut comp_of = body.clone();
     for j in joints {
         let (a, c) = (root(&mut comp_of, j.right), root(&mut comp_of, j.left));
         comp_of[a] = c;
     }
-    let comps: Vec<usize> = (0..rods).map(|i| root(&mut comp_of, i)).collect();
-    let mut seen = Vec::new();
-    for &comp in &comps {
-        if seen.contains(&comp) {
-            continue;
+    let comps = (0..rods).map(|i| root(&mut comp_of, i)).collect();
+    (body, comps)
+}
+
+/// The bodies of a component's rods `members`, sorted: the unknowns `(t, ω)` of the `k`-th
+/// are columns `6k..6k + 6`. Beyond [`MAX_GROUPS`], the whole component is one body (its
+/// rods' `body` set so).
+fn bodies_of(members: &[usize], body: &mut [usize]) -> Vec<usize> {
+    let mut groups: Vec<usize> = members.iter().map(|&i| body[i]).collect();
+    groups.sort_unstable();
+    groups.dedup();
+    if groups.len() > MAX_GROUPS {
+        // one body: the motions of the whole component
+        for &i in members {
+            body[i] = groups[0];
         }
-        seen.push(comp);
-        let members: Vec<usize> = (0..rods).filter(|&i| comps[i] == comp).collect();
-        let mut groups: Vec<usize> = members.iter().map(|&i| component[i]).collect();
-        groups.sort_unstable();
-        groups.dedup();
-        if groups.len() > MAX_GROUPS {
-            // one body: the motions of the whole component
-            for &i in &members {
-                component[i] = groups[0];
+        groups.truncate(1);
+    }
+    groups
+}
+
+/// The Gram matrix `AᵀA` of the rows `A` of the check, summed row by row (a row has at most
+/// twelve entries; a large assembly has millions of rows).
+struct Gram(DMatrix<f64>);
+
+impl Gram {
+    /// Adds a sparse row, as (column, value) pairs.
+    fn add(&mut self, row: &[(usize, f64)]) {
+        for &(a, va) in row {
+            for &(b, vb) in row {
+                self.0[(a, b)] += va * vb;
             }
-            groups.truncate(1);
         }
-        let column = |i: usize| 6 * groups.binary_search(&component[i]).expect("a group");
-        let cols = 6 * groups.len();
-        // the rows' Gram matrix, summed row by row (a row has at most twelve entries; a
-        // large assembly has millions of rows)
-        let mut gram = DMatrix::<f64>::zeros(cols, cols);
-        let mut add = |row: &[(usize, f64)]| {
-            for &(a, va) in row {
-                for &(b, vb) in row {
-                    gram[(a, b)] += va * vb;
-                }
-            }
-        };
-        // a row `d · (t + ω × X)` of rod i, X and ω scaled by the length
-        let position_row = |i: usize, d: Vector3<f64>, x: Vector3<f64>| {
-            let c = column(i);
-            let xd = x.cross(&d); // d · (ω × x) = ω · (x × d)
-            (0..3)
-                .map(|k| (c + k, d[k]))
-                .chain((0..3).map(|k| (c + 3 + k, xd[k])))
-                .collect::<Vec<_>>()
-        };
-        for &i in &members {
+    }
+}
+
+/// The row `d · (t + ω × x)` of the body whose unknowns begin at column `c`: the motion of
+/// the point `x` along `d` (`x` and `ω` scaled by the length).
+fn position_row(c: usize, d: Vector3<f64>, x: Vector3<f64>) -> Vec<(usize, f64)> {
+    let xd = x.cross(&d); // d · (ω × x) = ω · (x × d)
+    (0..3)
+        .map(|k| (c + k, d[k]))
+        .chain((0..3).map(|k| (c + 3 + k, xd[k])))
+        .collect()
+}
+
+/// What the rows of the check are written from: the natural assembly, its supports and the
+/// joints that tie its rods.
+struct Supports<'a> {
+    assembly: &'a Assembly,
+    b: &'a BoundaryConditions,
+    /// The pin joints, when active.
+    joints: &'a [Joint],
+    /// Length (m) positions are divided by.
+    scale: f64,
+    /// Whether the tip's height is held (displacement control).
+    tip_height_held: bool,
+}
+
+impl Supports<'_> {
+    /// The rows of what the base and the tip of every rod of `members` hold; `column` the
+    /// first column of a rod's body.
+    fn support_rows(&self, gram: &mut Gram, members: &[usize], column: &impl Fn(usize) -> usize) {
+        let (assembly, b) = (self.assembly, self.b);
+        for &i in members {
             let h = &assembly.rods[i];
             for (cond, s, z_held) in [
                 (b.base, 0.0, true),
-                (b.tip, assembly.length, tip_height_held),
+                (b.tip, assembly.length, self.tip_height_held),
             ] {
-                let x = h.position(s) / scale;
+                let x = h.position(s) / self.scale;
+                let c = column(i);
                 if z_held {
-                    add(&position_row(i, Vector3::z(), x));
+                    gram.add(&position_row(c, Vector3::z(), x));
                 }
                 for d in held_directions(cond.translation, &x) {
-                    add(&position_row(i, d, x));
+                    gram.add(&position_row(c, d, x));
                 }
-                let c = column(i);
                 match cond.rotation {
-                    Rotation::Clamped => (0..3).for_each(|k| add(&[(c + 3 + k, 1.0)])),
-                    Rotation::Pinned => add(&[(c + 5, 1.0)]),
+                    Rotation::Clamped => (0..3).for_each(|k| gram.add(&[(c + 3 + k, 1.0)])),
+                    Rotation::Pinned => gram.add(&[(c + 5, 1.0)]),
                     Rotation::Free => {}
                 }
             }
         }
-        for j in joints {
+    }
+
+    /// The rows of the joints of component `comp` between different bodies: the two rods'
+    /// positions tied at the crossing (at an end, in the directions the support leaves free).
+    fn joint_rows(
+        &self,
+        gram: &mut Gram,
+        comp: usize,
+        comps: &[usize],
+        column: &impl Fn(usize) -> usize,
+    ) {
+        let (assembly, b) = (self.assembly, self.b);
+        for j in self.joints {
             if comps[j.right] != comp || column(j.right) == column(j.left) {
                 continue;
             }
-            let x = assembly.rods[j.right].position(j.s) / scale;
+            let x = assembly.rods[j.right].position(j.s) / self.scale;
             let dirs = if j.s <= 1e-9 * assembly.length {
                 free_directions(b.base.translation, &x)
             } else if j.s >= assembly.length * (1.0 - 1e-9) {
@@ -163,41 +239,38 @@ pub fn free_motion_of(
                 vec![Vector3::x(), Vector3::y(), Vector3::z()]
             };
             for d in dirs {
-                let mut row = position_row(j.right, d, x);
-                row.extend(position_row(j.left, d, x).into_iter().map(|(c, v)| (c, -v)));
-                add(&row);
+                let mut row = position_row(column(j.right), d, x);
+                row.extend(
+                    position_row(column(j.left), d, x)
+                        .into_iter()
+                        .map(|(c, v)| (c, -v)),
+                );
+                gram.add(&row);
             }
         }
-        let free = null_space_of_gram(gram);
-        if free.is_empty() {
-            continue;
-        }
-        let one_rod = members.len() == 1;
-        // a translation among the free motions, or else the rod turning fastest in one
-        let translation = translation_in(&free, groups.len());
-        let mut turning = None;
-        let mut fastest = 0.0;
-        for v in &free {
-            for &i in &members {
-                let c = column(i);
-                let w = Vector3::new(v[c + 3], v[c + 4], v[c + 5]);
-                if w.norm() > fastest {
-                    fastest = w.norm();
-                    turning = Some((i, Vector3::new(v[c], v[c + 1], v[c + 2]), w));
-                }
-            }
-        }
-        return Some(describe(
-            b,
-            n,
-            one_rod,
-            translation,
-            turning.filter(|_| fastest > 1e-6),
-            &assembly,
-            scale,
-        ));
     }
-    None
+}
+
+/// The rod of `members` turning fastest in one of the free motions `free`: the rod, its
+/// translation and its rotation (scaled); `None` when none turns.
+fn fastest_turning(
+    free: &[Vec<f64>],
+    members: &[usize],
+    column: &impl Fn(usize) -> usize,
+) -> Option<(usize, Vector3<f64>, Vector3<f64>)> {
+    let mut turning = None;
+    let mut fastest = 0.0;
+    for v in free {
+        for &i in members {
+            let c = column(i);
+            let w = Vector3::new(v[c + 3], v[c + 4], v[c + 5]);
+            if w.norm() > fastest {
+                fastest = w.norm();
+                turning = Some((i, Vector3::new(v[c], v[c + 1], v[c + 2]), w));
+            }
+        }
+    }
+    turning.filter(|_| fastest > 1e-6)
 }
 
 /// Directions an end at `x` is held in, besides z (as the solver's supports).
@@ -265,48 +338,37 @@ fn translation_in(free: &[Vec<f64>], groups: usize) -> Option<Vector3<f64>> {
     (t.norm() > 1e-6).then(|| t / t.norm())
 }
 
-/// The free motion in the user's terms: what moves, how, and what to change.
-#[allow(clippy::too_many_arguments)]
-fn describe(
-    b: &BoundaryConditions,
-    n: usize,
-    one_rod: bool,
-    translation: Option<Vector3<f64>>,
-    turning: Option<(usize, Vector3<f64>, Vector3<f64>)>,
-    assembly: &Assembly,
+/// A free motion found on a component of the assembly, as [`describe`] says it.
+struct Found<'a> {
+    assembly: &'a Assembly,
+    /// Length (m) positions were divided by.
     scale: f64,
-) -> FreeMotion {
-    let who = if n == 1 {
+    /// Helices of the assembly.
+    n: usize,
+    /// The component is one rod (no joint ties it to the others).
+    one_rod: bool,
+    /// The direction of a translation of the whole component, if one is free.
+    translation: Option<Vector3<f64>>,
+    /// Otherwise the rod turning fastest, with its translation and rotation (scaled).
+    turning: Option<(usize, Vector3<f64>, Vector3<f64>)>,
+}
+
+/// The free motion in the user's terms: what moves, how, and what to change.
+fn describe(b: &BoundaryConditions, found: &Found) -> FreeMotion {
+    let who = if found.n == 1 {
         "the rod"
-    } else if one_rod {
+    } else if found.one_rod {
         "each rod (no joint ties it to the others)"
     } else {
         "the assembly"
     };
-    let slides = |e: EndCondition| e.translation == Translation::Slide;
-    let radial = |e: EndCondition| e.translation == Translation::Radial;
-    if let Some(d) = translation {
-        let ends = match (b.base.translation, b.tip.translation) {
-            (Translation::Slide, Translation::Slide) => "both ends slide".to_string(),
-            _ if radial(b.base) && radial(b.tip) => {
-                "both ends slide radially (translation = \"radial\") along parallel radii".into()
-            }
-            _ => format!(
-                "the {} slides and the {} slides radially (translation = \"radial\")",
-                if slides(b.base) { "base" } else { "tip" },
-                if slides(b.base) { "tip" } else { "base" }
-            ),
-        };
+    if let Some(d) = found.translation {
         return FreeMotion {
             half: "translation",
-            message: format!(
-                "{ends}: {who} may translate sideways as a whole, along ({:.3}, {:.3}, 0) (a free rigid motion); fix the translation of one end",
-                tidy(d[0]),
-                tidy(d[1])
-            ),
+            message: translation_message(b, who, d),
         };
     }
-    let Some((rod, t, w)) = turning else {
+    let Some((rod, t, w)) = found.turning else {
         // rods translating relative to one another
         return FreeMotion {
             half: "translation",
@@ -317,75 +379,113 @@ fn describe(
     };
     // a rotation, of unit rate
     let (t, w) = (t / w.norm(), w / w.norm());
-    let h = &assembly.rods[rod];
-    let moves = |s: f64| (t + w.cross(&(h.position(s) / scale))).norm() > 1e-6;
-    let (base_moves, tip_moves) = (moves(0.0), moves(assembly.length));
+    let h = &found.assembly.rods[rod];
+    let moves = |s: f64| (t + w.cross(&(h.position(s) / found.scale))).norm() > 1e-6;
+    let (base_moves, tip_moves) = (moves(0.0), moves(found.assembly.length));
     let message = if !base_moves
         && !tip_moves
         && b.base.rotation == Rotation::Free
         && b.tip.rotation == Rotation::Free
     {
-        let who = if one_rod {
-            if n == 1 {
-                "the rod may turn about its chord, the line from base to tip"
-            } else {
-                "each rod may turn about its chord, the line from base to tip"
-            }
-        } else {
-            "the assembly may turn as a whole about its chord, the line from base to tip through the points where its rods meet"
-        };
-        format!(
-            "both ends are spherical hinges (rotation = \"free\"): {who} (a free rigid motion); clamp or pin one end"
-        )
+        chord_message(found)
     } else {
-        let axis = if w[0].hypot(w[1]) < 1e-6 {
-            "a vertical axis".to_string()
-        } else if w[2].abs() < 1e-6 {
-            "a horizontal axis".to_string()
-        } else {
-            format!(
-                "an axis along ({:.3}, {:.3}, {:.3})",
-                tidy(w[0]),
-                tidy(w[1]),
-                tidy(w[2])
-            )
-        };
-        let ends = [(b.base, "base", base_moves), (b.tip, "tip", tip_moves)]
-            .iter()
-            .filter(|(_, _, m)| *m)
-            .map(|(e, name, _)| {
-                let how = match e.translation {
-                    Translation::Slide => "sliding",
-                    Translation::Radial => "sliding radially",
-                    Translation::Fixed => "rising (its height is free under load control)",
-                };
-                format!("its {name} {how}")
-            })
-            .collect::<Vec<_>>();
-        let fix = match (b.base.rotation, b.tip.rotation) {
-            (Rotation::Free, Rotation::Free) => "clamp or pin one end",
-            _ => "clamp one end",
-        };
-        format!(
-            "the supports (base {}, tip {}) leave {who} free to turn about {axis}{} (a free rigid motion); {fix}{}",
-            b.base.label(),
-            b.tip.label(),
-            if ends.is_empty() {
-                String::new()
-            } else {
-                format!(", {}", ends.join(" and "))
-            },
-            if ends.iter().any(|e| e.contains("slid")) {
-                ", or fix the translation of the sliding end"
-            } else {
-                ""
-            }
-        )
+        rotation_message(b, who, w, (base_moves, tip_moves))
     };
     FreeMotion {
         half: "rotation",
         message,
     }
+}
+
+/// A sideways translation along `d` of `who`, and the ends that let it.
+fn translation_message(b: &BoundaryConditions, who: &str, d: Vector3<f64>) -> String {
+    let slides = |e: EndCondition| e.translation == Translation::Slide;
+    let radial = |e: EndCondition| e.translation == Translation::Radial;
+    let ends = match (b.base.translation, b.tip.translation) {
+        (Translation::Slide, Translation::Slide) => "both ends slide".to_string(),
+        _ if radial(b.base) && radial(b.tip) => {
+            "both ends slide radially (translation = \"radial\") along parallel radii".into()
+        }
+        _ => format!(
+            "the {} slides and the {} slides radially (translation = \"radial\")",
+            if slides(b.base) { "base" } else { "tip" },
+            if slides(b.base) { "tip" } else { "base" }
+        ),
+    };
+    format!(
+        "{ends}: {who} may translate sideways as a whole, along ({:.3}, {:.3}, 0) (a free rigid motion); fix the translation of one end",
+        tidy(d[0]),
+        tidy(d[1])
+    )
+}
+
+/// A turn about the chord between two spherical hinges.
+fn chord_message(found: &Found) -> String {
+    let who = if found.one_rod {
+        if found.n == 1 {
+            "the rod may turn about its chord, the line from base to tip"
+        } else {
+            "each rod may turn about its chord, the line from base to tip"
+        }
+    } else {
+        "the assembly may turn as a whole about its chord, the line from base to tip through the points where its rods meet"
+    };
+    format!(
+        "both ends are spherical hinges (rotation = \"free\"): {who} (a free rigid motion); clamp or pin one end"
+    )
+}
+
+/// A turn of `who` about the axis `w` (unit), the ends that move in it (`(base, tip)`)
+/// and how they move, and what to change.
+fn rotation_message(
+    b: &BoundaryConditions,
+    who: &str,
+    w: Vector3<f64>,
+    (base_moves, tip_moves): (bool, bool),
+) -> String {
+    let axis = if w[0].hypot(w[1]) < 1e-6 {
+        "a vertical axis".to_string()
+    } else if w[2].abs() < 1e-6 {
+        "a horizontal axis".to_string()
+    } else {
+        format!(
+            "an axis along ({:.3}, {:.3}, {:.3})",
+            tidy(w[0]),
+            tidy(w[1]),
+            tidy(w[2])
+        )
+    };
+    let ends = [(b.base, "base", base_moves), (b.tip, "tip", tip_moves)]
+        .iter()
+        .filter(|(_, _, m)| *m)
+        .map(|(e, name, _)| {
+            let how = match e.translation {
+                Translation::Slide => "sliding",
+                Translation::Radial => "sliding radially",
+                Translation::Fixed => "rising (its height is free under load control)",
+            };
+            format!("its {name} {how}")
+        })
+        .collect::<Vec<_>>();
+    let fix = match (b.base.rotation, b.tip.rotation) {
+        (Rotation::Free, Rotation::Free) => "clamp or pin one end",
+        _ => "clamp one end",
+    };
+    format!(
+        "the supports (base {}, tip {}) leave {who} free to turn about {axis}{} (a free rigid motion); {fix}{}",
+        b.base.label(),
+        b.tip.label(),
+        if ends.is_empty() {
+            String::new()
+        } else {
+            format!(", {}", ends.join(" and "))
+        },
+        if ends.iter().any(|e| e.contains("slid")) {
+            ", or fix the translation of the sliding end"
+        } else {
+            ""
+        }
+    )
 }
 
 /// A component of a unit vector for a message with three decimals: no `-0.000`.

@@ -58,7 +58,7 @@ pub struct Discretisation {
     /// A target accuracy given instead of a mesh (`accuracy` key). While it is set,
     /// `elements` and `order` are placeholders: `study::resolve_accuracy` replaces them
     /// by the mesh it chooses (and clears this) before anything is solved.
-    pub accuracy: Option<Accuracy>,
+    pub accuracy: Option<AccuracyTarget>,
     /// Solve one right/left pair and take the other rods as its images (the assembly's
     /// `m`-fold rotational symmetry, `n = 2m`, `m ≥ 2`); stability is judged on the whole
     /// assembly by the pair's Bloch blocks. Key `symmetric`: `true`, `false`, or `"auto"`
@@ -74,9 +74,9 @@ pub struct Discretisation {
 }
 
 /// A relative accuracy asked of the response (the axial reaction `Fz` at the target under
-/// displacement control, `ε` under load control): issue 5, part 2.
+/// displacement control, `ε` under load control).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Accuracy {
+pub struct AccuracyTarget {
     /// Relative error allowed, in (0, 1).
     pub target: f64,
     /// The element order when the case names one; otherwise both are tried.

@@ -8,7 +8,7 @@ use super::raw::{
     EnergyName, RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawRod, RawSolver,
     RawStiffness, StressFreeName, SymmetricKey,
 };
-use super::settings::{Accuracy, Discretisation, Geometry, Loading};
+use super::settings::{AccuracyTarget, Discretisation, Geometry, Loading};
 use super::target::check_target;
 use crate::discretisation::model::Reference;
 use crate::discretisation::shape::Order;
@@ -462,7 +462,7 @@ pub(super) fn discretisation(
 }
 
 /// `discretisation.accuracy`: a relative accuracy in (0, 1), given instead of `elements`.
-fn accuracy(d: &RawDiscretisation, ck: &Checker) -> Result<Option<Accuracy>, CaseError> {
+fn accuracy(d: &RawDiscretisation, ck: &Checker) -> Result<Option<AccuracyTarget>, CaseError> {
     match (&d.accuracy, &d.elements) {
         (None, _) => Ok(None),
         (Some(a), Some(_)) => Err(ck.invalid(
@@ -470,7 +470,7 @@ fn accuracy(d: &RawDiscretisation, ck: &Checker) -> Result<Option<Accuracy>, Cas
             a.span(),
             "give either `elements` (a mesh) or `accuracy` (a target the mesh is chosen for), not both",
         )),
-        (Some(_), None) => Ok(Some(Accuracy {
+        (Some(_), None) => Ok(Some(AccuracyTarget {
             target: ck.number(
                 "discretisation.accuracy",
                 &d.accuracy,

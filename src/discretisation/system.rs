@@ -12,7 +12,7 @@
 //! pattern that is built once per set of constraints.
 
 use super::constraints::{joint_constraints, support_constraints, LinearConstraint, Role};
-use super::element::{self, ElementTerms};
+use super::element::{self, ElementLoad, ElementTerms};
 use super::model::{DiscreteModel, End};
 use crate::model::assembly::RodId;
 use crate::model::boundary::BoundaryConditions;
@@ -85,6 +85,8 @@ pub struct System {
 pub struct Evaluation {
     /// Total elastic energy (J).
     pub energy: f64,
+    /// Potential of the loads along the rods, `−Σ ∫ f·r ds` (J).
+    pub potential: f64,
 }
 
 impl System {
@@ -318,7 +320,7 @@ impl System {
     /// `∂R/∂λ` at the state `x` and load parameter `lambda`, from the loads: on the tip-height rows
     /// `∂g/∂λ = −∂h/∂λ = h0 ∂ε/∂λ` under a prescribed axial motion; on the tip z unknowns
     /// `−∂F/∂λ = Pcrit ∂(P/Pcrit)/∂λ` under a dead axial load.
-    pub fn load_derivative(&self, model: &DiscreteModel, _x: &[f64], lambda: f64, out: &mut [f64]) {
+    pub fn load_derivative(&self, model: &DiscreteModel, x: &[f64], lambda: f64, out: &mut [f64]) {
         out.fill(0.0);
         match self.loads.tip.axis(SupportAxis::Z) {
             AxisLoad::Motion(r) => {
@@ -334,6 +336,7 @@ impl System {
                 }
             }
         }
+        self.add_line_load_derivative(model, x, lambda, out);
     }
 
     fn assemble(
@@ -348,6 +351,8 @@ impl System {
         let nn = model.order.nodes();
         let p = model.order.degree();
         let mut energy = 0.0;
+        let mut potential = 0.0;
+        let line = self.line_load(self.lambda);
         // explicit diagonal, so that every row has a stored diagonal entry
         for i in 0..self.n {
             sink.add(i, i, 0.0);
@@ -367,6 +372,7 @@ impl System {
                     &model.elasticity,
                     rod.element_reference(e, model.rule.len()),
                     &lambda,
+                    &line,
                     jacobian,
                 );
                 energy += t.energy;
@@ -390,6 +396,17 @@ impl System {
                         sink.add(lrow + j, gi, -t.chord_gradient[j][i]);
                     }
                 }
+                if line != ElementLoad::NONE {
+                    // −f·∫ r ds = −h f·r_start − f·∫ (h − s) d3 ds
+                    potential += t.load_potential;
+                    for i in 0..nq {
+                        residual[dofs(i)] += t.load_gradient[i];
+                    }
+                    for j in 0..3 {
+                        potential -= h * line.force[j] * x[rod.r_dof(e, j)];
+                        residual[rod.r_dof(e, j)] -= h * line.force[j];
+                    }
+                }
                 for j in 0..3 {
                     let (ra, rb) = (rod.r_dof(e, j), rod.r_dof(e + 1, j));
                     residual[ra] -= lambda[j];
@@ -401,20 +418,7 @@ impl System {
                     sink.add(lrow + j, rb, 1.0);
                 }
             }
-            for k in 0..rod.mesh.quaternion_nodes() {
-                let row = self.unit_row(id, k);
-                let mu = x[row];
-                let mut norm2 = 0.0;
-                for c in 0..4 {
-                    let d = rod.q_dof(k, c);
-                    norm2 += x[d] * x[d];
-                    residual[d] += 2.0 * mu * x[d];
-                    sink.add(d, d, 2.0 * mu);
-                    sink.add(d, row, 2.0 * x[d]);
-                    sink.add(row, d, 2.0 * x[d]);
-                }
-                residual[row] = norm2 - 1.0;
-            }
+            self.assemble_unit_norms(model, id, x, residual, sink);
         }
         if let Some(f) = self.tip_force_z() {
             // potential of the dead load: −F z_tip per rod
@@ -422,6 +426,39 @@ impl System {
                 residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] -= f;
             }
         }
+        self.assemble_linear(x, residual, sink);
+        Evaluation { energy, potential }
+    }
+
+    /// The unit-norm rows `|q|² − 1 = 0` of rod `id`'s quaternion nodes, with their
+    /// multipliers' terms `μ (|q|² − 1)` in the balance of the quaternions.
+    fn assemble_unit_norms(
+        &self,
+        model: &DiscreteModel,
+        id: RodId,
+        x: &[f64],
+        residual: &mut [f64],
+        sink: &mut dyn Sink,
+    ) {
+        let rod = &model.rods[id];
+        for k in 0..rod.mesh.quaternion_nodes() {
+            let row = self.unit_row(id, k);
+            let mu = x[row];
+            let mut norm2 = 0.0;
+            for c in 0..4 {
+                let d = rod.q_dof(k, c);
+                norm2 += x[d] * x[d];
+                residual[d] += 2.0 * mu * x[d];
+                sink.add(d, d, 2.0 * mu);
+                sink.add(d, row, 2.0 * x[d]);
+                sink.add(row, d, 2.0 * x[d]);
+            }
+            residual[row] = norm2 - 1.0;
+        }
+    }
+
+    /// The linear constraints' rows `a·x − b` and their multipliers' terms `ν a`.
+    fn assemble_linear(&self, x: &[f64], residual: &mut [f64], sink: &mut dyn Sink) {
         for (i, c) in self.linear.iter().enumerate() {
             let row = self.linear_row + i;
             let nu = x[row];
@@ -434,7 +471,69 @@ impl System {
             }
             residual[row] = g;
         }
-        Evaluation { energy }
+    }
+
+    /// The force per unit length (N/m) of the loads along the rods at load parameter
+    /// `lambda` (their sum: every one is uniform), or its rate `d/dλ` with `rate`.
+    fn line_load_of(&self, lambda: f64, rate: bool) -> ElementLoad {
+        let mut force = [0.0; 3];
+        for load in &self.loads.along_rods {
+            let f = if rate {
+                load.rate(lambda)
+            } else {
+                load.force(lambda)
+            };
+            for j in 0..3 {
+                force[j] += f[j];
+            }
+        }
+        ElementLoad { force }
+    }
+
+    fn line_load(&self, lambda: f64) -> ElementLoad {
+        self.line_load_of(lambda, false)
+    }
+
+    /// `∂R/∂λ` of the loads along the rods at the state `x`, added to `out`: the gradient of
+    /// the potential of a line load of the rate's force.
+    fn add_line_load_derivative(
+        &self,
+        model: &DiscreteModel,
+        x: &[f64],
+        lambda: f64,
+        out: &mut [f64],
+    ) {
+        let rate = self.line_load_of(lambda, true);
+        if rate == ElementLoad::NONE {
+            return;
+        }
+        let nq = 4 * model.order.nodes();
+        let p = model.order.degree();
+        for (id, rod) in model.rods.iter().enumerate() {
+            for e in 0..rod.mesh.elements() {
+                let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
+                let q = model.element_quaternions(x, rod, e);
+                let lrow = self.compat_row(id, e);
+                let t = element::element_terms(
+                    model.order,
+                    &model.rule,
+                    h,
+                    &q,
+                    &model.stiffness,
+                    &model.elasticity,
+                    rod.element_reference(e, model.rule.len()),
+                    &[x[lrow], x[lrow + 1], x[lrow + 2]],
+                    &rate,
+                    false,
+                );
+                for i in 0..nq {
+                    out[rod.q_dof(e * p + i / 4, i % 4)] += t.load_gradient[i];
+                }
+                for j in 0..3 {
+                    out[rod.r_dof(e, j)] -= h * rate.force[j];
+                }
+            }
+        }
     }
 
     /// Internal force `n` (N, global frame) carried by element `e` of rod `rod` in state `x`:

@@ -188,11 +188,20 @@ impl LineLoad {
     }
 }
 
-/// What the load parameter `λ` is: the axis it drives and whether by motion or force. The
-/// faces print its symbol, unit and label instead of assuming `ε`.
+/// What the load parameter `λ` drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Driven {
+    /// An axis of the tip support, by its motion or by a dead load on it.
+    Tip(SupportAxis),
+    /// The loads along the rods.
+    AlongRods,
+}
+
+/// What the load parameter `λ` is: what it drives and whether by motion or force. The faces
+/// print its symbol, unit and label instead of assuming `ε`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LoadParameter {
-    pub axis: SupportAxis,
+    pub driven: Driven,
     pub control: Control,
 }
 
@@ -200,63 +209,61 @@ impl LoadParameter {
     /// The axial parameter of `control`: `ε` or `P/Pcrit`.
     pub fn axial(control: Control) -> LoadParameter {
         LoadParameter {
-            axis: SupportAxis::Z,
+            driven: Driven::Tip(SupportAxis::Z),
             control,
         }
     }
 
-    /// Its symbol on screen: `ε`, `P/Pcrit`.
+    /// Its symbol on screen: `ε`, `P/Pcrit`, `θ`, `q` …
     pub fn symbol(&self) -> &'static str {
-        match (self.axis, self.control) {
-            (SupportAxis::Z, Control::Displacement) => "ε",
-            (SupportAxis::Z, Control::Force) => "P/Pcrit",
-            (SupportAxis::X | SupportAxis::Y, Control::Displacement) => "u",
-            (SupportAxis::X | SupportAxis::Y, Control::Force) => "F",
-            (_, Control::Displacement) => "θ",
-            (_, Control::Force) => "M",
+        use SupportAxis::*;
+        match (self.driven, self.control) {
+            (Driven::Tip(Z), Control::Displacement) => "ε",
+            (Driven::Tip(Z), Control::Force) => "P/Pcrit",
+            (Driven::Tip(X | Y), Control::Displacement) => "u",
+            (Driven::Tip(X | Y), Control::Force) => "F",
+            (Driven::Tip(_), Control::Displacement) => "θ",
+            (Driven::Tip(_), Control::Force) => "M",
+            (Driven::AlongRods, _) => "q",
         }
     }
 
-    /// Its name in plain ASCII, for files and command lines: `eps`, `P/Pcrit`.
+    /// Its name in plain ASCII, for files and command lines: `eps`, `P/Pcrit`, `theta` …
     pub fn ascii(&self) -> &'static str {
-        match (self.axis, self.control) {
-            (SupportAxis::Z, Control::Displacement) => "eps",
-            (_, Control::Displacement) if self.is_rotation() => "theta",
-            (_, Control::Force) if self.is_rotation() => "M",
-            _ => self.symbol(),
+        match self.symbol() {
+            "ε" => "eps",
+            "θ" => "theta",
+            other => other,
         }
     }
 
     /// Its unit (empty for a ratio).
     pub fn unit(&self) -> &'static str {
-        match (self.axis, self.control) {
-            (SupportAxis::Z, _) => "",
-            (SupportAxis::X | SupportAxis::Y, Control::Displacement) => "m",
-            (SupportAxis::X | SupportAxis::Y, Control::Force) => "N",
-            (_, Control::Displacement) => "rad",
-            (_, Control::Force) => "N m",
+        use SupportAxis::*;
+        match (self.driven, self.control) {
+            (Driven::Tip(Z), _) => "",
+            (Driven::Tip(X | Y), Control::Displacement) => "m",
+            (Driven::Tip(X | Y), Control::Force) => "N",
+            (Driven::Tip(_), Control::Displacement) => "rad",
+            (Driven::Tip(_), Control::Force) => "N m",
+            (Driven::AlongRods, _) => "N/m",
         }
     }
 
-    /// What it is, in words: `compression ratio`, `compressive tip load over Pcrit`.
+    /// What it is, in words: `compression ratio`, `compressive tip load over Pcrit` …
     pub fn label(&self) -> &'static str {
-        match (self.axis, self.control) {
-            (SupportAxis::Z, Control::Displacement) => "compression ratio",
-            (SupportAxis::Z, Control::Force) => "compressive tip load over Pcrit",
-            (SupportAxis::X | SupportAxis::Y, Control::Displacement) => "lateral tip displacement",
-            (SupportAxis::X | SupportAxis::Y, Control::Force) => "lateral tip force",
-            (SupportAxis::RotZ, Control::Displacement) => "twist angle",
-            (SupportAxis::RotZ, Control::Force) => "axial torque",
-            (_, Control::Displacement) => "tilt angle",
-            (_, Control::Force) => "bending moment",
+        use SupportAxis::*;
+        match (self.driven, self.control) {
+            (Driven::Tip(Z), Control::Displacement) => "compression ratio",
+            (Driven::Tip(Z), Control::Force) => "compressive tip load over Pcrit",
+            (Driven::Tip(X | Y), Control::Displacement) => "lateral tip displacement",
+            (Driven::Tip(X | Y), Control::Force) => "lateral tip force",
+            (Driven::Tip(RotZ), Control::Displacement) => "twist angle",
+            (Driven::Tip(RotZ), Control::Force) => "axial torque",
+            (Driven::Tip(_), Control::Displacement) => "tilt angle",
+            (Driven::Tip(_), Control::Force) => "bending moment",
+            (Driven::AlongRods, _) => "line load",
         }
-    }
-
-    fn is_rotation(&self) -> bool {
-        matches!(
-            self.axis,
-            SupportAxis::RotX | SupportAxis::RotY | SupportAxis::RotZ
-        )
     }
 }
 

@@ -33,6 +33,11 @@ pub trait StudyReport {
     fn svg_for(&self, command: &str) -> Result<String, chart::DrawError>;
 }
 
+/// Whether `name` is a file a precision study writes.
+pub fn is_precision_file(name: &str) -> bool {
+    matches!(name, "precision.csv" | "precision.svg")
+}
+
 /// A row of `precision.csv`: one mesh of the ladder.
 #[derive(Serialize, Default)]
 struct RungRow {

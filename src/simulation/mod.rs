@@ -12,7 +12,7 @@ use crate::discretisation::symmetry::expand_state;
 use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
-use crate::model::loading::{AxisLoad, Control, LoadParameter, Loads, SupportAxis};
+use crate::model::loading::{AxisLoad, Control, Driven, LoadParameter, Loads, SupportAxis};
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, Stability};
 use crate::solver::continuation::Critical;
 use crate::solver::continuation::{
@@ -104,6 +104,18 @@ impl Simulation {
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
         Simulation::start(model, bc, Loads::axial(control), x, settings, None, None)
+    }
+
+    /// Starts from the primal state `x` under `loads` and solves it, as
+    /// [`Simulation::from_state`] does under an axial control.
+    pub fn with_loads(
+        model: DiscreteModel,
+        bc: BoundaryConditions,
+        loads: Loads,
+        x: Vec<f64>,
+        settings: ContinuationSettings,
+    ) -> Result<Simulation, SolveError> {
+        Simulation::start(model, bc, loads, x, settings, None, None)
     }
 
     fn start(
@@ -709,8 +721,8 @@ fn eps_of(model: &DiscreteModel, x: &[f64]) -> f64 {
 /// `loads`: `ε` itself when the parameter prescribes the axial motion (the supports then
 /// hold the tips where the state has them), zero otherwise.
 fn parameter_of_state(loads: &Loads, eps: f64) -> f64 {
-    match (loads.parameter.axis, loads.tip.axis(SupportAxis::Z)) {
-        (SupportAxis::Z, AxisLoad::Motion(r)) => (eps - r.at_zero) / r.per_unit,
+    match (loads.parameter.driven, loads.tip.axis(SupportAxis::Z)) {
+        (Driven::Tip(SupportAxis::Z), AxisLoad::Motion(r)) => (eps - r.at_zero) / r.per_unit,
         _ => 0.0,
     }
 }

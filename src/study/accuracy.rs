@@ -2,8 +2,8 @@
 //! constant estimated from their difference and the theoretical order, and the element order
 //! and number of elements that meet the target at the least predicted wall time.
 
-use super::problem::{with_mesh, Measure, Problem, ORDERS};
-use crate::case::{Accuracy, Case};
+use super::subject::{with_mesh, Measure, Subject, ORDERS};
+use crate::case::{AccuracyTarget, Case};
 use crate::discretisation::shape::Order;
 use std::time::{Duration, Instant};
 
@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 /// side.
 pub const SAFETY: f64 = 0.5;
 /// Largest mesh considered (elements per rod).
-pub use super::problem::MAX_ELEMENTS;
+pub use super::subject::MAX_ELEMENTS;
 /// Smallest relative accuracy that can be asked for: Newton stops at a residual of 1e-9
 /// (N, N m), and on Love's helix the reactions stop converging at about 5e-10 relative, so
 /// a smaller target could be neither met nor checked.
@@ -48,7 +48,7 @@ impl Pilot {
 pub struct MeshChoice {
     /// Relative accuracy asked for on the response.
     pub target: f64,
-    /// What the response is ([`Problem::response_label`]).
+    /// What the response is ([`Subject::response_label`]).
     pub response: String,
     pub order: Order,
     /// Elements per rod of the chosen mesh.
@@ -97,14 +97,14 @@ pub enum AccuracyError {
 /// Chooses the element order (among `orders`) and elements per rod that meet the relative
 /// accuracy `target` on the response at the least predicted time.
 ///
-/// Per order: solves the meshes `N1` ([`Problem::coarsest`]) and `N2 = 2 N1`; estimates the
+/// Per order: solves the meshes `N1` ([`Subject::coarsest`]) and `N2 = 2 N1`; estimates the
 /// error of the finer as `e2 = |Q2 − Q1| / (2^k − 1) / |Q2|` with the theoretical exponent `k`
 /// of the response; predicts `e(N) = e2 (N2/N)^k`, so the mesh for `SAFETY · target` is
 /// `N = N2 (e2 / (SAFETY · target))^{1/k}` (not below `N1`, rounded up to whole elements
 /// between joints), and its time `t2 (N/N2)^α`, `α` the observed growth of the time from
 /// `N1` to `N2`, kept in [1, 2] (work per Newton step grows linearly in a banded system).
 pub fn choose_mesh(
-    problem: &Problem,
+    subject: &Subject,
     target: f64,
     orders: &[Order],
 ) -> Result<MeshChoice, AccuracyError> {
@@ -117,65 +117,14 @@ pub fn choose_mesh(
         });
     }
     let t0 = Instant::now();
-    let m = problem.joint_intervals().max(1);
+    let m = subject.joint_intervals().max(1);
     let mut pilots = Vec::new();
     let mut failures = Vec::new();
     for &order in orders {
-        let n1 = problem.coarsest(order);
-        if n1.saturating_mul(2) > MAX_ELEMENTS {
-            failures.push(format!(
-                "{}: the pilot meshes would have {} and {} elements per rod, more than {MAX_ELEMENTS}",
-                order.name(),
-                n1,
-                n1.saturating_mul(2)
-            ));
-            continue;
+        match pilot(subject, order, SAFETY * target, m) {
+            Ok(p) => pilots.push(p),
+            Err(reason) => failures.push(reason),
         }
-        let probes = problem.vertices(n1);
-        let solve = |n: usize| {
-            let t = Instant::now();
-            problem.solve(order, n, &probes).map(|v| (v, t.elapsed()))
-        };
-        let (first, second) = match (solve(n1), solve(2 * n1)) {
-            (Ok(a), Ok(b)) => (a, b),
-            (Err(e), _) | (_, Err(e)) => {
-                failures.push(format!("{}: {e}", order.name()));
-                continue;
-            }
-        };
-        let exponent = problem.theoretical_order(Measure::Response, order);
-        let (q1, q2) = (first.0.response, second.0.response);
-        let scale = if q2 != 0.0 { q2.abs() } else { 1.0 };
-        // below roundoff the difference says nothing; count it as the Newton floor
-        let error = ((q2 - q1).abs() / (2f64.powf(exponent) - 1.0) / scale).max(1e-14);
-        let elements = [first.0.elements, second.0.elements];
-        let time = [first.1, second.1];
-        let goal = SAFETY * target;
-        let mut pilot = Pilot {
-            order,
-            elements,
-            response: [q1, q2],
-            time,
-            error,
-            exponent,
-            needed: None,
-            predicted_time: None,
-        };
-        let needed = if pilot.error_at(elements[0]) <= goal {
-            elements[0]
-        } else {
-            let n = elements[1] as f64 * (error / goal).powf(1.0 / exponent);
-            (((n / m as f64).ceil() as usize) * m).max(elements[0])
-        };
-        if needed <= MAX_ELEMENTS {
-            let growth = (time[1].as_secs_f64() / time[0].as_secs_f64().max(1e-9))
-                .log2()
-                .clamp(1.0, 2.0);
-            let t = time[1].as_secs_f64() * (needed as f64 / elements[1] as f64).powf(growth);
-            pilot.needed = Some(needed);
-            pilot.predicted_time = Some(Duration::from_secs_f64(t));
-        }
-        pilots.push(pilot);
     }
     if pilots.is_empty() {
         return Err(AccuracyError::PilotFailed {
@@ -205,7 +154,7 @@ pub fn choose_mesh(
     let elements = best.needed.expect("filtered");
     Ok(MeshChoice {
         target,
-        response: problem.response_label(),
+        response: subject.response_label(),
         order: best.order,
         elements,
         estimated_error: best.error_at(elements),
@@ -214,20 +163,84 @@ pub fn choose_mesh(
     })
 }
 
+/// The two coarse solves of `order` ([`Subject::coarsest`] and twice that) and what they
+/// predict for the relative error `goal` on meshes of `m` elements between joints; the
+/// reason when they cannot be made.
+fn pilot(subject: &Subject, order: Order, goal: f64, m: usize) -> Result<Pilot, String> {
+    let n1 = subject.coarsest(order);
+    if n1.saturating_mul(2) > MAX_ELEMENTS {
+        return Err(format!(
+            "{}: the pilot meshes would have {} and {} elements per rod, more than {MAX_ELEMENTS}",
+            order.name(),
+            n1,
+            n1.saturating_mul(2)
+        ));
+    }
+    let probes = subject.vertices(n1);
+    let solve = |n: usize| {
+        let t = Instant::now();
+        subject.solve(order, n, &probes).map(|v| (v, t.elapsed()))
+    };
+    let (first, second) = match (solve(n1), solve(2 * n1)) {
+        (Ok(a), Ok(b)) => (a, b),
+        (Err(e), _) | (_, Err(e)) => return Err(format!("{}: {e}", order.name())),
+    };
+    let exponent = subject.theoretical_order(Measure::Response, order);
+    let (q1, q2) = (first.0.response, second.0.response);
+    let scale = if q2 != 0.0 { q2.abs() } else { 1.0 };
+    // below roundoff the difference says nothing; count it as the Newton floor
+    let error = ((q2 - q1).abs() / (2f64.powf(exponent) - 1.0) / scale).max(1e-14);
+    let mut pilot = Pilot {
+        order,
+        elements: [first.0.elements, second.0.elements],
+        response: [q1, q2],
+        time: [first.1, second.1],
+        error,
+        exponent,
+        needed: None,
+        predicted_time: None,
+    };
+    pilot.predict(goal, m);
+    Ok(pilot)
+}
+
+impl Pilot {
+    /// Sets the elements per rod predicted to meet the relative error `goal` (a multiple of
+    /// the `m` intervals between joints, not below the coarser solve) and the predicted wall
+    /// time there, when within [`MAX_ELEMENTS`].
+    fn predict(&mut self, goal: f64, m: usize) {
+        let (elements, time) = (self.elements, self.time);
+        let needed = if self.error_at(elements[0]) <= goal {
+            elements[0]
+        } else {
+            let n = elements[1] as f64 * (self.error / goal).powf(1.0 / self.exponent);
+            (((n / m as f64).ceil() as usize) * m).max(elements[0])
+        };
+        if needed <= MAX_ELEMENTS {
+            let growth = (time[1].as_secs_f64() / time[0].as_secs_f64().max(1e-9))
+                .log2()
+                .clamp(1.0, 2.0);
+            let t = time[1].as_secs_f64() * (needed as f64 / elements[1] as f64).powf(growth);
+            self.needed = Some(needed);
+            self.predicted_time = Some(Duration::from_secs_f64(t));
+        }
+    }
+}
+
 /// The case to solve: `case` itself when it gives a mesh; when it gives an accuracy
 /// (`[discretisation] accuracy`), the case with the mesh [`choose_mesh`] picks (among both
 /// element orders, or the one the case names) and the choice. This is where an accuracy
 /// target becomes a mesh: the faces (`spira run`, `spira bench`, the explorer) call it
 /// before solving.
 pub fn resolve_accuracy(case: &Case) -> Result<(Case, Option<MeshChoice>), AccuracyError> {
-    let Some(Accuracy { target, order }) = case.discretisation.accuracy else {
+    let Some(AccuracyTarget { target, order }) = case.discretisation.accuracy else {
         return Ok((case.clone(), None));
     };
     let orders: Vec<Order> = match order {
         Some(o) => vec![o],
         None => ORDERS.to_vec(),
     };
-    let problem = Problem::Path(Box::new(case.clone()));
-    let choice = choose_mesh(&problem, target, &orders)?;
+    let subject = Subject::Path(Box::new(case.clone()));
+    let choice = choose_mesh(&subject, target, &orders)?;
     Ok((with_mesh(case, choice.order, choice.elements), Some(choice)))
 }

@@ -2,7 +2,7 @@
 //! (closed form or Richardson's extrapolation), the errors of every measure against it and
 //! the orders they show.
 
-use super::problem::{Measure, Problem, Values, ORDERS};
+use super::subject::{Measure, Subject, Values, ORDERS};
 use crate::discretisation::shape::Order;
 use crate::simulation::SolveError;
 use std::ops::ControlFlow;
@@ -23,14 +23,14 @@ pub struct Ladder {
 }
 
 impl Ladder {
-    /// `rungs_linear` and `rungs_quadratic` meshes doubling from [`Problem::coarsest`].
-    pub fn doubling(problem: &Problem, rungs_linear: usize, rungs_quadratic: usize) -> Ladder {
+    /// `rungs_linear` and `rungs_quadratic` meshes doubling from [`Subject::coarsest`].
+    pub fn doubling(subject: &Subject, rungs_linear: usize, rungs_quadratic: usize) -> Ladder {
         let mut rungs = Vec::new();
         for (order, count) in [
             (Order::Linear, rungs_linear),
             (Order::Quadratic, rungs_quadratic),
         ] {
-            let base = problem.coarsest(order);
+            let base = subject.coarsest(order);
             rungs.extend((0..count).map(|k| Rung {
                 order,
                 elements: base << k,
@@ -40,8 +40,8 @@ impl Ladder {
     }
 
     /// The ladder `spira precision` uses: 5 linear and 4 quadratic meshes.
-    pub fn standard(problem: &Problem) -> Ladder {
-        Ladder::doubling(problem, 5, 4)
+    pub fn standard(subject: &Subject) -> Ladder {
+        Ladder::doubling(subject, 5, 4)
     }
 
     fn coarsest_elements(&self) -> usize {
@@ -86,7 +86,7 @@ impl RungResult {
 /// What the errors are measured against.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Reference {
-    /// The problem's closed form.
+    /// The subject's closed form.
     ClosedForm(String),
     /// Richardson extrapolation `Q + (Q − Q_coarse)/(2^k − 1)` of the two finest solutions
     /// of `order`, with the theoretical order `k` of each measure.
@@ -115,7 +115,7 @@ pub struct Study {
     pub rungs: Vec<RungResult>,
     /// Timed runs per rung after the warm-up.
     pub repeats: usize,
-    /// The exact curvature is uniform ([`Problem::uniform_curvature`]).
+    /// The exact curvature is uniform ([`Subject::uniform_curvature`]).
     pub uniform_curvature: bool,
 }
 
@@ -128,9 +128,9 @@ pub enum StudyError {
     NoReference(String),
 }
 
-/// Progress of a study, after each rung.
+/// A rung of a study solved, with how many are done: what a study says after each rung.
 #[derive(Clone, Debug)]
-pub struct Progress<'a> {
+pub struct RungFinished<'a> {
     pub done: usize,
     pub total: usize,
     pub last: &'a RungResult,
@@ -140,23 +140,23 @@ pub struct Progress<'a> {
 /// and `repeats` times timed; then the reference, the errors and the observed orders.
 /// `on_rung` is called after each rung and may stop the study.
 pub fn run_study(
-    problem: &Problem,
+    subject: &Subject,
     ladder: &Ladder,
     repeats: usize,
-    mut on_rung: impl FnMut(&Progress) -> ControlFlow<()>,
+    mut on_rung: impl FnMut(&RungFinished) -> ControlFlow<()>,
 ) -> Result<Study, StudyError> {
-    let probes = problem.vertices(ladder.coarsest_elements());
+    let probes = subject.vertices(ladder.coarsest_elements());
     let mut rungs: Vec<RungResult> = Vec::new();
     for (k, &rung) in ladder.rungs.iter().enumerate() {
         // the warm-up: its values are kept, its time only when nothing is timed
         let t0 = Instant::now();
-        let values = problem.solve(rung.order, rung.elements, &probes);
+        let values = subject.solve(rung.order, rung.elements, &probes);
         let mut time = t0.elapsed();
         if values.is_ok() {
             let mut best: Option<Duration> = None;
             for _ in 0..repeats {
                 let t = Instant::now();
-                let again = problem.solve(rung.order, rung.elements, &probes);
+                let again = subject.solve(rung.order, rung.elements, &probes);
                 let dt = t.elapsed();
                 if again.is_ok() {
                     best = Some(best.map_or(dt, |b| b.min(dt)));
@@ -172,7 +172,7 @@ pub fn run_study(
             observed: [None; 3],
             by_construction: false,
         });
-        let progress = Progress {
+        let progress = RungFinished {
             done: k + 1,
             total: ladder.rungs.len(),
             last: rungs.last().expect("just pushed"),
@@ -181,12 +181,12 @@ pub fn run_study(
             return Err(StudyError::Cancelled);
         }
     }
-    let (reference, reference_values) = match problem.exact(&probes) {
+    let (reference, reference_values) = match subject.exact(&probes) {
         Some(v) => (
-            Reference::ClosedForm(problem.closed_form().unwrap_or_default()),
+            Reference::ClosedForm(subject.closed_form().unwrap_or_default()),
             v,
         ),
-        None => richardson(&rungs, problem.uniform_curvature())?,
+        None => richardson(&rungs, subject.uniform_curvature())?,
     };
     measure_errors(&mut rungs, &reference_values);
     if let Reference::Richardson { order, .. } = &reference {
@@ -201,14 +201,14 @@ pub fn run_study(
         }
     }
     Ok(Study {
-        name: problem.name(),
-        description: problem.describe(),
-        response_label: problem.response_label(),
+        name: subject.name(),
+        description: subject.describe(),
+        response_label: subject.response_label(),
         reference,
         reference_values,
         rungs,
         repeats,
-        uniform_curvature: problem.uniform_curvature(),
+        uniform_curvature: subject.uniform_curvature(),
     })
 }
 

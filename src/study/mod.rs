@@ -1,7 +1,7 @@
 //! Speed against accuracy (issue 5): work-precision studies and meshes chosen for a target
 //! accuracy.
 //!
-//! A **study** ([`ladder`]) solves one problem on a ladder of meshes (elements per rod,
+//! A **study** ([`ladder`]) solves one [`Subject`] on a ladder of meshes (elements per rod,
 //! doubling) for each element order, times every solve (best of several runs after a
 //! warm-up) and measures its error against a reference:
 //!
@@ -14,7 +14,7 @@
 //!   the largest reference curvature;
 //! - the **critical load** parameter of the first critical point, when there is one.
 //!
-//! The reference is a closed form where the problem has one (Love's helix, DESIGN.md §6),
+//! The reference is a closed form where the subject has one (Love's helix, DESIGN.md §6),
 //! otherwise Richardson's extrapolation of the two finest quadratic solutions with the
 //! theoretical order of each measure ([`Measure::theoretical_order`]).
 //!
@@ -28,14 +28,14 @@
 
 pub mod accuracy;
 pub mod ladder;
-pub mod problem;
+pub mod subject;
 
 pub use accuracy::{
     choose_mesh, resolve_accuracy, AccuracyError, MeshChoice, Pilot, ACCURACY_FLOOR, MAX_ELEMENTS,
     SAFETY,
 };
 pub use ladder::{
-    measured, run_study, Ladder, Progress, Reference, Rung, RungResult, Study, StudyError,
+    measured, run_study, Ladder, Reference, Rung, RungFinished, RungResult, Study, StudyError,
 };
 
-pub use problem::{sample_curvature, Measure, Probes, Problem, Values, ORDERS};
+pub use subject::{sample_curvature, Measure, Probes, Subject, Values, ORDERS};

@@ -15,7 +15,7 @@ pub use error::{InvalidCase, SweepError};
 pub use merge::merge_dirs;
 pub use plan::{Axis, Combine, Sweep, SweepCase};
 pub use runner::{
-    run_sweep, table_name, workers, CaseStatus, Progress, RunOptions, SweepReport, CASE_FILE,
+    run_sweep, table_name, workers, CaseFinished, CaseStatus, RunOptions, SweepReport, CASE_FILE,
     MARKER,
 };
 pub use shard::Shard;

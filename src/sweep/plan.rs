@@ -76,16 +76,10 @@ impl Sweep {
                 line: line_of(text, e.span().map_or(0, |s| s.start)),
                 message: e.message().trim().to_string(),
             })?;
-        let key_err = |key: &str, section: Option<&str>, message: String| SweepError::Key {
-            file: file.into(),
-            line: line_of_key(text, section, key),
-            key: key.into(),
-            message,
-        };
+        let src = Source { text, file };
         if let Some(k) = doc.keys().find(|k| !TOP_KEYS.contains(&k.as_str())) {
-            return Err(key_err(
+            return Err(src.key_error(
                 k,
-                None,
                 format!(
                     "unknown key `{k}`; a sweep file has `name`, `base`, `combine`, `[case]` and `[axes]`"
                 ),
@@ -94,136 +88,23 @@ impl Sweep {
         let name = match doc.get("name") {
             None => stem.to_string(),
             Some(Value::String(s)) => s.clone(),
-            Some(v) => {
-                return Err(key_err(
-                    "name",
-                    None,
-                    format!("expected a string, found {v}"),
-                ))
-            }
+            Some(v) => return Err(src.key_error("name", format!("expected a string, found {v}"))),
         };
         let combine = match doc.get("combine") {
             None => Combine::Product,
             Some(Value::String(s)) if s == "product" => Combine::Product,
             Some(Value::String(s)) if s == "zip" => Combine::Zip,
             Some(v) => {
-                return Err(key_err(
+                return Err(src.key_error(
                     "combine",
-                    None,
                     format!("expected \"product\" or \"zip\", found {v}"),
                 ))
             }
         };
-        // the base document: a case file, then the inline [case] table over it
-        let mut base = Table::new();
-        let mut base_line = 1;
-        if let Some(v) = doc.get("base") {
-            let Value::String(rel) = v else {
-                return Err(key_err(
-                    "base",
-                    None,
-                    format!("expected the path of a case file, found {v}"),
-                ));
-            };
-            base_line = line_of_key(text, None, "base");
-            let path = dir.join(rel);
-            let base_file = path.display().to_string();
-            let base_text = std::fs::read_to_string(&path).map_err(|reason| SweepError::Key {
-                file: file.into(),
-                line: base_line,
-                key: "base".into(),
-                message: format!("cannot read case file {base_file}: {reason}"),
-            })?;
-            let as_base = |source: CaseError| SweepError::Base {
-                file: file.into(),
-                line: base_line,
-                source,
-            };
-            Case::parse(&base_text, &base_file, "base").map_err(as_base)?;
-            base = base_text
-                .parse()
-                .map_err(|e: toml::de::Error| SweepError::Key {
-                    file: file.into(),
-                    line: base_line,
-                    key: "base".into(),
-                    message: format!("{base_file}: {}", e.message().trim()),
-                })?;
-        }
-        match doc.get("case") {
-            None => {}
-            Some(Value::Table(t)) => {
-                base_line = line_of_section(text, "case").unwrap_or(base_line);
-                merge(&mut base, t);
-            }
-            Some(v) => {
-                return Err(key_err(
-                    "case",
-                    None,
-                    format!("expected a table, found {v}"),
-                ))
-            }
-        }
-        if !doc.contains_key("base") && !doc.contains_key("case") {
-            return Err(SweepError::Syntax {
-                file: file.into(),
-                line: 1,
-                message: "a sweep needs a base case: `base = \"case.toml\"` or a `[case]` table"
-                    .into(),
-            });
-        }
-        let axes = match doc.get("axes") {
-            None => Vec::new(),
-            Some(Value::Table(t)) => axes(t, text, file)?,
-            Some(v) => {
-                return Err(key_err(
-                    "axes",
-                    None,
-                    format!("expected a table, found {v}"),
-                ))
-            }
-        };
-        if axes.is_empty() {
-            return Err(SweepError::Key {
-                file: file.into(),
-                line: line_of_section(text, "axes").unwrap_or(1),
-                key: "axes".into(),
-                message: "no axes: give at least one, e.g. `\"geometry.helices\" = [2, 4, 8]`"
-                    .into(),
-            });
-        }
+        let base = base_case(&doc, src, dir)?;
+        let axes = axes_of(&doc, src)?;
         let combos = combinations(&axes, combine, file)?;
-        let width = combos.len().to_string().len().max(3);
-        let mut cases = Vec::with_capacity(combos.len());
-        for (index, values) in combos.into_iter().enumerate() {
-            let id = case_id(index, width, &axes, &values);
-            let mut doc = base.clone();
-            if !axes.iter().any(|a| a.key == "name") {
-                doc.insert("name".into(), Value::String(id.clone()));
-            }
-            for (axis, value) in axes.iter().zip(&values) {
-                set(&mut doc, &axis.key, value.clone()).map_err(|message| SweepError::Key {
-                    file: file.into(),
-                    line: axis.line,
-                    key: axis.key.clone(),
-                    message,
-                })?;
-            }
-            let patched = toml::to_string(&doc).map_err(|e| SweepError::Syntax {
-                file: file.into(),
-                line: base_line,
-                message: format!("case {id} cannot be written as TOML: {e}"),
-            })?;
-            let label = format!("{file} [{id}]");
-            let case = Case::parse(&patched, &label, &id)
-                .map_err(|e| generated_error(file, &id, &axes, &values, &e))?;
-            cases.push(SweepCase {
-                index,
-                id,
-                values,
-                text: patched,
-                case,
-            });
-        }
+        let cases = generated_cases(&base, &axes, combos, file)?;
         Ok(Sweep {
             file: file.into(),
             name,
@@ -232,6 +113,155 @@ impl Sweep {
             cases,
         })
     }
+}
+
+/// The sweep file being read: its text, and its name in errors.
+#[derive(Clone, Copy)]
+struct Source<'a> {
+    text: &'a str,
+    file: &'a str,
+}
+
+impl Source<'_> {
+    /// An error about the top-level `key`, at its line.
+    fn key_error(&self, key: &str, message: String) -> SweepError {
+        SweepError::Key {
+            file: self.file.into(),
+            line: line_of_key(self.text, None, key),
+            key: key.into(),
+            message,
+        }
+    }
+}
+
+/// The base document every case is patched into, and its line in the sweep file (for
+/// errors of a generated case that is not valid TOML).
+struct BaseCase {
+    doc: Table,
+    line: usize,
+}
+
+/// The base case: the case file `base` names (read and checked as a case), then the inline
+/// `[case]` table over it; at least one of the two.
+fn base_case(doc: &Table, src: Source, dir: &Path) -> Result<BaseCase, SweepError> {
+    let mut base = BaseCase {
+        doc: Table::new(),
+        line: 1,
+    };
+    if let Some(v) = doc.get("base") {
+        let Value::String(rel) = v else {
+            return Err(src.key_error(
+                "base",
+                format!("expected the path of a case file, found {v}"),
+            ));
+        };
+        base.line = line_of_key(src.text, None, "base");
+        base.doc = base_file(&dir.join(rel), src, base.line)?;
+    }
+    match doc.get("case") {
+        None => {}
+        Some(Value::Table(t)) => {
+            base.line = line_of_section(src.text, "case").unwrap_or(base.line);
+            merge(&mut base.doc, t);
+        }
+        Some(v) => return Err(src.key_error("case", format!("expected a table, found {v}"))),
+    }
+    if !doc.contains_key("base") && !doc.contains_key("case") {
+        return Err(SweepError::Syntax {
+            file: src.file.into(),
+            line: 1,
+            message: "a sweep needs a base case: `base = \"case.toml\"` or a `[case]` table".into(),
+        });
+    }
+    Ok(base)
+}
+
+/// The case file at `path`, read as a case (its errors said as the base's, at `line` of the
+/// sweep file) and as a TOML document.
+fn base_file(path: &Path, src: Source, line: usize) -> Result<Table, SweepError> {
+    let file = src.file;
+    let base_file = path.display().to_string();
+    let base_text = std::fs::read_to_string(path).map_err(|reason| SweepError::Key {
+        file: file.into(),
+        line,
+        key: "base".into(),
+        message: format!("cannot read case file {base_file}: {reason}"),
+    })?;
+    let as_base = |source: CaseError| SweepError::Base {
+        file: file.into(),
+        line,
+        source,
+    };
+    Case::parse(&base_text, &base_file, "base").map_err(as_base)?;
+    base_text
+        .parse()
+        .map_err(|e: toml::de::Error| SweepError::Key {
+            file: file.into(),
+            line,
+            key: "base".into(),
+            message: format!("{base_file}: {}", e.message().trim()),
+        })
+}
+
+/// The axes of the `[axes]` table of `doc`: at least one.
+fn axes_of(doc: &Table, src: Source) -> Result<Vec<Axis>, SweepError> {
+    let axes = match doc.get("axes") {
+        None => Vec::new(),
+        Some(Value::Table(t)) => axes(t, src.text, src.file)?,
+        Some(v) => return Err(src.key_error("axes", format!("expected a table, found {v}"))),
+    };
+    if axes.is_empty() {
+        return Err(SweepError::Key {
+            file: src.file.into(),
+            line: line_of_section(src.text, "axes").unwrap_or(1),
+            key: "axes".into(),
+            message: "no axes: give at least one, e.g. `\"geometry.helices\" = [2, 4, 8]`".into(),
+        });
+    }
+    Ok(axes)
+}
+
+/// The cases of the value tuples `combos`: each named by its index and values, the base
+/// patched with its values (and its name, unless an axis sets it), read as a case.
+fn generated_cases(
+    base: &BaseCase,
+    axes: &[Axis],
+    combos: Vec<Vec<Value>>,
+    file: &str,
+) -> Result<Vec<SweepCase>, SweepError> {
+    let width = combos.len().to_string().len().max(3);
+    let mut cases = Vec::with_capacity(combos.len());
+    for (index, values) in combos.into_iter().enumerate() {
+        let id = case_id(index, width, axes, &values);
+        let mut doc = base.doc.clone();
+        if !axes.iter().any(|a| a.key == "name") {
+            doc.insert("name".into(), Value::String(id.clone()));
+        }
+        for (axis, value) in axes.iter().zip(&values) {
+            set(&mut doc, &axis.key, value.clone()).map_err(|message| SweepError::Key {
+                file: file.into(),
+                line: axis.line,
+                key: axis.key.clone(),
+                message,
+            })?;
+        }
+        let patched = toml::to_string(&doc).map_err(|e| SweepError::Syntax {
+            file: file.into(),
+            line: base.line,
+            message: format!("case {id} cannot be written as TOML: {e}"),
+        })?;
+        let label = format!("{file} [{id}]");
+        let case = Case::parse(&patched, &label, &id)
+            .map_err(|e| generated_error(file, &id, axes, &values, &e))?;
+        cases.push(SweepCase {
+            index,
+            id,
+            values,
+            text: patched,
+            case,
+        });
+    }
+    Ok(cases)
 }
 
 /// The axes of the `[axes]` table: every array under it, named by its dotted path (quoted

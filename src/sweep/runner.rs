@@ -47,9 +47,10 @@ pub enum CaseStatus {
     Skipped,
 }
 
-/// Said after every case of the shard.
+/// A case of the shard finished (run, failed, or found done), with the shard's tally so
+/// far: what a sweep says after every case.
 #[derive(Clone, Debug)]
-pub struct Progress<'a> {
+pub struct CaseFinished<'a> {
     pub case: &'a SweepCase,
     pub status: CaseStatus,
     /// The case's reason of failure, if it failed.
@@ -65,7 +66,7 @@ pub struct Progress<'a> {
     pub ran: usize,
 }
 
-impl Progress<'_> {
+impl CaseFinished<'_> {
     /// Estimated time to go: the cases left at the rate cases have been run so far (which
     /// includes the parallelism).
     pub fn eta(&self) -> Option<Duration> {
@@ -119,13 +120,13 @@ pub fn workers(jobs: Option<usize>) -> usize {
 pub fn run_sweep(
     sweep: &Sweep,
     opts: &RunOptions,
-    on_case: impl FnMut(&Progress) -> ControlFlow<()> + Send,
+    on_case: impl FnMut(&CaseFinished) -> ControlFlow<()> + Send,
 ) -> Result<SweepReport, SweepError> {
     let t0 = Instant::now();
     let out = &opts.out;
     std::fs::create_dir_all(out).map_err(|reason| write_err(out, reason))?;
     // case folders a killed sweep was writing
-    crate::output::files::remove_stale(out);
+    crate::output::staging::remove_stale(out);
     let interrupt = opts.interrupt.as_ref();
     let interrupted = || interrupt.is_some_and(|i| i.check().is_some());
     let empty = SweepTable::new(&sweep.axes);
@@ -136,37 +137,7 @@ pub fn run_sweep(
         .collect();
     let total = selected.len();
     let jobs = workers(opts.jobs);
-    struct Shared<F> {
-        on_case: F,
-        done: usize,
-        ran: usize,
-    }
-    let shared = Mutex::new(Shared {
-        on_case,
-        done: 0,
-        ran: 0,
-    });
-    let stop = AtomicBool::new(false);
-    let tell = |case: &SweepCase, status: CaseStatus, reason: Option<String>, wall: Duration| {
-        let mut s = shared.lock().unwrap_or_else(|e| e.into_inner());
-        s.done += 1;
-        if status != CaseStatus::Skipped {
-            s.ran += 1;
-        }
-        let p = Progress {
-            case,
-            status,
-            reason,
-            wall,
-            done: s.done,
-            total,
-            elapsed: t0.elapsed(),
-            ran: s.ran,
-        };
-        if (s.on_case)(&p).is_break() {
-            stop.store(true, Ordering::SeqCst);
-        }
-    };
+    let tally = Tally::new(on_case, total, t0);
     // finished cases first, in order
     let mut rows = Vec::new();
     let mut todo = Vec::new();
@@ -175,35 +146,13 @@ pub fn run_sweep(
             Some(row) => {
                 let wall = wall_of(&empty, &row);
                 rows.push(row);
-                tell(c, CaseStatus::Skipped, None, wall);
+                tally.tell(c, CaseStatus::Skipped, None, wall);
             }
             None => todo.push(c),
         }
     }
     let skipped = rows.len();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs)
-        .thread_name(|i| format!("spira-sweep-{i}"))
-        .build()
-        .map_err(|e| SweepError::Shard(format!("cannot start {jobs} workers: {e}")))?;
-    let results: Vec<Option<Vec<String>>> = pool.install(|| {
-        todo.par_iter()
-            .with_max_len(1)
-            .map(|c| {
-                if stop.load(Ordering::SeqCst) || interrupted() {
-                    return None;
-                }
-                let (row, reason, wall) = run_case(out, c, &empty, interrupt)?;
-                let status = if reason.is_some() {
-                    CaseStatus::Failed
-                } else {
-                    CaseStatus::Done
-                };
-                tell(c, status, reason, wall);
-                Some(row)
-            })
-            .collect()
-    });
+    let results = run_cases(&todo, jobs, out, &empty, interrupt, &tally)?;
     let pending = results.iter().filter(|r| r.is_none()).count();
     rows.extend(results.into_iter().flatten());
     let ran = rows.len() - skipped;
@@ -227,6 +176,101 @@ pub fn run_sweep(
         jobs,
         wall: t0.elapsed(),
     })
+}
+
+/// The cases of a shard finished so far, told to the caller's `on_case` after each (one
+/// call at a time, from any worker); `stop` is raised once it breaks.
+struct Tally<F> {
+    counts: Mutex<Counts<F>>,
+    total: usize,
+    t0: Instant,
+    stop: AtomicBool,
+}
+
+/// What [`Tally`] keeps under its lock: the caller's callback, the cases finished and run.
+struct Counts<F> {
+    on_case: F,
+    done: usize,
+    ran: usize,
+}
+
+impl<F: FnMut(&CaseFinished) -> ControlFlow<()>> Tally<F> {
+    fn new(on_case: F, total: usize, t0: Instant) -> Self {
+        Tally {
+            counts: Mutex::new(Counts {
+                on_case,
+                done: 0,
+                ran: 0,
+            }),
+            total,
+            t0,
+            stop: AtomicBool::new(false),
+        }
+    }
+
+    /// Counts `case` as finished with `status` and tells the caller.
+    fn tell(&self, case: &SweepCase, status: CaseStatus, reason: Option<String>, wall: Duration) {
+        let mut s = self.counts.lock().unwrap_or_else(|e| e.into_inner());
+        s.done += 1;
+        if status != CaseStatus::Skipped {
+            s.ran += 1;
+        }
+        let p = CaseFinished {
+            case,
+            status,
+            reason,
+            wall,
+            done: s.done,
+            total: self.total,
+            elapsed: self.t0.elapsed(),
+            ran: s.ran,
+        };
+        if (s.on_case)(&p).is_break() {
+            self.stop.store(true, Ordering::SeqCst);
+        }
+    }
+
+    /// Whether the caller asked that no further case start.
+    fn stopped(&self) -> bool {
+        self.stop.load(Ordering::SeqCst)
+    }
+}
+
+/// Runs `todo` on `jobs` workers (a local pool), each case told to `tally` as it finishes:
+/// the rows of the cases run, `None` for those left to do (a stop was asked, or the solve
+/// was interrupted).
+fn run_cases<F: FnMut(&CaseFinished) -> ControlFlow<()> + Send>(
+    todo: &[&SweepCase],
+    jobs: usize,
+    out: &Path,
+    empty: &SweepTable,
+    interrupt: Option<&Interrupt>,
+    tally: &Tally<F>,
+) -> Result<Vec<Option<Vec<String>>>, SweepError> {
+    let interrupted = || interrupt.is_some_and(|i| i.check().is_some());
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .thread_name(|i| format!("spira-sweep-{i}"))
+        .build()
+        .map_err(|e| SweepError::Shard(format!("cannot start {jobs} workers: {e}")))?;
+    Ok(pool.install(|| {
+        todo.par_iter()
+            .with_max_len(1)
+            .map(|c| {
+                if tally.stopped() || interrupted() {
+                    return None;
+                }
+                let (row, reason, wall) = run_case(out, c, empty, interrupt)?;
+                let status = if reason.is_some() {
+                    CaseStatus::Failed
+                } else {
+                    CaseStatus::Done
+                };
+                tally.tell(c, status, reason, wall);
+                Some(row)
+            })
+            .collect()
+    }))
 }
 
 fn write_err(path: &Path, reason: std::io::Error) -> SweepError {
@@ -345,7 +389,7 @@ fn solve(case: &Case, interrupt: Option<&Interrupt>) -> Result<Solved, String> {
 
 /// Writes a case folder atomically: the result files, `case.toml`, then the marker (the row
 /// `make_row` gives, told of a failure to write the result files), all into a temporary
-/// folder beside the target (named by its owner, [`crate::output::files::staging_dir`]),
+/// folder beside the target (named by its owner, [`crate::output::staging::staging_dir`]),
 /// renamed into place. No signal ends the process during it (it holds the writes), so the
 /// temporary folder is never left behind but by `kill -9`, and then the next sweep into
 /// `out` removes it. Returns the row.
@@ -358,7 +402,7 @@ fn write_folder(
 ) -> std::io::Result<Vec<String>> {
     // declared first, dropped last: after the temporary folder is removed
     let _writing = crate::output::files::hold_writes();
-    let tmp = crate::output::files::staging_dir(out, &format!(".spira-{}-", c.id))?;
+    let tmp = crate::output::staging::staging_dir(out, &format!(".spira-{}-", c.id))?;
     let mut failure = None;
     if let Some(s) = solved {
         let o = &s.outcome;
@@ -379,7 +423,7 @@ fn write_folder(
         // an incomplete folder (no marker) of an earlier run
         std::fs::remove_dir_all(&target)?;
     }
-    std::fs::remove_file(tmp.path().join(crate::output::files::OWNER_FILE))?;
+    std::fs::remove_file(tmp.path().join(crate::output::staging::OWNER_FILE))?;
     let kept = tmp.keep();
     if let Err(e) = std::fs::rename(&kept, &target) {
         let _ = std::fs::remove_dir_all(&kept);

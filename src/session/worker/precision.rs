@@ -4,7 +4,7 @@
 use super::event::WorkerEvent;
 use super::job::{Job, Request};
 use crate::session::latest::Context;
-use crate::study::{run_study, Ladder, Problem, StudyError};
+use crate::study::{run_study, Ladder, StudyError, Subject};
 use std::ops::ControlFlow;
 use std::panic::{self, AssertUnwindSafe};
 
@@ -24,7 +24,7 @@ pub(super) fn run_precision(request: Request, ctx: &Context<Request, WorkerEvent
     else {
         return;
     };
-    let problem = Problem::Path(case);
+    let problem = Subject::Path(case);
     let ladder = Ladder::standard(&problem);
     let study = panic::catch_unwind(AssertUnwindSafe(|| {
         run_study(&problem, &ladder, PRECISION_REPEATS, |p| {

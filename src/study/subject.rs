@@ -1,4 +1,4 @@
-//! What a study solves: a case's load path or Love's helix, the measures taken of each
+//! The subject of a study, what it solves: a case's load path or Love's helix, the measures taken of each
 //! solution and their theoretical orders.
 
 use crate::case::Case;
@@ -95,7 +95,7 @@ impl Measure {
     }
 }
 
-// ---------------------------------------------------------------- problems
+// ---------------------------------------------------------------- subjects
 
 /// The discrete model of Love's problem (DESIGN.md §6): one right-handed rod, naturally the
 /// helix `(a0, b0)`. One rod has no joints, so its meshes are uniform and a doubling ladder
@@ -111,9 +111,9 @@ fn love_model(love: &LoveHelix, order: Order, elements: usize) -> DiscreteModel 
     )
 }
 
-/// What a study solves.
+/// What a study solves: the subject of its ladder of meshes.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Problem {
+pub enum Subject {
     /// A case's load path, from the natural state through its output steps to its target.
     Path(Box<Case>),
     /// Love's helix: one equilibrium with a closed-form solution.
@@ -123,7 +123,7 @@ pub enum Problem {
 /// The measured values of one solve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Values {
-    /// See [`Problem::response_label`].
+    /// See [`Subject::response_label`].
     pub response: f64,
     /// `(κ1, κ2, Ω)` (1/m) at the probe points, rod by rod.
     pub curvature: Vec<[f64; 3]>,
@@ -138,19 +138,19 @@ pub struct Values {
 /// Arc lengths (m) at which curvatures are compared, per rod.
 pub type Probes = Vec<Vec<f64>>;
 
-impl Problem {
-    /// Name of the problem in titles and files.
+impl Subject {
+    /// Name of the subject in titles and files.
     pub fn name(&self) -> String {
         match self {
-            Problem::Path(case) => case.name.clone(),
-            Problem::Love(love) => format!("love-helix-b{}", love.pitch),
+            Subject::Path(case) => case.name.clone(),
+            Subject::Love(love) => format!("love-helix-b{}", love.pitch),
         }
     }
 
     /// One line on what is solved.
     pub fn describe(&self) -> String {
         match self {
-            Problem::Path(case) => format!(
+            Subject::Path(case) => format!(
                 "n = {}, {} control 0 → {} in {} steps; {}, {} reference curvatures",
                 case.geometry.helices,
                 case.loading.control.name(),
@@ -159,7 +159,7 @@ impl Problem {
                 case.rod.describe(),
                 case.discretisation.reference.name()
             ),
-            Problem::Love(love) => format!(
+            Subject::Love(love) => format!(
                 "Love's helix: a rod of a0 = {} m, b0 = {} m held on b = {} m; {}, {} reference curvatures",
                 love.radius0,
                 love.pitch0,
@@ -173,36 +173,36 @@ impl Problem {
     /// What [`Values::response`] is.
     pub fn response_label(&self) -> String {
         match self {
-            Problem::Path(case) => match case.loading.control {
+            Subject::Path(case) => match case.loading.control {
                 Control::Displacement => format!("Fz/(n Pcrit) at ε = {}", case.loading.target),
                 Control::Force => format!("ε at P/Pcrit = {}", case.loading.target),
             },
-            Problem::Love(_) => "tip force Fz (N)".to_string(),
+            Subject::Love(_) => "tip force Fz (N)".to_string(),
         }
     }
 
     /// Whether the exact curvature is uniform along every rod (Love's helix), which raises
     /// the order of linear elements' reactions (see [`Measure::theoretical_order`]).
     pub fn uniform_curvature(&self) -> bool {
-        matches!(self, Problem::Love(_))
+        matches!(self, Subject::Love(_))
     }
 
-    /// The theoretical order of measure `m` for elements of `order` on this problem.
+    /// The theoretical order of measure `m` for elements of `order` on this subject.
     pub fn theoretical_order(&self, m: Measure, order: Order) -> f64 {
         m.theoretical_order(order, self.uniform_curvature())
     }
 
     fn turns(&self) -> f64 {
         match self {
-            Problem::Path(case) => case.geometry.turns(),
-            Problem::Love(love) => love.turns(),
+            Subject::Path(case) => case.geometry.turns(),
+            Subject::Love(love) => love.turns(),
         }
     }
 
     fn model(&self, order: Order, elements: usize) -> DiscreteModel {
         match self {
-            Problem::Path(case) => with_mesh(case, order, elements).model(),
-            Problem::Love(love) => love_model(love, order, elements),
+            Subject::Path(case) => with_mesh(case, order, elements).model(),
+            Subject::Love(love) => love_model(love, order, elements),
         }
     }
 
@@ -244,9 +244,9 @@ impl Problem {
             .collect()
     }
 
-    /// What the closed form is, where the problem has one.
+    /// What the closed form is, where the subject has one.
     pub fn closed_form(&self) -> Option<String> {
-        let Problem::Love(love) = self else {
+        let Subject::Love(love) = self else {
             return None;
         };
         let k = love.curvature(Chirality::Right);
@@ -264,9 +264,9 @@ impl Problem {
         ))
     }
 
-    /// The closed-form values where the problem has them.
+    /// The closed-form values where the subject has them.
     pub fn exact(&self, probes: &Probes) -> Option<Values> {
-        let Problem::Love(love) = self else {
+        let Subject::Love(love) = self else {
             return None;
         };
         let model = love_model(love, Order::Linear, 1);
@@ -285,7 +285,7 @@ impl Problem {
         })
     }
 
-    /// Solves the problem on a mesh and measures it; curvatures at `probes`.
+    /// Solves the subject on a mesh and measures it; curvatures at `probes`.
     pub fn solve(
         &self,
         order: Order,
@@ -293,7 +293,7 @@ impl Problem {
         probes: &Probes,
     ) -> Result<Values, SolveError> {
         match self {
-            Problem::Path(case) => {
+            Subject::Path(case) => {
                 let case = with_mesh(case, order, elements);
                 let targets = case.output_parameters(case.loading.target, case.loading.steps);
                 let outcome = run_path(&case, &targets, |_, _| {})?;
@@ -313,7 +313,7 @@ impl Problem {
                     elements: outcome.model.max_elements(),
                 })
             }
-            Problem::Love(love) => {
+            Subject::Love(love) => {
                 let model = love_model(love, order, elements);
                 let sim = Simulation::held_on_helices(
                     model,
