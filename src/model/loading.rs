@@ -222,9 +222,24 @@ impl LoadParameter {
             (Driven::Tip(Z), Control::Force) => "P/Pcrit",
             (Driven::Tip(X | Y), Control::Displacement) => "u",
             (Driven::Tip(X | Y), Control::Force) => "F",
+            (Driven::Tip(RotZ), Control::Displacement) => "φ",
+            (Driven::Tip(RotZ), Control::Force) => "T",
             (Driven::Tip(_), Control::Displacement) => "θ",
             (Driven::Tip(_), Control::Force) => "M",
             (Driven::AlongRods, _) => "q",
+        }
+    }
+
+    /// The symbol of the motion of what it drives, which a load curve takes for its abscissa
+    /// under either control: the compression ratio `ε` for the axial load (a dead load's
+    /// curve is drawn against the motion it causes, not against itself).
+    pub fn motion_symbol(&self) -> &'static str {
+        use SupportAxis::*;
+        match self.driven {
+            Driven::Tip(Z) | Driven::AlongRods => "ε",
+            Driven::Tip(X | Y) => "u",
+            Driven::Tip(RotZ) => "φ",
+            Driven::Tip(RotX | RotY) => "θ",
         }
     }
 
@@ -233,6 +248,7 @@ impl LoadParameter {
         match self.symbol() {
             "ε" => "eps",
             "θ" => "theta",
+            "φ" => "phi",
             other => other,
         }
     }

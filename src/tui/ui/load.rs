@@ -1,11 +1,13 @@
-//! The load panel: the averaged normalised tip loads along the path against the load
-//! parameter, unstable stretches dotted, critical points and the path cursor marked.
+//! The load panel: the averaged normalised tip loads along the path against the motion the
+//! load parameter drives (the compression ratio, under either control), unstable stretches
+//! dotted, critical points and the path cursor marked.
 
 use super::chart::{
     axis_labels, key_span, legend_marks, line_style, nice_bounds, padded_range, placeholder,
 };
 use super::colours::{DIM, FX_LINE, FY_LINE, FZ_LINE, SELECTED};
 use super::numbers::fmt_load;
+use crate::model::loading::Control;
 use crate::results::LoadPoint;
 use crate::tui::app::App;
 use crate::tui::stability;
@@ -25,7 +27,7 @@ struct Series {
     no_color: bool,
 }
 
-/// The load path so far: averaged normalised fx, fy, fz against the load parameter, the
+/// The load path so far: averaged normalised fx, fy, fz against the motion, the
 /// current point as a block, unstable stretches dotted.
 pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let path = &app.screen.path;
@@ -42,8 +44,8 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
             Line::from(format!(
                 " ◆ step {} {} {:.5}: fx {} fy {} fz {} ",
                 p.step,
-                app.symbol(),
-                along(app, p),
+                app.load_parameter().motion_symbol(),
+                along(p),
                 fmt_load(p.load[0], &p.load),
                 fmt_load(p.load[1], &p.load),
                 fmt_load(p.load[2], &p.load)
@@ -66,7 +68,7 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
         .legend_position(None)
         .x_axis(
             Axis::default()
-                .title(app.symbol())
+                .title(app.load_parameter().motion_symbol())
                 .bounds(x)
                 .labels(axis_labels(x))
                 .style(Style::new().fg(DIM)),
@@ -80,9 +82,11 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
-/// The load parameter of `p` as the chart places it ([`App::shown_parameter`]).
-fn along(app: &App, p: &LoadPoint) -> f64 {
-    app.shown_parameter(p.eps, p.parameter)
+/// Where the chart places `p`: at the motion of what the load parameter drives, under
+/// either control (the compression ratio for the axial load), so that a dead load's curve is
+/// its load against the motion it causes.
+fn along(p: &LoadPoint) -> f64 {
+    p.eps
 }
 
 /// The points marked over the curves: the state on screen, the path cursor's loads, the
@@ -95,7 +99,7 @@ struct Marks {
 
 impl Marks {
     fn of(app: &App) -> Marks {
-        let loads = |p: &LoadPoint| (0..3).map(|c| (along(app, p), p.load[c])).collect();
+        let loads = |p: &LoadPoint| (0..3).map(|c| (along(p), p.load[c])).collect();
         Marks {
             now: app
                 .screen
@@ -113,7 +117,7 @@ impl Marks {
                 .screen
                 .critical
                 .iter()
-                .map(|c| (app.shown_parameter(c.eps, c.parameter), c.load[2]))
+                .map(|c| (c.eps, c.load[2]))
                 .collect(),
         }
     }
@@ -177,15 +181,21 @@ fn load_block(any_unstable: bool, no_color: bool) -> Block<'static> {
     Block::new().borders(Borders::ALL).title(Line::from(title))
 }
 
-/// The load parameter's axis: from 0 to the target, or as far as the path (or the request)
-/// went.
+/// The abscissa's range: from 0 to as far as the path went, and under displacement control
+/// to the target and the request.
 fn parameter_bounds(app: &App) -> [f64; 2] {
+    // the target and the request are on the abscissa when the parameter is the motion itself
+    let ahead = match app.load_parameter().control {
+        Control::Displacement => vec![app.target(), app.screen.requested_parameter],
+        Control::Force => Vec::new(),
+    };
     let (lo, hi) = app
         .screen
         .path
         .iter()
-        .map(|p| along(app, p))
-        .chain([0.0, app.target(), app.screen.requested_parameter])
+        .map(along)
+        .chain([0.0])
+        .chain(ahead)
         .filter(|e| e.is_finite())
         .fold((0.0f64, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
     if hi > lo {
@@ -205,7 +215,7 @@ fn load_series(app: &App, stretches: &[stability::Stretch]) -> Vec<Series> {
             (0..3).map(move |c| Series {
                 points: path[s.points.clone()]
                     .iter()
-                    .map(|p: &LoadPoint| (along(app, p), p.load[c]))
+                    .map(|p: &LoadPoint| (along(p), p.load[c]))
                     .collect(),
                 color: colors[c],
                 unstable: s.unstable,
