@@ -133,7 +133,7 @@ fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
     use spira::discretisation::symmetry::expand_state;
     use spira::discretisation::system::System;
     use spira::model::loading::TipLoad;
-    use spira::simulation::problem::RodProblem;
+    use spira::simulation::problem::LoadedAssembly;
     use spira::solver::problem::Problem;
     let pair = case.model();
     let np = pair.n_primal;
@@ -145,8 +145,8 @@ fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
     expand_state(&pair, &pair_system, x, &full, &full_system0, &mut xf);
     // the supports hold what they hold at the expanded state, as the pair's at its own
     let full_system = System::new(&full, case.boundary, &xf[..full.n_primal], tip);
-    let mut blocks = RodProblem::new(pair.clone(), pair_system, case.loading.control);
-    let mut whole = RodProblem::new(full, full_system, case.loading.control);
+    let mut blocks = LoadedAssembly::new(pair.clone(), pair_system, case.loading.control);
+    let mut whole = LoadedAssembly::new(full, full_system, case.loading.control);
     let per_block = blocks.block_stability(x, false).unwrap();
     let counted: usize = per_block
         .iter()
