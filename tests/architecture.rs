@@ -6,7 +6,8 @@
 //! every `crate::…`, `self::…` and `super::…` path (and `spira::…` in the binary) is read,
 //! grouped `use` trees included (as are paths through the modules a file declares, such as
 //! `app::App` in src/tui/mod.rs), and resolved to the file that defines the module it names.
-//! `src/lib.rs` is exempt: it declares the modules.
+//! `src/lib.rs` is exempt: it declares the modules. The modules src/main.rs declares
+//! (`mod cli;`: src/cli/) belong to the binary, as src/main.rs does.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
@@ -22,15 +23,14 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("case", &["case"]),
     ("simulation", &["simulation"]),
     ("run", &["run"]),
-    // `precision` is the study layer until it moves to src/study/.
-    ("study", &["study", "precision"]),
-    // `chart` is moving into output.
-    ("output", &["output", "chart"]),
+    ("study", &["study"]),
+    ("output", &["output"]),
     // runs cases (run) and writes tables (output)
     ("sweep", &["sweep"]),
     ("session", &["session"]),
     ("tui", &["tui"]),
-    // src/main.rs (and src/bin/), which may use anything through `spira::`.
+    // src/main.rs, the modules it declares (src/cli/) and src/bin/, which may use anything
+    // through `spira::`.
     ("binary", &[]),
 ];
 
@@ -260,7 +260,8 @@ enum Role {
     Library,
     /// src/lib.rs: exempt.
     Root,
-    /// src/main.rs or src/bin/…: imports the library as `spira::`.
+    /// src/main.rs, a module it declares (src/cli/…) or src/bin/…: imports the library as
+    /// `spira::`.
     Binary,
 }
 
@@ -274,9 +275,16 @@ struct SourceFile {
 }
 
 impl SourceFile {
-    /// The file at `src/` + `segments` (`["tui", "app.rs"]`) with its text.
+    /// The file at `src/` + `segments` (`["tui", "app.rs"]`) with its text, in a crate whose
+    /// src/main.rs declares no module.
     fn new(segments: &[String], text: String) -> SourceFile {
-        let (module, role) = module_and_role(segments);
+        SourceFile::in_crate(segments, text, &[])
+    }
+
+    /// The file at `src/` + `segments` with its text, in a crate whose src/main.rs declares
+    /// the modules `binary_modules` (`["cli"]`): their files belong to the binary.
+    fn in_crate(segments: &[String], text: String, binary_modules: &[String]) -> SourceFile {
+        let (module, role) = module_and_role(segments, binary_modules);
         SourceFile {
             shown: format!("src/{}", segments.join("/")),
             module,
@@ -327,19 +335,32 @@ fn source_files() -> Vec<SourceFile> {
     let mut paths = Vec::new();
     collect_rust_files(&src, &mut paths);
     paths.sort();
-    paths
+    source_tree(
+        paths
+            .iter()
+            .map(|path| {
+                let relative = path.strip_prefix(&src).expect("under src/");
+                let segments: Vec<String> = relative
+                    .components()
+                    .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                    .collect();
+                (segments, fs::read_to_string(path).expect("readable source"))
+            })
+            .collect(),
+    )
+}
+
+/// The source files of a crate from their paths under src/ (as segments) and texts: the
+/// modules its src/main.rs declares are the binary's.
+fn source_tree(files: Vec<(Vec<String>, String)>) -> Vec<SourceFile> {
+    let binary_modules = files
         .iter()
-        .map(|path| {
-            let relative = path.strip_prefix(&src).expect("under src/");
-            let segments: Vec<String> = relative
-                .components()
-                .map(|c| c.as_os_str().to_string_lossy().into_owned())
-                .collect();
-            SourceFile::new(
-                &segments,
-                fs::read_to_string(path).expect("readable source"),
-            )
-        })
+        .find(|(segments, _)| segments.len() == 1 && segments[0] == "main.rs")
+        .map(|(_, text)| declared_modules(&tokenize(text)))
+        .unwrap_or_default();
+    files
+        .into_iter()
+        .map(|(segments, text)| SourceFile::in_crate(&segments, text, &binary_modules))
         .collect()
 }
 
@@ -354,12 +375,20 @@ fn collect_rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// `["tui", "app.rs"]` → `tui::app`; `["tui", "mod.rs"]` → `tui`.
-fn module_and_role(segments: &[String]) -> (Vec<String>, Role) {
+/// `["tui", "app.rs"]` → `tui::app`; `["tui", "mod.rs"]` → `tui`; the binary's files
+/// (src/main.rs, src/bin/…, and the modules `binary_modules` that src/main.rs declares) have
+/// no module of the library.
+fn module_and_role(segments: &[String], binary_modules: &[String]) -> (Vec<String>, Role) {
+    let binary_module = |first: &str| {
+        binary_modules
+            .iter()
+            .any(|m| first == m || first == format!("{m}.rs"))
+    };
     match segments {
         [only] if only == "lib.rs" => (Vec::new(), Role::Root),
         [only] if only == "main.rs" => (Vec::new(), Role::Binary),
         [first, ..] if first == "bin" => (Vec::new(), Role::Binary),
+        [first, ..] if binary_module(first) => (Vec::new(), Role::Binary),
         _ => {
             let mut module: Vec<String> = segments
                 .iter()
@@ -829,4 +858,48 @@ fn rules_report_unplaced_modules_upward_imports_and_cycles() {
         !report.contains("solver/mod.rs"),
         "comments are not imports:\n{report}"
     );
+}
+
+#[test]
+fn modules_declared_in_main_rs_are_the_binary() {
+    let file = |path: &str, text: &str| {
+        let segments: Vec<String> = path.split('/').map(String::from).collect();
+        (segments, text.to_string())
+    };
+    let files = source_tree(vec![
+        file("lib.rs", "pub mod model; pub mod tui;"),
+        file("model/mod.rs", ""),
+        file("tui/mod.rs", "use crate::model::Helix;"),
+        file(
+            "main.rs",
+            "mod cli;\nmod flags;\nfn main() { cli::run::run(); }",
+        ),
+        file("cli/mod.rs", "pub mod run;"),
+        file(
+            "cli/run.rs",
+            "use spira::tui::App; use crate::cli::mod_of_binary;",
+        ),
+        file("flags.rs", "use spira::model::Helix;"),
+    ]);
+    let roles: Vec<(&str, Role)> = files.iter().map(|f| (f.shown.as_str(), f.role)).collect();
+    assert_eq!(
+        roles,
+        [
+            ("src/lib.rs", Role::Root),
+            ("src/model/mod.rs", Role::Library),
+            ("src/tui/mod.rs", Role::Library),
+            ("src/main.rs", Role::Binary),
+            ("src/cli/mod.rs", Role::Binary),
+            ("src/cli/run.rs", Role::Binary),
+            ("src/flags.rs", Role::Binary),
+        ]
+    );
+    let report = problems(&files).join("\n");
+    assert!(report.is_empty(), "the binary may use anything:\n{report}");
+    // a module of the library named as a binary's would be placed by the layer table
+    let library = source_tree(vec![file("cli/mod.rs", "use crate::tui::App;")]);
+    assert_eq!(library[0].role, Role::Library);
+    assert!(problems(&library)
+        .join("\n")
+        .contains("src/cli/mod.rs (module `cli`) is in no layer"));
 }

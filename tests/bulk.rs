@@ -208,7 +208,7 @@ fn longer_tubes_approach_the_infinite_tube_of_loves_family() {
         assert_eq!(case.geometry.helices, base.geometry.helices);
         case.loading.target = eps;
         case.loading.steps = 2;
-        let targets = case.output_eps(eps, 2);
+        let targets = case.output_parameters(eps, 2);
         let out = spira::run::run_path(&case, &targets, |_, _| {}).expect("path");
         assert!(out.error.is_none(), "{turns} turns: {:?}", out.error);
         let step = out.bulk.last().expect("a bulk per point");

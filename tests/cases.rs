@@ -912,7 +912,7 @@ fn target_check_names_the_limit_crossed() {
 #[test]
 fn output_steps_are_equally_spaced_up_to_the_target() {
     let case = Case::default_case();
-    let eps = case.output_eps(0.3, 3);
+    let eps = case.output_parameters(0.3, 3);
     assert_eq!(eps.len(), 3);
     for (k, e) in eps.iter().enumerate() {
         assert!((e - 0.1 * (k + 1) as f64).abs() < 1e-15, "{eps:?}");

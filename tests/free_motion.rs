@@ -39,7 +39,7 @@ fn ends() -> impl Iterator<Item = EndCondition> {
 /// (if any).
 fn natural_state(case: &Case, step: bool) -> (f64, Option<String>) {
     let targets = if step {
-        case.output_eps(case.loading.target, 1)
+        case.output_parameters(case.loading.target, 1)
     } else {
         vec![0.0]
     };

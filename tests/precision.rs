@@ -350,7 +350,7 @@ fn meshes_chosen_for_an_accuracy_meet_it_on_the_thesis_helix() {
         assert_eq!(resolved.discretisation.accuracy, None);
         assert_eq!(resolved.discretisation.elements, choice.elements);
         assert_eq!(resolved.discretisation.order, choice.order);
-        let eps = resolved.output_eps(0.2, 2);
+        let eps = resolved.output_parameters(0.2, 2);
         let outcome = spira::run::run_path(&resolved, &eps, |_, _| {}).expect("path");
         let fz = outcome.points.last().unwrap().load[2];
         let error = ((fz - reference) / reference).abs();

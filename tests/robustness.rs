@@ -28,7 +28,7 @@ fn every_stiffness_times_1e5_gives_the_thesis_n1_path_scaled_by_1e5() {
     let parsed = Case::parse(text, "stiff.toml", "thesis-n1").expect("valid");
     assert_eq!(parsed.stiffness, stiff.stiffness);
 
-    let eps = case.output_eps(case.loading.target, case.loading.steps);
+    let eps = case.output_parameters(case.loading.target, case.loading.steps);
     let a = run_path(&case, &eps, |_, _| {}).expect("thesis n = 1");
     let b = run_path(&stiff, &eps, |_, _| {}).expect("thesis n = 1, stiffness x 1e5");
     assert!(
@@ -163,7 +163,7 @@ fn every_length_times_1e_3_gives_the_thesis_n1_path_in_other_units() {
         } else {
             a_case.loading.steps
         };
-        let eps = a_case.output_eps(target, steps);
+        let eps = a_case.output_parameters(target, steps);
         let a = run_path(&a_case, &eps, |_, _| {}).expect("metres");
         let b = run_path(&b_case, &eps, |_, _| {}).expect("lengths x 1e-3");
         assert!(

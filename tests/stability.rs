@@ -65,7 +65,7 @@ fn elliptic_integrals_match_tabulated_values() {
 
 fn run_to_target(case: &Case) -> Simulation {
     let mut sim = Simulation::from_case(case).expect("start");
-    let targets = case.output_eps(case.loading.target, case.loading.steps);
+    let targets = case.output_parameters(case.loading.target, case.loading.steps);
     for t in targets {
         sim.advance_to(t).expect("fundamental path");
     }
@@ -157,7 +157,7 @@ fn pinned_euler_column_bifurcates_at_pi_squared_b_over_l_squared() {
 #[test]
 fn after_branch_switching_the_column_follows_the_elastica() {
     let c = case("elastica");
-    let targets = c.output_eps(c.loading.target, c.loading.steps);
+    let targets = c.output_parameters(c.loading.target, c.loading.steps);
     let out = run_path(&c, &targets, |_, _| {}).expect("path");
     assert!(out.error.is_none(), "{:?}", out.error);
     assert_eq!(out.switched_at, Some(0));
@@ -189,7 +189,7 @@ fn after_branch_switching_the_column_follows_the_elastica() {
 fn thesis_assemblies_of_one_four_and_eight_helices_stay_stable_to_half_height() {
     for n in [1, 4, 8] {
         let c = case(&format!("thesis-n{n}"));
-        let targets = c.output_eps(c.loading.target, c.loading.steps);
+        let targets = c.output_parameters(c.loading.target, c.loading.steps);
         let out = run_path(&c, &targets, |_, _| {}).expect("path");
         assert!(out.error.is_none());
         assert!(
@@ -208,7 +208,7 @@ fn thesis_assemblies_of_one_four_and_eight_helices_stay_stable_to_half_height() 
 #[test]
 fn two_helices_leave_the_symmetric_path_at_a_bifurcation_onto_a_stable_softer_branch() {
     let fundamental = case("thesis-n2");
-    let targets = fundamental.output_eps(0.5, 10);
+    let targets = fundamental.output_parameters(0.5, 10);
     let stay = run_path(&fundamental, &targets, |_, _| {}).unwrap();
     let first = &stay.critical[0];
     assert_eq!(first.kind, CriticalKind::Bifurcation);
@@ -298,7 +298,7 @@ fn a_buckled_isotropic_column_has_one_neutral_direction_and_reaches_its_target()
     let mut c = case("euler-pinned");
     c.loading.branch = spira::model::loading::Branch::Switch;
     let target = 0.3;
-    let targets = c.output_eps(target, 3);
+    let targets = c.output_parameters(target, 3);
     let out = run_path(&c, &targets, |_, _| {}).expect("path");
     assert!(out.error.is_none(), "{:?}", out.error);
     let last = out.points.last().expect("points");

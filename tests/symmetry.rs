@@ -135,22 +135,21 @@ fn assemblies_without_the_symmetry_are_refused_the_reduction() {
 fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
     use spira::discretisation::symmetry::expand_state;
     use spira::discretisation::system::System;
-    use spira::model::loading::TipLoad;
+    use spira::model::loading::{Control, Loads};
     use spira::simulation::problem::LoadedAssembly;
     use spira::solver::problem::Problem;
     let pair = case.model();
     let np = pair.n_primal;
-    let tip = TipLoad::Height(pair.height0());
-    let pair_system = System::new(&pair, case.boundary, &x[..np], tip);
+    let tip = &Loads::axial(Control::Displacement);
+    let pair_system = System::new(&pair, case.boundary, &x[..np], tip, 0.0);
     let full = pair.full_model().expect("a symmetric pair");
-    let full_system0 = System::new(&full, case.boundary, &full.natural_state(), tip);
+    let full_system0 = System::new(&full, case.boundary, &full.natural_state(), tip, 0.0);
     let mut xf = vec![0.0; full_system0.n];
     expand_state(&pair, &pair_system, x, &full, &full_system0, &mut xf);
     // the supports hold what they hold at the expanded state, as the pair's at its own
-    let full_system = System::new(&full, case.boundary, &xf[..full.n_primal], tip);
-    let mut blocks =
-        LoadedAssembly::new(pair.clone(), pair_system, case.loading.control).with_threads(THREADS);
-    let mut whole = LoadedAssembly::new(full, full_system, case.loading.control);
+    let full_system = System::new(&full, case.boundary, &xf[..full.n_primal], tip, 0.0);
+    let mut blocks = LoadedAssembly::new(pair.clone(), pair_system).with_threads(THREADS);
+    let mut whole = LoadedAssembly::new(full, full_system);
     let per_block = blocks.block_stability(x, false).unwrap();
     let counted: usize = per_block
         .iter()
@@ -234,7 +233,7 @@ fn kkt_action(
 fn the_sliding_tip_sways_at_a_double_wavenumber_one_mode_rebuilt_on_the_whole_assembly() {
     use spira::discretisation::symmetry::expand_state;
     use spira::discretisation::system::System;
-    use spira::model::loading::TipLoad;
+    use spira::model::loading::{Control, Loads};
     let mut full_case = thesis(8);
     full_case.boundary.tip.translation = spira::model::boundary::Translation::Slide;
     full_case.discretisation.symmetric = false;
@@ -262,13 +261,13 @@ fn the_sliding_tip_sways_at_a_double_wavenumber_one_mode_rebuilt_on_the_whole_as
     // the rebuilt mode on the full model at the expanded critical state
     let model = pair.model();
     let whole = model.full_model().unwrap();
-    let tip = TipLoad::Height(model.height0());
+    let tip = &Loads::axial(Control::Displacement);
     let at = |x: &[f64]| {
-        let s0 = System::new(&whole, full_case.boundary, &whole.natural_state(), tip);
+        let s0 = System::new(&whole, full_case.boundary, &whole.natural_state(), tip, 0.0);
         let mut xf = vec![0.0; s0.n];
-        let ps = System::new(model, full_case.boundary, &x[..model.n_primal], tip);
+        let ps = System::new(model, full_case.boundary, &x[..model.n_primal], tip, 0.0);
         expand_state(model, &ps, x, &whole, &s0, &mut xf);
-        let s = System::new(&whole, full_case.boundary, &xf[..whole.n_primal], tip);
+        let s = System::new(&whole, full_case.boundary, &xf[..whole.n_primal], tip, 0.0);
         (s, xf)
     };
     let u = cp

@@ -1801,7 +1801,7 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
     // `spira run` of the same case with branch = "switch", to the same ε in the same steps
     let run = spira::run::run_path(
         &pair_case("switch", 0.35, 7).for_explorer(),
-        &pair_case("switch", 0.35, 7).output_eps(0.35, 7),
+        &pair_case("switch", 0.35, 7).output_parameters(0.35, 7),
         |_, _| {},
     )
     .expect("runs");

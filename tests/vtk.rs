@@ -69,7 +69,7 @@ fn e10(x: f64) -> String {
 #[test]
 fn a_vtp_read_back_gives_the_state_of_state_csv_and_the_pvd_the_load_parameters() {
     let case = Case::from_file(Path::new("cases/thesis-n2.toml")).expect("shipped case");
-    let targets = case.output_eps(0.2, 2);
+    let targets = case.output_parameters(0.2, 2);
     let mut shapes = Vec::new();
     let out = run_path_steps(&case, &targets, None, None, |s| {
         shapes.push(s.snapshot.clone())
@@ -196,7 +196,7 @@ fn a_vtp_read_back_gives_the_state_of_state_csv_and_the_pvd_the_load_parameters(
 fn a_mode_vtp_carries_the_displacement_of_mode_csv() {
     let text = "name = \"euler\"\n[geometry]\nradius = 0.0\nlength = 1.0\n[stiffness]\nb1 = 1.0\nb2 = 2.0\nb3 = 2.0\n[loading]\ncontrol = \"force\"\ntarget = 1.1\nsteps = 1\n[discretisation]\nelements = 16\n";
     let case = Case::parse(text, "euler.toml", "euler").expect("valid case");
-    let targets = case.output_eps(case.loading.target, 1);
+    let targets = case.output_parameters(case.loading.target, 1);
     let mut shapes = Vec::new();
     let out = run_path_steps(&case, &targets, None, None, |s| {
         shapes.push(s.snapshot.clone())

@@ -31,7 +31,7 @@ use crate::discretisation::model::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::elasticity::Elasticity;
-use crate::model::loading::{Branch, Control};
+use crate::model::loading::{Branch, Control, LoadParameter, Loads};
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
 use raw::RawCase;
@@ -171,9 +171,20 @@ impl Case {
         )
     }
 
-    /// The output compression ratios: `steps` equal increments from 0 (exclusive) to `target`.
-    /// The fraction is formed first so that the last value is `target` exactly.
-    pub fn output_eps(&self, target: f64, steps: usize) -> Vec<f64> {
+    /// What the case applies to the assembly: the tips pushed along the axis under the
+    /// case's control.
+    pub fn loads(&self) -> Loads {
+        Loads::axial(self.loading.control)
+    }
+
+    /// What the case's load parameter is.
+    pub fn load_parameter(&self) -> LoadParameter {
+        self.loads().parameter
+    }
+
+    /// The output values of the load parameter: `steps` equal increments from 0 (exclusive)
+    /// to `target`. The fraction is formed first so that the last value is `target` exactly.
+    pub fn output_parameters(&self, target: f64, steps: usize) -> Vec<f64> {
         (1..=steps)
             .map(|k| target * (k as f64 / steps as f64))
             .collect()

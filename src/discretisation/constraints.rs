@@ -1,10 +1,9 @@
 //! The linear constraints of the KKT system: supports at the rod ends (DESIGN.md §3), the
 //! prescribed tip height, and the pin joints at the crossings (DESIGN.md §2).
 
-use super::model::{DiscreteModel, DiscreteRod, End};
+use super::model::{DiscreteModel, End};
 use crate::model::assembly::{Joint, RodId};
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
-use crate::model::loading::TipLoad;
 use crate::model::quaternion::{self, Quat};
 use crate::model::symmetry::TurnZ;
 use nalgebra::Vector3;
@@ -64,33 +63,37 @@ fn free_directions(t: Translation, position: &Vector3<f64>) -> Vec<Vector3<f64>>
     }
 }
 
-#[allow(clippy::too_many_arguments)]
+/// The constraints by which the support at `end` holds rod `id` under the conditions `cond`,
+/// holding what it holds at its value in the state `x`; the tip's height is held at
+/// `tip_height` (m) when the tip support's z is a prescribed motion (`None`: under a dead
+/// load, free).
 pub(super) fn support_constraints(
     model: &DiscreteModel,
     x: &[f64],
     id: RodId,
-    rod: &DiscreteRod,
     end: End,
     cond: EndCondition,
-    tip_load: TipLoad,
+    tip_height: Option<f64>,
     out: &mut Vec<LinearConstraint>,
 ) {
+    let rod = &model.rods[id];
     let v = rod.end_vertex(end);
     let r = model.vertex(x, id, v);
     let role = Role::Support { rod: id, end };
-    // axial: the base held where it is (z = 0), the tip at z = h under displacement control
-    match (end, tip_load) {
+    // axial: the base held where it is (z = 0), the tip at the support's height `tip_height`
+    // when the support's z is a prescribed motion (free under a dead load)
+    match (end, tip_height) {
         (End::Base, _) => out.push(LinearConstraint {
             terms: vec![(rod.r_dof(v, 2), 1.0)],
             value: r[2],
             role,
         }),
-        (End::Tip, TipLoad::Height(h)) => out.push(LinearConstraint {
+        (End::Tip, Some(h)) => out.push(LinearConstraint {
             terms: vec![(rod.r_dof(v, 2), 1.0)],
             value: h,
             role: Role::TipHeight { rod: id },
         }),
-        (End::Tip, TipLoad::Force(_)) => {}
+        (End::Tip, None) => {}
     }
     for dir in held_directions(cond.translation, &r) {
         let terms: Vec<(usize, f64)> = (0..2)

@@ -249,6 +249,28 @@ pub struct ElementTerms {
     pub chord: [f64; 3],
     /// `∂chord_j/∂q` (m).
     pub chord_gradient: [[f64; MAX_Q]; 3],
+    /// The part of the potential of the element's line load that moves with its quaternions,
+    /// `−f·∫₀ʰ (h − s) d3 ds` (J): with `r(s) = r_start + ∫₀ˢ d3`, the whole potential is
+    /// `−f·∫ r ds = −h f·r_start + load_potential`.
+    pub load_potential: f64,
+    /// `∂load_potential/∂q` (J); its Hessian is in `hessian`.
+    pub load_gradient: [f64; MAX_Q],
+}
+
+/// A dead force per unit length `force` (N/m), uniform over an element: the slot of the
+/// loads along the rods in the element kernel.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct ElementLoad {
+    pub force: [f64; 3],
+}
+
+impl ElementLoad {
+    /// No load.
+    pub const NONE: ElementLoad = ElementLoad { force: [0.0; 3] };
+
+    fn is_none(&self) -> bool {
+        self.force == [0.0; 3]
+    }
 }
 
 /// The interpolated quaternion `q` and its arc-length derivative `q'` at quadrature point
@@ -311,9 +333,11 @@ pub fn chord(
 
 /// Evaluates an element of length `h` (m) with nodal quaternions `q` (only the first
 /// `order.nodes()` used), the energy of the hypotheses `elasticity` with reference
-/// curvatures `reference[g]` (1/m) at quadrature point `g` of `rule`, and the
-/// inextensibility multiplier `lambda` (N) that weights the chord's Hessian; without
-/// `hessian`, the Hessian is left zero (a residual needs the rest only).
+/// curvatures `reference[g]` (1/m) at quadrature point `g` of `rule`, the inextensibility
+/// multiplier `lambda` (N) that weights the chord's Hessian, and the potential of the line
+/// load `load`; without `hessian`, the Hessian is left zero (a residual needs the rest only).
+// The kernel's inputs are the element's own quantities, named as in the equations; a struct
+// of them would only rename them at the one call site.
 #[allow(clippy::too_many_arguments)]
 pub fn element_terms(
     order: Order,
@@ -324,6 +348,7 @@ pub fn element_terms(
     elasticity: &Elasticity,
     reference: &[Vector3<f64>],
     lambda: &[f64; 3],
+    load: &ElementLoad,
     hessian: bool,
 ) -> ElementTerms {
     debug_assert_eq!(reference.len(), rule.len());
@@ -334,7 +359,10 @@ pub fn element_terms(
         hessian: [[0.0; MAX_Q]; MAX_Q],
         chord: [0.0; 3],
         chord_gradient: [[0.0; MAX_Q]; 3],
+        load_potential: 0.0,
+        load_gradient: [0.0; MAX_Q],
     };
+    let loaded = !load.is_none();
     for (gp, reference) in rule.iter().zip(reference) {
         let jw = gp.weight * h;
         let (qg, pg, b) = at_point(order, gp, h, q);
@@ -365,14 +393,32 @@ pub fn element_terms(
                 }
             }
         }
+        // the line load's potential −f·∫ (h − s) d3 ds: at the point, a dead force f (h − s)
+        // on the tangent
+        let moment_arm = h * (1.0 - gp.xi);
+        if loaded {
+            let fw = load.force.map(|f| f * moment_arm);
+            out.load_potential -= jw * (0..3).map(|j| fw[j] * t[j]).sum::<f64>();
+            for a in 0..nn {
+                for k in 0..4 {
+                    out.load_gradient[4 * a + k] -=
+                        jw * gp.n[a] * (0..3).map(|j| fw[j] * gt[j][k]).sum::<f64>();
+                }
+            }
+        }
         let (Some(hw), Some(ht)) = (hw, ht) else {
             continue;
         };
-        // λ·(−∂²chord) Hessian at the point, in q only
+        // λ·(−∂²chord) Hessian at the point, in q only (with the line load's −f (h − s)·∂²d3)
         let mut hl = [[0.0; 4]; 4];
         for k in 0..4 {
             for l in 0..4 {
                 hl[k][l] = -(0..3).map(|j| lambda[j] * ht[j][k][l]).sum::<f64>();
+                if loaded {
+                    hl[k][l] -= (0..3)
+                        .map(|j| load.force[j] * moment_arm * ht[j][k][l])
+                        .sum::<f64>();
+                }
             }
         }
         for a in 0..nn {

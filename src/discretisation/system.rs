@@ -12,11 +12,11 @@
 //! pattern that is built once per set of constraints.
 
 use super::constraints::{joint_constraints, support_constraints, LinearConstraint, Role};
-use super::element::{self, ElementTerms};
+use super::element::{self, ElementLoad, ElementTerms};
 use super::model::{DiscreteModel, End};
 use crate::model::assembly::RodId;
 use crate::model::boundary::BoundaryConditions;
-use crate::model::loading::TipLoad;
+use crate::model::loading::{AxisLoad, Loads, SupportAxis};
 use crate::model::quaternion::{self, Quat};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
 use nalgebra::{Vector3, Vector4};
@@ -67,8 +67,15 @@ pub struct System {
     linear_row: usize,
     /// Total number of unknowns (primal and multipliers).
     pub n: usize,
-    /// The axial loading of the tips.
-    pub tip_load: TipLoad,
+    /// What is applied to the assembly, as functions of the load parameter.
+    loads: Loads,
+    /// The load parameter the system is set to.
+    lambda: f64,
+    /// The units of the tip support's axial measures: the natural tip height `h0` (m), in
+    /// which the compression ratio is measured, and the Euler load `Pcrit` (N), in which the
+    /// dead tip load is.
+    height0: f64,
+    pcrit: f64,
     pattern: SymbolicSparseColMat<usize>,
     slots: Vec<usize>,
 }
@@ -78,18 +85,24 @@ pub struct System {
 pub struct Evaluation {
     /// Total elastic energy (J).
     pub energy: f64,
+    /// Potential of the loads along the rods, `−Σ ∫ f·r ds` (J).
+    pub potential: f64,
 }
 
 impl System {
     /// Builds the constraints of `bc`, holding what they hold at the values of the state
     /// `x` (so that a change of conditions mid-path continues from the current state),
-    /// with the tips loaded by `tip_load`.
+    /// under `loads` at load parameter `lambda`.
     pub fn new(
         model: &DiscreteModel,
         bc: BoundaryConditions,
         x: &[f64],
-        tip_load: TipLoad,
+        loads: &Loads,
+        lambda: f64,
     ) -> System {
+        let height0 = model.height0();
+        let pcrit = model.stiffness.euler_load(model.length());
+        let tip_height = tip_height(loads, height0, lambda);
         let mut row = model.n_primal;
         let mut compat_rows = Vec::new();
         for rod in &model.rods {
@@ -103,9 +116,9 @@ impl System {
         }
         let linear_row = row;
         let mut linear = Vec::new();
-        for (id, rod) in model.rods.iter().enumerate() {
+        for id in 0..model.rods.len() {
             for (end, cond) in [(End::Base, bc.base), (End::Tip, bc.tip)] {
-                support_constraints(model, x, id, rod, end, cond, tip_load, &mut linear);
+                support_constraints(model, x, id, end, cond, tip_height, &mut linear);
             }
         }
         if bc.joints {
@@ -121,7 +134,10 @@ impl System {
             unit_rows,
             linear_row,
             n,
-            tip_load,
+            loads: loads.clone(),
+            lambda,
+            height0,
+            pcrit,
             pattern: SymbolicSparseColMat::new_checked(n, n, vec![0; n + 1], None, vec![]),
             slots: Vec::new(),
         };
@@ -167,20 +183,36 @@ impl System {
         SparseColMatRef::new(self.pattern.as_ref(), values)
     }
 
-    /// Sets the tip loading; the kind (height or force) must stay the one the system was
-    /// built with, since it decides the constraints.
-    pub fn set_tip_load(&mut self, tip_load: TipLoad) {
-        debug_assert_eq!(
-            std::mem::discriminant(&tip_load),
-            std::mem::discriminant(&self.tip_load)
-        );
-        self.tip_load = tip_load;
-        if let TipLoad::Height(h) = tip_load {
+    /// What is applied to the assembly.
+    pub fn loads(&self) -> &Loads {
+        &self.loads
+    }
+
+    /// The load parameter the system is set to.
+    pub fn parameter(&self) -> f64 {
+        self.lambda
+    }
+
+    /// Sets the load parameter: the prescribed motions of the supports and the dead loads
+    /// take their values at `lambda`.
+    pub fn set_parameter(&mut self, lambda: f64) {
+        self.lambda = lambda;
+        if let Some(h) = tip_height(&self.loads, self.height0, lambda) {
             for c in &mut self.linear {
                 if matches!(c.role, Role::TipHeight { .. }) {
                     c.value = h;
                 }
             }
+        }
+    }
+
+    /// The dead force (N) on every rod's tip along z at the current load parameter: `−P`,
+    /// `P = Pcrit · (P/Pcrit)` (compressive positive), when the tip support's z carries a
+    /// dead load.
+    fn tip_force_z(&self) -> Option<f64> {
+        match self.loads.tip.axis(SupportAxis::Z) {
+            AxisLoad::Force(r) => Some(-(self.pcrit * r.at(self.lambda))),
+            AxisLoad::Motion(_) => None,
         }
     }
 
@@ -279,23 +311,32 @@ impl System {
             .map(|(i, _)| self.linear_row + i)
     }
 
-    /// `∂R/∂P` of the tip load parameter: the tip-height rows (`∂g/∂h = −1`) under
-    /// displacement control, the tip z unknowns (`+1`) under load control.
-    pub fn load_derivative(&self, model: &DiscreteModel) -> Vec<f64> {
-        let mut d = vec![0.0; self.n];
-        match self.tip_load {
-            TipLoad::Height(_) => {
+    /// Whether `∂R/∂λ` is the same at every state and load parameter (the loads' values
+    /// are affine in `λ` and none depends on the state).
+    pub fn load_derivative_is_constant(&self) -> bool {
+        self.loads.along_rods.is_empty()
+    }
+
+    /// `∂R/∂λ` at the state `x` and load parameter `lambda`, from the loads: on the tip-height rows
+    /// `∂g/∂λ = −∂h/∂λ = h0 ∂ε/∂λ` under a prescribed axial motion; on the tip z unknowns
+    /// `−∂F/∂λ = Pcrit ∂(P/Pcrit)/∂λ` under a dead axial load.
+    pub fn load_derivative(&self, model: &DiscreteModel, x: &[f64], lambda: f64, out: &mut [f64]) {
+        out.fill(0.0);
+        match self.loads.tip.axis(SupportAxis::Z) {
+            AxisLoad::Motion(r) => {
+                let rate = self.height0 * r.rate(lambda);
                 for row in self.height_rows() {
-                    d[row] = -1.0;
+                    out[row] = rate;
                 }
             }
-            TipLoad::Force(_) => {
+            AxisLoad::Force(r) => {
+                let rate = self.pcrit * r.rate(lambda);
                 for rod in &model.rods {
-                    d[rod.r_dof(rod.end_vertex(End::Tip), 2)] = 1.0;
+                    out[rod.r_dof(rod.end_vertex(End::Tip), 2)] = rate;
                 }
             }
         }
-        d
+        self.add_line_load_derivative(model, x, lambda, out);
     }
 
     fn assemble(
@@ -310,6 +351,8 @@ impl System {
         let nn = model.order.nodes();
         let p = model.order.degree();
         let mut energy = 0.0;
+        let mut potential = 0.0;
+        let line = self.line_load(self.lambda);
         // explicit diagonal, so that every row has a stored diagonal entry
         for i in 0..self.n {
             sink.add(i, i, 0.0);
@@ -329,6 +372,7 @@ impl System {
                     &model.elasticity,
                     rod.element_reference(e, model.rule.len()),
                     &lambda,
+                    &line,
                     jacobian,
                 );
                 energy += t.energy;
@@ -352,6 +396,17 @@ impl System {
                         sink.add(lrow + j, gi, -t.chord_gradient[j][i]);
                     }
                 }
+                if line != ElementLoad::NONE {
+                    // −f·∫ r ds = −h f·r_start − f·∫ (h − s) d3 ds
+                    potential += t.load_potential;
+                    for i in 0..nq {
+                        residual[dofs(i)] += t.load_gradient[i];
+                    }
+                    for j in 0..3 {
+                        potential -= h * line.force[j] * x[rod.r_dof(e, j)];
+                        residual[rod.r_dof(e, j)] -= h * line.force[j];
+                    }
+                }
                 for j in 0..3 {
                     let (ra, rb) = (rod.r_dof(e, j), rod.r_dof(e + 1, j));
                     residual[ra] -= lambda[j];
@@ -363,27 +418,47 @@ impl System {
                     sink.add(lrow + j, rb, 1.0);
                 }
             }
-            for k in 0..rod.mesh.quaternion_nodes() {
-                let row = self.unit_row(id, k);
-                let mu = x[row];
-                let mut norm2 = 0.0;
-                for c in 0..4 {
-                    let d = rod.q_dof(k, c);
-                    norm2 += x[d] * x[d];
-                    residual[d] += 2.0 * mu * x[d];
-                    sink.add(d, d, 2.0 * mu);
-                    sink.add(d, row, 2.0 * x[d]);
-                    sink.add(row, d, 2.0 * x[d]);
-                }
-                residual[row] = norm2 - 1.0;
-            }
+            self.assemble_unit_norms(model, id, x, residual, sink);
         }
-        if let TipLoad::Force(p) = self.tip_load {
-            // potential of the dead load: +P z_tip per rod
+        if let Some(f) = self.tip_force_z() {
+            // potential of the dead load: −F z_tip per rod
             for rod in &model.rods {
-                residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] += p;
+                residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] -= f;
             }
         }
+        self.assemble_linear(x, residual, sink);
+        Evaluation { energy, potential }
+    }
+
+    /// The unit-norm rows `|q|² − 1 = 0` of rod `id`'s quaternion nodes, with their
+    /// multipliers' terms `μ (|q|² − 1)` in the balance of the quaternions.
+    fn assemble_unit_norms(
+        &self,
+        model: &DiscreteModel,
+        id: RodId,
+        x: &[f64],
+        residual: &mut [f64],
+        sink: &mut dyn Sink,
+    ) {
+        let rod = &model.rods[id];
+        for k in 0..rod.mesh.quaternion_nodes() {
+            let row = self.unit_row(id, k);
+            let mu = x[row];
+            let mut norm2 = 0.0;
+            for c in 0..4 {
+                let d = rod.q_dof(k, c);
+                norm2 += x[d] * x[d];
+                residual[d] += 2.0 * mu * x[d];
+                sink.add(d, d, 2.0 * mu);
+                sink.add(d, row, 2.0 * x[d]);
+                sink.add(row, d, 2.0 * x[d]);
+            }
+            residual[row] = norm2 - 1.0;
+        }
+    }
+
+    /// The linear constraints' rows `a·x − b` and their multipliers' terms `ν a`.
+    fn assemble_linear(&self, x: &[f64], residual: &mut [f64], sink: &mut dyn Sink) {
         for (i, c) in self.linear.iter().enumerate() {
             let row = self.linear_row + i;
             let nu = x[row];
@@ -396,7 +471,69 @@ impl System {
             }
             residual[row] = g;
         }
-        Evaluation { energy }
+    }
+
+    /// The force per unit length (N/m) of the loads along the rods at load parameter
+    /// `lambda` (their sum: every one is uniform), or its rate `d/dλ` with `rate`.
+    fn line_load_of(&self, lambda: f64, rate: bool) -> ElementLoad {
+        let mut force = [0.0; 3];
+        for load in &self.loads.along_rods {
+            let f = if rate {
+                load.rate(lambda)
+            } else {
+                load.force(lambda)
+            };
+            for j in 0..3 {
+                force[j] += f[j];
+            }
+        }
+        ElementLoad { force }
+    }
+
+    fn line_load(&self, lambda: f64) -> ElementLoad {
+        self.line_load_of(lambda, false)
+    }
+
+    /// `∂R/∂λ` of the loads along the rods at the state `x`, added to `out`: the gradient of
+    /// the potential of a line load of the rate's force.
+    fn add_line_load_derivative(
+        &self,
+        model: &DiscreteModel,
+        x: &[f64],
+        lambda: f64,
+        out: &mut [f64],
+    ) {
+        let rate = self.line_load_of(lambda, true);
+        if rate == ElementLoad::NONE {
+            return;
+        }
+        let nq = 4 * model.order.nodes();
+        let p = model.order.degree();
+        for (id, rod) in model.rods.iter().enumerate() {
+            for e in 0..rod.mesh.elements() {
+                let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
+                let q = model.element_quaternions(x, rod, e);
+                let lrow = self.compat_row(id, e);
+                let t = element::element_terms(
+                    model.order,
+                    &model.rule,
+                    h,
+                    &q,
+                    &model.stiffness,
+                    &model.elasticity,
+                    rod.element_reference(e, model.rule.len()),
+                    &[x[lrow], x[lrow + 1], x[lrow + 2]],
+                    &rate,
+                    false,
+                );
+                for i in 0..nq {
+                    out[rod.q_dof(e * p + i / 4, i % 4)] += t.load_gradient[i];
+                }
+                for j in 0..3 {
+                    out[rod.r_dof(e, j)] -= h * rate.force[j];
+                }
+            }
+        }
     }
 
     /// Internal force `n` (N, global frame) carried by element `e` of rod `rod` in state `x`:
@@ -446,9 +583,9 @@ impl System {
                 }
             }
         }
-        if let (TipLoad::Force(p), End::Tip) = (self.tip_load, end) {
-            // under load control the tip is loaded by the dead load itself
-            force[2] -= p;
+        if let (Some(f), End::Tip) = (self.tip_force_z(), end) {
+            // under a dead axial load the tip is loaded by the dead load itself
+            force[2] += f;
         }
         let q = model.quaternion(x, rod, node);
         let moment = Vector3::from_fn(|i, _| {
@@ -457,5 +594,14 @@ impl System {
             0.5 * fq.dot(&quaternion::mul(&e, &q))
         });
         (force, moment)
+    }
+}
+
+/// The tip's height (m) at load parameter `lambda` when the tip support's z is a prescribed
+/// motion: `h = h0 (1 − ε)`, `ε` the compression ratio it prescribes.
+fn tip_height(loads: &Loads, height0: f64, lambda: f64) -> Option<f64> {
+    match loads.tip.axis(SupportAxis::Z) {
+        AxisLoad::Motion(r) => Some(height0 * (1.0 - r.at(lambda))),
+        AxisLoad::Force(_) => None,
     }
 }

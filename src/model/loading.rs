@@ -46,30 +46,256 @@ impl Branch {
     }
 }
 
-/// How the tips are loaded along the axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum TipLoad {
-    /// Displacement control: every tip held at height `z = h` (m).
-    Height(f64),
-    /// Load control: a dead compressive force `P` (N) on every tip, along −z.
-    Force(f64),
+/// An axis of the tip support (DESIGN.md §8): its three translations and its three rotations
+/// about axes through the tip's centre.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SupportAxis {
+    X,
+    Y,
+    /// Along the tube's axis: the axial load.
+    Z,
+    /// Tilt about x (rad).
+    RotX,
+    /// Tilt about y (rad).
+    RotY,
+    /// Twist about the tube's axis (rad).
+    RotZ,
 }
 
-impl TipLoad {
-    /// The tip loading at load parameter `lambda`: height `h0 (1 − λ)` (m) under
-    /// displacement control, force `λ Pcrit` (N) under load control.
-    pub fn at(control: Control, lambda: f64, height0: f64, pcrit: f64) -> TipLoad {
-        match control {
-            Control::Displacement => TipLoad::Height(height0 * (1.0 - lambda)),
-            Control::Force => TipLoad::Force(lambda * pcrit),
+impl SupportAxis {
+    /// Every axis, in the order of [`TipSupport`]'s table.
+    pub const ALL: [SupportAxis; 6] = [
+        SupportAxis::X,
+        SupportAxis::Y,
+        SupportAxis::Z,
+        SupportAxis::RotX,
+        SupportAxis::RotY,
+        SupportAxis::RotZ,
+    ];
+
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// A value affine in the load parameter `λ`: `at_zero + per_unit λ`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ramp {
+    pub at_zero: f64,
+    pub per_unit: f64,
+}
+
+impl Ramp {
+    /// Zero at every `λ`: a held motion, or no force.
+    pub const ZERO: Ramp = Ramp {
+        at_zero: 0.0,
+        per_unit: 0.0,
+    };
+    /// The load parameter itself.
+    pub const PARAMETER: Ramp = Ramp {
+        at_zero: 0.0,
+        per_unit: 1.0,
+    };
+
+    /// The value at `lambda`.
+    pub fn at(self, lambda: f64) -> f64 {
+        self.at_zero + self.per_unit * lambda
+    }
+
+    /// `d(value)/dλ` at `lambda`.
+    pub fn rate(self, _lambda: f64) -> f64 {
+        self.per_unit
+    }
+
+    /// Whether the value moves with `λ`.
+    pub fn is_driven(self) -> bool {
+        self.per_unit != 0.0
+    }
+}
+
+/// What one axis of the tip support does, in the axis's own measure: along z the motion is
+/// the compression ratio `ε` (tip height `h = h0 (1 − ε)`) and the force the compressive
+/// dead load on every rod's tip over the Euler load, `P/Pcrit`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AxisLoad {
+    /// The support's motion along the axis prescribed: held where it is ([`Ramp::ZERO`]) or
+    /// driven by the load parameter.
+    Motion(Ramp),
+    /// A dead force (or moment) on every rod's tip along the axis: none ([`Ramp::ZERO`], the
+    /// axis free) or driven by the load parameter.
+    Force(Ramp),
+}
+
+impl AxisLoad {
+    /// The prescribed value and its rate `d/dλ` at `lambda`, in the axis's measure.
+    pub fn ramp(self) -> Ramp {
+        match self {
+            AxisLoad::Motion(r) | AxisLoad::Force(r) => r,
+        }
+    }
+}
+
+/// The tip support, axis by axis (rapier's generic joint with per-axis masks is the model):
+/// each of x, y, z, θx, θy, θz is held, free, driven by the load parameter or carries a
+/// dead load. How each rod's tip is attached to the support (which of its translations and
+/// rotations the support holds) is the rods' [`crate::model::boundary::EndCondition`]; this
+/// is the support's own motion and the loads on it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TipSupport {
+    axes: [AxisLoad; 6],
+}
+
+impl TipSupport {
+    /// A support held in place along every axis.
+    pub const HELD: TipSupport = TipSupport {
+        axes: [AxisLoad::Motion(Ramp::ZERO); 6],
+    };
+
+    /// What `axis` does.
+    pub fn axis(&self, axis: SupportAxis) -> AxisLoad {
+        self.axes[axis.index()]
+    }
+
+    /// The same support with `axis` doing `load`.
+    pub fn with(mut self, axis: SupportAxis, load: AxisLoad) -> TipSupport {
+        self.axes[axis.index()] = load;
+        self
+    }
+}
+
+/// A load distributed along every rod, per unit arc length: its slot in the element kernel
+/// is [`crate::discretisation::element::ElementLoad`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LineLoad {
+    /// A dead force `f(λ) = ramp(λ) · direction` (N/m) of fixed direction, such as the rods'
+    /// weight: potential `−∫ f·r ds`.
+    Dead { direction: [f64; 3], ramp: Ramp },
+}
+
+impl LineLoad {
+    /// The force per unit length (N/m) at `lambda`.
+    pub fn force(&self, lambda: f64) -> [f64; 3] {
+        match *self {
+            LineLoad::Dead { direction, ramp } => direction.map(|d| d * ramp.at(lambda)),
         }
     }
 
-    /// `d(h or P)/dλ`: `−h0` (m) under displacement control, `Pcrit` (N) under load control.
-    pub fn rate(control: Control, height0: f64, pcrit: f64) -> f64 {
-        match control {
-            Control::Displacement => -height0,
-            Control::Force => pcrit,
+    /// `d f/dλ` (N/m) at `lambda`.
+    pub fn rate(&self, lambda: f64) -> [f64; 3] {
+        match *self {
+            LineLoad::Dead { direction, ramp } => direction.map(|d| d * ramp.rate(lambda)),
         }
+    }
+}
+
+/// What the load parameter `λ` drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Driven {
+    /// An axis of the tip support, by its motion or by a dead load on it.
+    Tip(SupportAxis),
+    /// The loads along the rods.
+    AlongRods,
+}
+
+/// What the load parameter `λ` is: what it drives and whether by motion or force. The faces
+/// print its symbol, unit and label instead of assuming `ε`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadParameter {
+    pub driven: Driven,
+    pub control: Control,
+}
+
+impl LoadParameter {
+    /// The axial parameter of `control`: `ε` or `P/Pcrit`.
+    pub fn axial(control: Control) -> LoadParameter {
+        LoadParameter {
+            driven: Driven::Tip(SupportAxis::Z),
+            control,
+        }
+    }
+
+    /// Its symbol on screen: `ε`, `P/Pcrit`, `θ`, `q` …
+    pub fn symbol(&self) -> &'static str {
+        use SupportAxis::*;
+        match (self.driven, self.control) {
+            (Driven::Tip(Z), Control::Displacement) => "ε",
+            (Driven::Tip(Z), Control::Force) => "P/Pcrit",
+            (Driven::Tip(X | Y), Control::Displacement) => "u",
+            (Driven::Tip(X | Y), Control::Force) => "F",
+            (Driven::Tip(_), Control::Displacement) => "θ",
+            (Driven::Tip(_), Control::Force) => "M",
+            (Driven::AlongRods, _) => "q",
+        }
+    }
+
+    /// Its name in plain ASCII, for files and command lines: `eps`, `P/Pcrit`, `theta` …
+    pub fn ascii(&self) -> &'static str {
+        match self.symbol() {
+            "ε" => "eps",
+            "θ" => "theta",
+            other => other,
+        }
+    }
+
+    /// Its unit (empty for a ratio).
+    pub fn unit(&self) -> &'static str {
+        use SupportAxis::*;
+        match (self.driven, self.control) {
+            (Driven::Tip(Z), _) => "",
+            (Driven::Tip(X | Y), Control::Displacement) => "m",
+            (Driven::Tip(X | Y), Control::Force) => "N",
+            (Driven::Tip(_), Control::Displacement) => "rad",
+            (Driven::Tip(_), Control::Force) => "N m",
+            (Driven::AlongRods, _) => "N/m",
+        }
+    }
+
+    /// What it is, in words: `compression ratio`, `compressive tip load over Pcrit` …
+    pub fn label(&self) -> &'static str {
+        use SupportAxis::*;
+        match (self.driven, self.control) {
+            (Driven::Tip(Z), Control::Displacement) => "compression ratio",
+            (Driven::Tip(Z), Control::Force) => "compressive tip load over Pcrit",
+            (Driven::Tip(X | Y), Control::Displacement) => "lateral tip displacement",
+            (Driven::Tip(X | Y), Control::Force) => "lateral tip force",
+            (Driven::Tip(RotZ), Control::Displacement) => "twist angle",
+            (Driven::Tip(RotZ), Control::Force) => "axial torque",
+            (Driven::Tip(_), Control::Displacement) => "tilt angle",
+            (Driven::Tip(_), Control::Force) => "bending moment",
+            (Driven::AlongRods, _) => "line load",
+        }
+    }
+}
+
+/// Everything applied to an assembly, as functions of the load parameter: the tip support
+/// axis by axis and the loads along the rods. The base is held where the rods' end
+/// conditions say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Loads {
+    pub tip: TipSupport,
+    /// Loads along every rod.
+    pub along_rods: Vec<LineLoad>,
+    pub parameter: LoadParameter,
+}
+
+impl Loads {
+    /// The tips pushed along the axis under `control` (the thesis's loading, DESIGN.md §3):
+    /// the tip support's z driven by `λ = ε` or carrying the dead load `λ Pcrit` on every
+    /// tip, every other axis held.
+    pub fn axial(control: Control) -> Loads {
+        let z = match control {
+            Control::Displacement => AxisLoad::Motion(Ramp::PARAMETER),
+            Control::Force => AxisLoad::Force(Ramp::PARAMETER),
+        };
+        Loads {
+            tip: TipSupport::HELD.with(SupportAxis::Z, z),
+            along_rods: Vec::new(),
+            parameter: LoadParameter::axial(control),
+        }
+    }
+
+    /// The control of the load parameter.
+    pub fn control(&self) -> Control {
+        self.parameter.control
     }
 }

@@ -16,7 +16,7 @@ use crate::discretisation::model::DiscreteModel;
 use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
-use crate::model::loading::{Control, TipLoad};
+use crate::model::loading::{AxisLoad, Control, Driven, LoadParameter, Loads, SupportAxis};
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, Stability};
 use crate::solver::continuation::Critical;
 use crate::solver::continuation::{ContinuationError, ContinuationSettings, Observer, StopReason};
@@ -75,10 +75,8 @@ impl Simulation {
     /// natural state's solve on: one where other work runs in parallel (tests).
     pub fn from_case_on(case: &Case, threads: usize) -> Result<Simulation, SolveError> {
         let start = Start {
-            settings: case.solver,
-            interrupt: None,
-            observer: None,
             threads,
+            ..Start::plain(case.solver)
         };
         Simulation::start_case(case, start)
     }
@@ -92,10 +90,9 @@ impl Simulation {
         observer: Option<Observer>,
     ) -> Result<Simulation, SolveError> {
         let start = Start {
-            settings: case.solver,
             interrupt,
             observer,
-            threads: all_cores(),
+            ..Start::plain(case.solver)
         };
         Simulation::start_case(case, start)
     }
@@ -104,8 +101,7 @@ impl Simulation {
     fn start_case(case: &Case, start: Start) -> Result<Simulation, SolveError> {
         let model = case.model();
         let x0 = model.natural_state();
-        let control = case.loading.control;
-        Simulation::start(model, case.boundary, control, x0, start)
+        Simulation::start(model, case.boundary, case.loads(), x0, start)
     }
 
     /// Starts from the natural state at `ε = 0` under displacement control and solves it.
@@ -129,19 +125,25 @@ impl Simulation {
         x: Vec<f64>,
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
-        let start = Start {
-            settings,
-            interrupt: None,
-            observer: None,
-            threads: all_cores(),
-        };
-        Simulation::start(model, bc, control, x, start)
+        Simulation::start(model, bc, Loads::axial(control), x, Start::plain(settings))
+    }
+
+    /// Starts from the primal state `x` under `loads` and solves it, as
+    /// [`Simulation::from_state`] does under an axial control.
+    pub fn with_loads(
+        model: DiscreteModel,
+        bc: BoundaryConditions,
+        loads: Loads,
+        x: Vec<f64>,
+        settings: ContinuationSettings,
+    ) -> Result<Simulation, SolveError> {
+        Simulation::start(model, bc, loads, x, Start::plain(settings))
     }
 
     fn start(
         model: DiscreteModel,
         bc: BoundaryConditions,
-        control: Control,
+        loads: Loads,
         mut x: Vec<f64>,
         start: Start,
     ) -> Result<Simulation, SolveError> {
@@ -153,13 +155,10 @@ impl Simulation {
         } = start;
         x.truncate(model.n_primal);
         let eps = 1.0 - mean_tip_height(&model, &x) / model.height0();
-        let lambda = match control {
-            Control::Displacement => eps,
-            Control::Force => 0.0,
-        };
-        let tip = TipLoad::at(control, lambda, model.height0(), pcrit(&model));
-        let system = System::new(&model, bc, &x, tip);
-        let problem = LoadedAssembly::new(model, system, control).with_threads(threads);
+        let lambda = parameter_of_state(&loads, eps);
+        let control = loads.control();
+        let system = System::new(&model, bc, &x, &loads, lambda);
+        let problem = LoadedAssembly::new(model, system).with_threads(threads);
         let path = Continuation::new_with(problem, x, lambda, settings, interrupt, observer)
             .map_err(|e| solve_error(e, control, eps))?;
         Ok(Simulation {
@@ -248,7 +247,17 @@ impl Simulation {
     }
 
     pub fn control(&self) -> Control {
-        self.rods().control
+        self.loads().control()
+    }
+
+    /// What is applied to the assembly, as functions of the load parameter.
+    pub fn loads(&self) -> &Loads {
+        self.system().loads()
+    }
+
+    /// What the load parameter `λ` is (its symbol, unit and label for the faces).
+    pub fn load_parameter(&self) -> LoadParameter {
+        self.loads().parameter
     }
 
     /// Current load parameter `λ`.
@@ -393,15 +402,18 @@ impl Simulation {
             Control::Force => -self.load_point(0).load[2],
         };
         let model = self.model().clone();
-        let tip = TipLoad::at(control, lambda, model.height0(), pcrit(&model));
+        let loads = Loads {
+            along_rods: self.loads().along_rods.clone(),
+            ..Loads::axial(control)
+        };
         let x = self.state();
-        let system = System::new(&model, bc, &x[..model.n_primal], tip);
+        let system = System::new(&model, bc, &x[..model.n_primal], &loads, lambda);
         // inextensibility and unit-norm multipliers keep their rows; support and joint
         // multipliers enter the KKT matrix linearly and restart from zero
         let keep = system.linear_row(0).min(x.len());
         let x = x[..keep].to_vec();
         let eps = self.eps();
-        let problem = LoadedAssembly::new(model, system, control).with_threads(self.threads);
+        let problem = LoadedAssembly::new(model, system).with_threads(self.threads);
         self.path
             .restart_with(problem, x, lambda)
             .map_err(|e| solve_error(e, control, eps))
@@ -458,7 +470,8 @@ impl Simulation {
             &full,
             system.bc,
             &full.natural_state(),
-            TipLoad::Height(full.height0()),
+            &Loads::axial(Control::Displacement),
+            0.0,
         );
         let mut x = vec![0.0; full_system.n];
         reduction.expand_state(
@@ -539,6 +552,28 @@ struct Start {
     interrupt: Option<Interrupt>,
     observer: Option<Observer>,
     threads: usize,
+}
+
+impl Start {
+    /// Under `settings`, without interrupt or observer, the block work on all the cores.
+    fn plain(settings: ContinuationSettings) -> Start {
+        Start {
+            settings,
+            interrupt: None,
+            observer: None,
+            threads: all_cores(),
+        }
+    }
+}
+
+/// The load parameter at which a state of compression ratio `eps` starts a path under
+/// `loads`: `ε` itself when the parameter prescribes the axial motion (the supports then
+/// hold the tips where the state has them), zero otherwise.
+fn parameter_of_state(loads: &Loads, eps: f64) -> f64 {
+    match (loads.parameter.driven, loads.tip.axis(SupportAxis::Z)) {
+        (Driven::Tip(SupportAxis::Z), AxisLoad::Motion(r)) => (eps - r.at_zero) / r.per_unit,
+        _ => 0.0,
+    }
 }
 
 fn solve_error(e: ContinuationError, control: Control, eps: f64) -> SolveError {

@@ -10,7 +10,6 @@ use super::judge::{all_cores, lowest_of, BlockStability, StabilityJudge};
 use super::reduction::{self, CriticalModes, Reduction};
 use crate::discretisation::model::{DiscreteModel, End};
 use crate::discretisation::system::System;
-use crate::model::loading::{Control, TipLoad};
 use crate::results::Stability;
 use crate::solver::continuation::Critical;
 use crate::solver::problem::Problem;
@@ -18,15 +17,11 @@ use crate::solver::stability::{InertiaError, KktStructure};
 use faer::sparse::SymbolicSparseColMat;
 use std::sync::Arc;
 
-/// A discrete model under its supports and the loads of a control of its tips: what the
-/// continuation follows.
+/// A discrete model under its supports and loads (its system's, functions of the load
+/// parameter): what the continuation follows.
 pub struct LoadedAssembly {
     pub(super) model: DiscreteModel,
     pub(super) system: System,
-    pub(super) control: Control,
-    /// `∂R/∂λ`: constant, since the load parameter enters the tip constraints or the dead
-    /// load linearly.
-    load_derivative: Vec<f64>,
     /// How the model stands for the whole assembly.
     reduction: Box<dyn Reduction>,
     /// Where stability is judged: the whole assembly the model stands for.
@@ -46,22 +41,14 @@ pub fn mean_tip_height(model: &DiscreteModel, x: &[f64]) -> f64 {
 }
 
 impl LoadedAssembly {
-    /// The problem of `system` (built on `model`) under `control`, its block work on all
-    /// the cores.
-    pub fn new(model: DiscreteModel, system: System, control: Control) -> LoadedAssembly {
-        let rate = TipLoad::rate(control, model.height0(), pcrit(&model));
-        let load_derivative = system
-            .load_derivative(&model)
-            .into_iter()
-            .map(|v| v * rate)
-            .collect();
+    /// The problem of `system` (built on `model`, loaded by the system's loads), its block
+    /// work on all the cores.
+    pub fn new(model: DiscreteModel, system: System) -> LoadedAssembly {
         let reduction = reduction::of(&model);
         let judge = reduction.judge(&model, &system, all_cores());
         LoadedAssembly {
             model,
             system,
-            control,
-            load_derivative,
             reduction,
             judge,
         }
@@ -78,11 +65,6 @@ impl LoadedAssembly {
     /// least one) from now on.
     pub fn set_threads(&mut self, threads: usize) {
         self.judge.set_threads(threads);
-    }
-
-    /// The tip loading at load parameter `lambda`.
-    pub fn tip_load(&self, lambda: f64) -> TipLoad {
-        tip_load(&self.model, self.control, lambda)
     }
 
     /// How the model solved stands for the whole assembly.
@@ -142,10 +124,6 @@ pub fn pcrit(model: &DiscreteModel) -> f64 {
     model.stiffness.euler_load(model.length())
 }
 
-fn tip_load(model: &DiscreteModel, control: Control, lambda: f64) -> TipLoad {
-    TipLoad::at(control, lambda, model.height0(), pcrit(model))
-}
-
 impl Problem for LoadedAssembly {
     fn unknowns(&self) -> usize {
         self.system.n
@@ -160,7 +138,7 @@ impl Problem for LoadedAssembly {
     }
 
     fn residual(&mut self, x: &[f64], lambda: f64, residual: &mut [f64]) -> f64 {
-        self.system.set_tip_load(self.tip_load(lambda));
+        self.system.set_parameter(lambda);
         self.system.residual(&self.model, x, residual).energy
     }
 
@@ -171,7 +149,7 @@ impl Problem for LoadedAssembly {
         residual: &mut [f64],
         jacobian: &mut [f64],
     ) -> f64 {
-        self.system.set_tip_load(self.tip_load(lambda));
+        self.system.set_parameter(lambda);
         self.system
             .evaluate(&self.model, x, residual, jacobian)
             .energy
@@ -191,12 +169,13 @@ impl Problem for LoadedAssembly {
         self.system.residual_weights(&self.model, weights);
     }
 
-    fn load_derivative(&mut self, _x: &[f64], _lambda: f64, out: &mut [f64]) {
-        out.copy_from_slice(&self.load_derivative);
+    /// From the loads at `lambda`.
+    fn load_derivative(&mut self, x: &[f64], lambda: f64, out: &mut [f64]) {
+        self.system.load_derivative(&self.model, x, lambda, out);
     }
 
     fn load_derivative_is_constant(&self) -> bool {
-        true
+        self.system.load_derivative_is_constant()
     }
 
     fn unstable_directions(&mut self, x: &[f64], _lambda: f64) -> Result<usize, InertiaError> {
@@ -255,6 +234,6 @@ impl Problem for LoadedAssembly {
 
     /// The system keeps the tip load of the converged point (reactions are read from it).
     fn restore(&mut self, _x: &[f64], lambda: f64) {
-        self.system.set_tip_load(self.tip_load(lambda));
+        self.system.set_parameter(lambda);
     }
 }

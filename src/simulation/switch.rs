@@ -4,10 +4,9 @@
 //! modes offers several directions, they are tried in the order of the energy of the first
 //! step along them.
 
-use super::problem::{pcrit, LoadedAssembly};
+use super::problem::LoadedAssembly;
 use super::{Simulation, SolveError};
 use crate::discretisation::system::System;
-use crate::model::loading::TipLoad;
 use crate::results::CriticalPoint;
 use crate::solver::continuation::{ContinuationError, StopReason};
 use crate::solver::problem::Problem;
@@ -71,9 +70,9 @@ impl Simulation {
         let (Some(mode), Some(full)) = (cp.assembly_mode.as_ref(), whole) else {
             return Err(self.refused(StopReason::SymmetricPair));
         };
-        let (control, bc) = (self.control(), self.boundary_conditions());
-        let tip = TipLoad::at(control, cp.parameter, full.height0(), pcrit(&full));
-        let natural = System::new(&full, bc, &full.natural_state(), tip);
+        let bc = self.boundary_conditions();
+        let loads = self.loads().clone();
+        let natural = System::new(&full, bc, &full.natural_state(), &loads, cp.parameter);
         let expand = |x: &[f64]| {
             let mut out = vec![0.0; natural.n];
             let (model, system) = (self.model(), self.system());
@@ -86,7 +85,7 @@ impl Simulation {
         // of the same path to re-solve the critical state from
         let near = expand(self.state());
         // the supports hold what they hold at the critical state, as the reduced model's did
-        let system = System::new(&full, bc, &x[..full.n_primal], tip);
+        let system = System::new(&full, bc, &x[..full.n_primal], &loads, cp.parameter);
         // the branches of a double point leave it along particular directions of its
         // plane (where the symmetry's higher-order terms are extremal, at multiples of
         // π/2m for a wavenumber-1 mode): the directions φ = jπ/2m are tried in turn
@@ -95,13 +94,12 @@ impl Simulation {
         let m = full.rods.len() / 2;
         let directions = in_plane(mode, cp.second_mode.as_deref(), m);
         let order = {
-            let mut probe = LoadedAssembly::new(full.clone(), system.clone(), control);
+            let mut probe = LoadedAssembly::new(full.clone(), system.clone());
             by_energy(&mut probe, &x, cp.parameter, &directions, sign, h)
         };
         let threads = self.threads;
         in_turn(order, |j| {
-            let problem =
-                LoadedAssembly::new(full.clone(), system.clone(), control).with_threads(threads);
+            let problem = LoadedAssembly::new(full.clone(), system.clone()).with_threads(threads);
             let reduced = (self.model().clone(), self.system().clone());
             self.path.switch_onto_problem(
                 problem,

@@ -2,12 +2,12 @@
 //! tangent predictor, modified-Newton corrector, adaptive step length with cut-backs,
 //! pseudo-arclength steps where natural ones fail (folds), the stability of every converged
 //! state, critical points where the count of unstable directions changes
-//! ([`super::critical`]), and branch switching at bifurcations.
+//! ([`super::critical`]), and branch switching at bifurcations ([`super::switching`]).
 //!
 //! The engine knows nothing of rods: it follows any [`Problem`].
 
 use super::interrupt::{Interrupt, Interruption};
-use super::linear::{least_squares_multipliers, LinearError};
+use super::linear::LinearError;
 use super::newton::{Newton, NewtonError, NewtonReport, NewtonSettings, StepEquation};
 use super::path_state::PathState;
 use super::problem::Problem;
@@ -280,7 +280,7 @@ impl<P: Problem> Continuation<P> {
     }
 
     /// Newton at fixed `λ` from the current state; keeps the old state on failure.
-    fn correct_in_place(&mut self) -> Result<(), ContinuationError> {
+    pub(super) fn correct_in_place(&mut self) -> Result<(), ContinuationError> {
         let x0 = self.state.x.clone();
         let l0 = self.state.lambda;
         let step = StepEquation::natural(&x0, l0, 0.0);
@@ -418,7 +418,7 @@ impl<P: Problem> Continuation<P> {
             let remaining = (target - self.state.lambda).abs();
             // `nominal` is the adaptive step; the last natural step is shortened to land
             // on the target without shrinking the step for what follows
-            let mut nominal = self.state.step.min(s.max_step);
+            let nominal = self.state.step.min(s.max_step);
             let h = if self.state.arclength {
                 nominal
             } else {
@@ -460,31 +460,9 @@ impl<P: Problem> Continuation<P> {
                     if let Some(observe) = self.observer.as_mut() {
                         observe(&self.state);
                     }
-                    if let (Some(b), Some(a)) = (stability_before, self.state.stability) {
-                        if a.unstable_directions != b.unstable_directions
-                            && self.is_neutral_flip(&x_before, l_before)
-                        {
-                            self.settle_neutral(b, a);
-                        } else if a.unstable_directions != b.unstable_directions {
-                            if self.critical.len() >= MAX_CRITICAL_POINTS {
-                                return Err(self.error(
-                                    target,
-                                    h,
-                                    StopReason::TooManyCritical {
-                                        max: MAX_CRITICAL_POINTS,
-                                    },
-                                ));
-                            }
-                            self.locate_critical(&x_before, l_before, was_arclength, b, a);
-                        }
-                    }
-                    // adapt the step length to the Newton effort
-                    if iterations + 1 < s.target_iterations {
-                        nominal = (nominal * 1.5).min(s.max_step);
-                    } else if iterations > s.target_iterations + 2 {
-                        nominal = h * 0.6;
-                    }
-                    self.state.step = nominal.max(s.min_step);
+                    self.judge_crossing(stability_before, &x_before, l_before, was_arclength)
+                        .map_err(|reason| self.error(target, h, reason))?;
+                    self.adapt_step(nominal, h, iterations);
                 }
                 Err(NewtonError::Interrupted { why, .. }) => {
                     self.newton.discard_factorisation();
@@ -507,6 +485,56 @@ impl<P: Problem> Continuation<P> {
                 }
             }
         }
+        self.settle_on_target(target, lowest_done);
+        Ok(())
+    }
+
+    /// After an accepted step from `(x_before, λ_before)` whose state had the stability
+    /// `before`: a change of the count of unstable directions is settled as a neutral
+    /// direction's flip or located as a critical point. Fails when the path has more
+    /// critical points than [`MAX_CRITICAL_POINTS`].
+    fn judge_crossing(
+        &mut self,
+        before: Option<Stability>,
+        x_before: &[f64],
+        l_before: f64,
+        was_arclength: bool,
+    ) -> Result<(), StopReason> {
+        if let (Some(b), Some(a)) = (before, self.state.stability) {
+            if a.unstable_directions != b.unstable_directions
+                && self.is_neutral_flip(x_before, l_before)
+            {
+                self.settle_neutral(b, a);
+            } else if a.unstable_directions != b.unstable_directions {
+                if self.critical.len() >= MAX_CRITICAL_POINTS {
+                    return Err(StopReason::TooManyCritical {
+                        max: MAX_CRITICAL_POINTS,
+                    });
+                }
+                self.locate_critical(x_before, l_before, was_arclength, b, a);
+            }
+        }
+        Ok(())
+    }
+
+    /// Adapts the step length to the Newton effort (`iterations`) of the accepted step of
+    /// length `h`, the adaptive step having been `nominal`.
+    fn adapt_step(&mut self, nominal: f64, h: f64, iterations: usize) {
+        let s = self.settings;
+        let mut nominal = nominal;
+        if iterations + 1 < s.target_iterations {
+            nominal = (nominal * 1.5).min(s.max_step);
+        } else if iterations > s.target_iterations + 2 {
+            nominal = h * 0.6;
+        }
+        self.state.step = nominal.max(s.min_step);
+    }
+
+    /// Puts the path on the load parameter `target` it has reached (to rounding) and, unless
+    /// `lowest_done`, adds the lowest eigenvalue to the state's stability when the settings
+    /// ask for it.
+    fn settle_on_target(&mut self, target: f64, lowest_done: bool) {
+        let s = self.settings;
         self.state.lambda = target;
         self.problem.restore(&self.state.x, self.state.lambda);
         // the count is that of the last accepted step; the lowest eigenvalue is added at
@@ -527,7 +555,6 @@ impl<P: Problem> Continuation<P> {
                 }
             }
         }
-        Ok(())
     }
 
     /// Whether the eigenvalue nearest zero at `(x, λ)` is zero to rounding
@@ -589,132 +616,5 @@ impl<P: Problem> Continuation<P> {
         let (x, lambda) = (&self.state.x, self.state.lambda);
         let lowest = eigenvalue && self.settings.lowest_eigenvalue;
         self.state.stability = self.problem.stability(x, lambda, lowest).ok();
-    }
-
-    /// Replaces the problem (e.g. other boundary conditions) and solves it from `(x, λ)`;
-    /// the statistics and critical points go on. On failure the old problem and state are
-    /// kept.
-    pub fn restart_with(
-        &mut self,
-        problem: P,
-        x: Vec<f64>,
-        lambda: f64,
-    ) -> Result<(), ContinuationError> {
-        self.with_problem(problem, x, lambda, |this| {
-            this.state.arclength = false;
-            this.correct_in_place()?;
-            this.state.step = this.settings.initial_step;
-            this.update_stability(true);
-            Ok(())
-        })
-    }
-
-    /// Replaces the problem (e.g. the full model behind a reduced one) and leaves the
-    /// critical state `(x, λ)` of the new problem along `mode` as
-    /// [`Continuation::switch_onto`] does; on failure the old problem and state are kept.
-    /// `near` is another state of the new problem on the same path (the reduced model's
-    /// last accepted state, expanded), from which the critical state is re-solved when the
-    /// Jacobian at `x` itself is singular.
-    #[allow(clippy::too_many_arguments)]
-    pub fn switch_onto_problem(
-        &mut self,
-        problem: P,
-        x: Vec<f64>,
-        lambda: f64,
-        mode: &[f64],
-        sign: f64,
-        h: f64,
-        near: Option<Vec<f64>>,
-    ) -> Result<(), ContinuationError> {
-        self.with_problem(problem, x, lambda, |this| {
-            this.state.tangent = None;
-            // the new problem's multipliers (of supports and joints, which the reduced
-            // state does not give) are fitted first by least squares at the known primal
-            // state: Newton's method would otherwise have to find them through the
-            // critical state's nearly singular Jacobian, and diverged there when the point
-            // was placed to rounding (the n = 8 sliding tips' double point); the state is
-            // then re-solved, and when its Jacobian is too singular to solve with, a
-            // little before the critical load (relative offsets 1e-7, 1e-6 of the load
-            // parameter, far below the accuracy of any branch followed from it), from the
-            // critical state and then from `near`, where the first Jacobian is regular
-            let mut x0 = this.state.x.clone();
-            this.fit_multipliers(&mut x0, lambda);
-            let settings = NewtonSettings {
-                singular_threshold: this.settings.newton.singular_threshold.max(1e-2),
-                ..this.settings.newton
-            };
-            const OFFSETS: [f64; 3] = [0.0, 1e-7, 1e-6];
-            let mut starts = vec![x0.clone()];
-            if let Some(mut near) = near {
-                near.resize(x0.len(), 0.0);
-                this.fit_multipliers(&mut near, lambda);
-                starts.push(near);
-            }
-            let mut last = None;
-            let mut solved = None;
-            'starts: for start in &starts {
-                for offset in OFFSETS {
-                    let l0 = lambda - offset * lambda.abs().max(1e-3);
-                    let step = StepEquation::natural(&x0, l0, 0.0);
-                    match this.correct(start.clone(), l0, &step, &settings) {
-                        Ok(t) => {
-                            solved = Some((t, l0));
-                            break 'starts;
-                        }
-                        Err(cause) => last = Some(cause),
-                    }
-                }
-            }
-            let Some((t, l0)) = solved else {
-                let cause = last.expect("at least one start tried");
-                return Err(this.error(lambda, 0.0, StopReason::Newton { step: 0.0, cause }));
-            };
-            this.state.x.clone_from(&t.x);
-            this.state.lambda = l0;
-            this.switch_onto(&t.x, l0, mode, sign, h)
-        })
-    }
-
-    /// Replaces the multipliers of `x` by those that leave the least residual at its
-    /// primal unknowns and load `lambda` ([`least_squares_multipliers`]), where they can be
-    /// found.
-    fn fit_multipliers(&mut self, x: &mut [f64], lambda: f64) {
-        let n = self.problem.unknowns();
-        let n_primal = self.problem.primal_unknowns();
-        let mut residual = vec![0.0; n];
-        let mut kkt = vec![0.0; self.problem.pattern().row_idx().len()];
-        self.problem.jacobian(x, lambda, &mut residual, &mut kkt);
-        let fitted = least_squares_multipliers(self.problem.pattern(), &kkt, &residual, n_primal);
-        if let Some(delta) = fitted {
-            for (v, d) in x[n_primal..].iter_mut().zip(&delta) {
-                *v += d;
-            }
-        }
-        self.problem.restore(&self.state.x, self.state.lambda);
-    }
-
-    /// Puts `problem` (with a Newton solver of its own) in place at `(x, λ)` and runs `f`;
-    /// if `f` fails, the old problem, solver and state come back. The statistics go on.
-    fn with_problem(
-        &mut self,
-        problem: P,
-        mut x: Vec<f64>,
-        lambda: f64,
-        f: impl FnOnce(&mut Self) -> Result<(), ContinuationError>,
-    ) -> Result<(), ContinuationError> {
-        x.resize(problem.unknowns(), 0.0);
-        let mut newton = Newton::new(&problem);
-        newton.carry_count(self.newton.factorisations());
-        let old_problem = std::mem::replace(&mut self.problem, problem);
-        let mut old_newton = std::mem::replace(&mut self.newton, newton);
-        let old_state = self.state.clone();
-        self.state.x = x;
-        self.state.lambda = lambda;
-        f(self).inspect_err(|_| {
-            old_newton.carry_count(self.newton.factorisations());
-            self.problem = old_problem;
-            self.newton = old_newton;
-            self.state = old_state;
-        })
     }
 }

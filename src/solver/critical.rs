@@ -1,9 +1,9 @@
 //! Critical points of a path (DESIGN.md §5): located where the count of unstable directions
 //! changes across an accepted step — bracketed by the counts, then placed by a secant on the
-//! eigenvalue nearest zero —, classified as folds or bifurcations, and left along their mode
-//! by branch switching.
+//! eigenvalue nearest zero —, and classified as folds or bifurcations (they are left along
+//! their mode by branch switching, [`super::switching`]).
 
-use super::continuation::{Continuation, ContinuationError, Critical, StopReason};
+use super::continuation::{Continuation, Critical};
 use super::newton::{NewtonSettings, StepEquation};
 use super::problem::Problem;
 use crate::results::{CriticalKind, Stability};
@@ -316,64 +316,6 @@ impl<P: Problem> Continuation<P> {
             }
             (None, _) => CriticalKind::LimitPoint,
             _ => CriticalKind::Bifurcation,
-        }
-    }
-
-    /// Leaves the path at critical point `index` along its mode, in the direction `sign`
-    /// (±1), by an arclength step of `h` measured along the mode; continuation then goes on
-    /// in arclength steps along the new branch.
-    pub fn switch_branch(
-        &mut self,
-        index: usize,
-        sign: f64,
-        h: f64,
-    ) -> Result<(), ContinuationError> {
-        let Some(cp) = self.critical.get(index).cloned() else {
-            let lambda = self.state.lambda;
-            return Err(self.error(lambda, 0.0, StopReason::NoCriticalPoint { index }));
-        };
-        self.switch_onto(&cp.state, cp.parameter, &cp.mode, sign, h)
-    }
-
-    /// Leaves the critical state `(state, λ)` along `mode` (its primal unknowns at least;
-    /// unit norm over them), in the direction `sign` (±1), by an arclength step of `h`
-    /// measured along the mode; continuation then goes on in arclength steps along the new
-    /// branch. On failure the current state is kept.
-    pub fn switch_onto(
-        &mut self,
-        state: &[f64],
-        parameter: f64,
-        mode: &[f64],
-        sign: f64,
-        h: f64,
-    ) -> Result<(), ContinuationError> {
-        let np = self.problem.primal_unknowns();
-        let tx: Vec<f64> = mode[..np].iter().map(|v| v * sign).collect();
-        let x: Vec<f64> = state
-            .iter()
-            .enumerate()
-            .map(|(i, a)| a + sign * h * mode.get(i).copied().unwrap_or(0.0))
-            .collect();
-        self.newton.discard_factorisation();
-        let step = StepEquation {
-            tx: Some(&tx),
-            tl: 0.0,
-            x0: state,
-            l0: parameter,
-            ds: h,
-        };
-        let settings = self.settings.newton;
-        match self.correct(x, parameter, &step, &settings) {
-            Ok(t) => {
-                self.state.x = state.to_vec();
-                self.state.lambda = parameter;
-                self.state.arclength = true;
-                self.accept(t);
-                self.state.step = h;
-                self.update_stability(true);
-                Ok(())
-            }
-            Err(cause) => Err(self.error(parameter, h, StopReason::Newton { step: h, cause })),
         }
     }
 }

@@ -13,3 +13,4 @@ pub mod path_state;
 pub mod problem;
 pub mod stability;
 pub mod stats;
+pub mod switching;

@@ -442,24 +442,7 @@ impl Newton {
             last = reported;
             let step_eq = step.residual(&x[..np], *lambda);
             if r <= settings.tolerance && step_eq.abs() <= 1e-10 * (1.0 + step.ds.abs()) {
-                let what = if !energy.is_finite() {
-                    Some("energy")
-                } else if !lambda.is_finite() || x.iter().any(|v| !v.is_finite()) {
-                    Some("unknown")
-                } else {
-                    None
-                };
-                if let Some(what) = what {
-                    return Err(NewtonError::NonFinite {
-                        iteration: it,
-                        what,
-                    });
-                }
-                return Ok(NewtonReport {
-                    iterations: it,
-                    residual: reported,
-                    energy,
-                });
+                return converged(x, *lambda, energy, reported, it);
             }
             let diverging = !r.is_finite() || (it > 0 && r > 1e6 * first.max(settings.tolerance));
             if diverging && (!stale || !r.is_finite()) {
@@ -487,35 +470,8 @@ impl Newton {
                 self.solve_load(problem, threshold).map_err(linear)?;
             }
             self.solve_residual(problem, threshold).map_err(linear)?;
-            // δλ from the linearised step equation
-            let (ta, tb) = if self.load_solution_valid {
-                (
-                    step.along(&self.delta[..np]),
-                    step.along(&self.load_solution[..np]),
-                )
-            } else {
-                (0.0, 0.0)
-            };
-            let denominator = tb + step.tl;
-            if denominator.abs() < 1e-14 {
-                return Err(linear(LinearError::Singular {
-                    relative_residual: f64::INFINITY,
-                }));
-            }
-            let dl = (-step_eq - ta) / denominator;
-            if dl != 0.0 {
-                // δx = a + δλ b; in natural-parameter steps b is computed only when λ moves
-                if !self.load_solution_valid {
-                    self.solve_load(problem, threshold).map_err(linear)?;
-                }
-                for (d, bi) in self.delta.iter_mut().zip(&self.load_solution) {
-                    *d += dl * bi;
-                }
-            }
-            for (xi, di) in x.iter_mut().zip(&self.delta) {
-                *xi += di;
-            }
-            *lambda += dl;
+            self.bordered_update(problem, x, lambda, step, step_eq, threshold)
+                .map_err(linear)?;
             stale = true;
         }
         Err(NewtonError::NotConverged {
@@ -523,6 +479,77 @@ impl Newton {
             residual: last,
         })
     }
+
+    /// The bordered update from the solutions `a` (in `self.delta`) of `K a = −R` and `b`
+    /// (in `self.load_solution`) of `K b = −∂R/∂λ`: `δλ` from the step equation `step`
+    /// linearised about its residual `step_eq`, then `x += a + δλ b` and `λ += δλ`.
+    fn bordered_update<P: Problem>(
+        &mut self,
+        problem: &P,
+        x: &mut [f64],
+        lambda: &mut f64,
+        step: &StepEquation,
+        step_eq: f64,
+        threshold: f64,
+    ) -> Result<(), LinearError> {
+        let np = problem.primal_unknowns();
+        // δλ from the linearised step equation
+        let (ta, tb) = if self.load_solution_valid {
+            (
+                step.along(&self.delta[..np]),
+                step.along(&self.load_solution[..np]),
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let denominator = tb + step.tl;
+        if denominator.abs() < 1e-14 {
+            return Err(LinearError::Singular {
+                relative_residual: f64::INFINITY,
+            });
+        }
+        let dl = (-step_eq - ta) / denominator;
+        if dl != 0.0 {
+            // δx = a + δλ b; in natural-parameter steps b is computed only when λ moves
+            if !self.load_solution_valid {
+                self.solve_load(problem, threshold)?;
+            }
+            for (d, bi) in self.delta.iter_mut().zip(&self.load_solution) {
+                *d += dl * bi;
+            }
+        }
+        for (xi, di) in x.iter_mut().zip(&self.delta) {
+            *xi += di;
+        }
+        *lambda += dl;
+        Ok(())
+    }
+}
+
+/// The report of a solve converged at iteration `iteration` to `(x, λ)` with `energy` and
+/// the residual's `‖R‖∞` `residual`, or an error if any of them is not finite.
+fn converged(
+    x: &[f64],
+    lambda: f64,
+    energy: f64,
+    residual: f64,
+    iteration: usize,
+) -> Result<NewtonReport, NewtonError> {
+    let what = if !energy.is_finite() {
+        Some("energy")
+    } else if !lambda.is_finite() || x.iter().any(|v| !v.is_finite()) {
+        Some("unknown")
+    } else {
+        None
+    };
+    if let Some(what) = what {
+        return Err(NewtonError::NonFinite { iteration, what });
+    }
+    Ok(NewtonReport {
+        iterations: iteration,
+        residual,
+        energy,
+    })
 }
 
 /// `max_i |w_i r_i|` (NaN if any row is).

@@ -295,7 +295,7 @@ impl Problem {
         match self {
             Problem::Path(case) => {
                 let case = with_mesh(case, order, elements);
-                let targets = case.output_eps(case.loading.target, case.loading.steps);
+                let targets = case.output_parameters(case.loading.target, case.loading.steps);
                 let outcome = run_path(&case, &targets, |_, _| {})?;
                 if let Some(e) = outcome.error {
                     return Err(e);

@@ -325,7 +325,7 @@ struct Solved {
 
 fn solve(case: &Case, interrupt: Option<&Interrupt>) -> Result<Solved, String> {
     let (case, choice) = resolve_accuracy(case).map_err(|e| format!("choosing the mesh: {e}"))?;
-    let eps = case.output_eps(case.loading.target, case.loading.steps);
+    let eps = case.output_parameters(case.loading.target, case.loading.steps);
     let outcome = run_path_steps(&case, &eps, interrupt.cloned(), None, |_| {})
         .map_err(|e| format!("no equilibrium at eps = 0: {e}"))?;
     let note = choice.as_ref().map(|ch| {

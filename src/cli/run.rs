@@ -1,0 +1,350 @@
+//! `spira run`: a case's load path, its progress as a table, its files (tables, and on
+//! request the states, a ParaView series and the figures) and a summary.
+
+use super::mesh::{resolve, response};
+use super::signals::stop_on_signal;
+use super::{check_size, command_line};
+use anyhow::{bail, Context, Result};
+use spira::case::Case;
+use spira::model::stiffness::euler_load;
+use spira::output::figures::{run_figures, Kinds, Rods, Steps};
+use spira::output::precision::ChoiceReport as _;
+use spira::output::read::RunTables;
+use spira::results::{RodBulk, Snapshot, StepBulk};
+use spira::run::{run_path_steps, PathOutcome, Step};
+use spira::solver::continuation::Observer;
+use spira::study::MeshChoice;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// What `spira run` writes beside its tables.
+#[derive(Clone, Copy)]
+pub struct Extras {
+    /// `state-<step>.csv` of every output step.
+    pub states: bool,
+    /// The figures of the run.
+    pub figures: bool,
+    /// A ParaView series.
+    pub vtk: bool,
+}
+
+/// How long `spira run` stays silent during a step before it reports progress.
+const PROGRESS_EVERY: Duration = Duration::from_secs(2);
+
+/// `spira run`: the path of the case at `path` to `to` (default: the case's target) in
+/// `steps` output steps (default: the case's), its files written into `out`.
+pub fn run(
+    path: &Path,
+    to: Option<f64>,
+    steps: Option<u64>,
+    out: &Path,
+    force: bool,
+    extras: Extras,
+) -> Result<()> {
+    let (case, target, steps, choice) = prepare(path, to, steps, force)?;
+    print_heading(&case, target, steps);
+    let parameters = case.output_parameters(target, steps);
+    let t0 = Instant::now();
+    // Ctrl-C (or SIGTERM, SIGHUP) stops the path at its last converged state; the files
+    // are written as after a failure. A second signal ends the process, but never while
+    // the files are being written
+    let interrupt = stop_on_signal("spira run: interrupted; stopping at the last converged state");
+    let (last_line, observer) = still_solving(t0);
+    let mut shapes = Vec::new();
+    let outcome = run_path_steps(
+        &case,
+        &parameters,
+        Some(interrupt),
+        Some(observer),
+        |step| {
+            if extras.vtk || extras.states {
+                shapes.push(step.snapshot.clone());
+            }
+            *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
+            print_step(step);
+        },
+    )
+    .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
+    print_critical_points(&outcome);
+    let last = outcome.points.last().expect("step 0 is always there");
+    // the a-posteriori estimate needs the response of the run itself
+    let note = choice
+        .as_ref()
+        .map(|c| c.note(c.estimate_with(response(&case, last))));
+    let mut files = tables(&case, note.as_deref(), &outcome, &shapes, extras)?;
+    // a figure that cannot be drawn does not cost the tables: they are written, and the
+    // run fails afterwards saying why
+    let mut figure_error = None;
+    if extras.figures {
+        match figures(&case, out, &files) {
+            Ok(figures) => files.extend(figures),
+            Err(e) => figure_error = Some(e),
+        }
+    }
+    let written = spira::output::write_run_files(out, &files)
+        .with_context(|| format!("writing results into {}", out.display()))?;
+    print_summary(&outcome, t0, note.as_deref(), &written);
+    if let Some(err) = outcome.error {
+        bail!(
+            "{err}; the converged steps up to eps = {:.6} were written",
+            err.eps
+        );
+    }
+    if let Some(e) = figure_error {
+        return Err(e.context("the tables were written, the figures not"));
+    }
+    Ok(())
+}
+
+/// The case at `path` with its mesh (chosen for its accuracy target if it gives one), the
+/// target load parameter and the number of output steps, the flags checked and the size of
+/// the problem with them.
+fn prepare(
+    path: &Path,
+    to: Option<f64>,
+    steps: Option<u64>,
+    force: bool,
+) -> Result<(Case, f64, usize, Option<MeshChoice>)> {
+    let case = Case::from_file(path)?;
+    let target = to.unwrap_or(case.loading.target);
+    if to.is_some() {
+        if let Err(msg) = case.check_target(target) {
+            bail!("--to: {msg}");
+        }
+    }
+    let steps = steps_flag(steps, &case)?;
+    check_size(&case, force)?;
+    let (case, choice) = resolve(case)?;
+    if choice.is_some() {
+        check_size(&case, force)?;
+    }
+    Ok((case, target, steps, choice))
+}
+
+/// `--steps` (or the case's `loading.steps`), within the range of `loading.steps`.
+fn steps_flag(steps: Option<u64>, case: &Case) -> Result<usize> {
+    let Some(steps) = steps else {
+        return Ok(case.loading.steps);
+    };
+    let max = spira::case::MAX_STEPS as u64;
+    if steps == 0 {
+        bail!("--steps: expected at least 1 output step (at most {max}), found 0");
+    }
+    if steps > max {
+        bail!("--steps: expected a number of output steps from 1 to {max}, found {steps}");
+    }
+    Ok(steps as usize)
+}
+
+/// The case, the model solved and the head of the progress table.
+fn print_heading(case: &Case, target: f64, steps: usize) {
+    let n = case.geometry.helices;
+    println!(
+        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), {} control 0 -> {target} in {steps} steps",
+        case.name,
+        case.geometry.length,
+        case.geometry.height0(),
+        euler_load(case.stiffness.b1, case.geometry.length),
+        case.loading.control.name()
+    );
+    if case.discretisation.symmetric {
+        let m = n / 2;
+        println!(
+            "model: one right/left pair standing for {n} rods ({m}-fold symmetry), stability by Bloch blocks p = 0..{}",
+            m / 2
+        );
+    } else {
+        println!("model: the full assembly, {n} rods");
+    }
+    println!(
+        "  elastic hypotheses: {}; reference curvatures: {}",
+        case.rod.describe(),
+        case.discretisation.reference.name()
+    );
+    println!(
+        "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}",
+        "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)", "unstable"
+    );
+}
+
+/// The progress of a step that takes long: an observer of the inner steps that says, at
+/// most once every [`PROGRESS_EVERY`] since the last line (whose time is shared, to be
+/// renewed by every line of the table), where the path is, `t0` being the start of the run.
+fn still_solving(t0: Instant) -> (Arc<Mutex<Instant>>, Observer) {
+    let last_line = Arc::new(Mutex::new(Instant::now()));
+    let seen = Arc::clone(&last_line);
+    let mut inner = 0usize;
+    let observer: Observer = Box::new(move |state| {
+        inner += 1;
+        let mut last = seen.lock().unwrap_or_else(|e| e.into_inner());
+        if last.elapsed() >= PROGRESS_EVERY {
+            *last = Instant::now();
+            eprintln!(
+                "  … still solving: inner step {inner} accepted at parameter {:.6} (step {:.2e}), {:.1} s into the run",
+                state.lambda,
+                state.step,
+                t0.elapsed().as_secs_f64()
+            );
+        }
+    });
+    (last_line, observer)
+}
+
+/// The line of the progress table of an output step, and the line on its bulk.
+fn print_step(step: &Step) {
+    let (p, dt) = (step.point, step.time);
+    let unstable = p
+        .stability
+        .map(|s| s.unstable_directions.to_string())
+        .unwrap_or_else(|| "-".into());
+    println!(
+        "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
+        p.step,
+        p.eps,
+        p.load[2],
+        p.iterations,
+        p.residual,
+        dt.as_secs_f64() * 1e3,
+        unstable
+    );
+    println!("      {}", bulk_line(step.bulk));
+}
+
+/// One line on the bulk of a step: the stretch of s/L common to every rod's bulk, the mean
+/// fitted helix, Love's force for it against the rods' mean tip force, and the finite
+/// assembly's force over the infinite tube's.
+fn bulk_line(bulk: &StepBulk) -> String {
+    let n = bulk.rods.len().max(1) as f64;
+    let start = bulk
+        .rods
+        .iter()
+        .map(|b| b.start_over_l())
+        .fold(0.0, f64::max);
+    let end = bulk.rods.iter().map(|b| b.end_over_l()).fold(1.0, f64::min);
+    let mean = |f: &dyn Fn(&RodBulk) -> f64| bulk.rods.iter().map(f).sum::<f64>() / n;
+    let love: Option<f64> = bulk
+        .rods
+        .iter()
+        .map(|b| b.love_force)
+        .sum::<Option<f64>>()
+        .map(|f| f / n);
+    let extent = if end > start {
+        format!("bulk s/L {start:.3}-{end:.3}")
+    } else {
+        "no bulk common to all rods".to_string()
+    };
+    format!(
+        "{extent}, helix a = {:.5} m, b = {:.5} m, Love F = {}, tip fz = {:.4} N, finite/infinite tube = {}",
+        mean(&|b| b.radius),
+        mean(&|b| b.pitch),
+        love.map_or("-".to_string(), |f| format!("{f:.4} N")),
+        mean(&|b| b.axial_force),
+        bulk.tube_ratio.map_or("-".to_string(), |r| format!("{r:.4}"))
+    )
+}
+
+/// One line per critical point of the path.
+fn print_critical_points(outcome: &PathOutcome) {
+    for (i, c) in outcome.critical.iter().enumerate() {
+        println!(
+            "critical point {i}: {} at eps = {:.6} ({} parameter {:.8}), fz/(n Pcrit) = {:.6}, unstable directions {} -> {}{}",
+            c.kind.name(),
+            c.eps,
+            c.control.name(),
+            c.parameter,
+            c.load[2],
+            c.unstable_before,
+            c.unstable_after,
+            if outcome.switched_at == Some(i) { "; the path switched branch here" } else { "" }
+        );
+    }
+}
+
+/// The tables of the run as (file name, text), with the states of the output steps and a
+/// ParaView series as `extras` asks (`shapes`: the shape of every output step, kept when
+/// either is asked).
+fn tables(
+    case: &Case,
+    note: Option<&str>,
+    outcome: &PathOutcome,
+    shapes: &[Snapshot],
+    extras: Extras,
+) -> Result<Vec<(String, String)>> {
+    let states: Vec<(usize, Snapshot)> = if extras.states {
+        outcome
+            .points
+            .iter()
+            .map(|p| p.step)
+            .zip(shapes.iter().cloned())
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut run_files = spira::output::RunFiles::of(&case.name, note, outcome);
+    if extras.vtk {
+        run_files.series = Some((shapes, &outcome.modes));
+    }
+    run_files.states = &states;
+    Ok(spira::output::run_files(&run_files)?)
+}
+
+/// The figures of the run (the load curves, the curvature and the views of the last state),
+/// drawn from its tables `files` as `spira plot` would read them back from `out`.
+fn figures(case: &Case, out: &Path, files: &[(String, String)]) -> Result<Vec<(String, String)>> {
+    let t = Instant::now();
+    let tables: BTreeMap<String, String> = files.iter().cloned().collect();
+    let label = out
+        .file_name()
+        .map_or_else(|| case.name.clone(), |n| n.to_string_lossy().into_owned());
+    let run = RunTables::from_files(&label, out, &tables)
+        .context("reading back the tables of the run for its figures")?;
+    let figures = run_figures(
+        &[run],
+        &Steps::Last,
+        Rods::One(0),
+        Kinds::ALL,
+        &command_line(),
+    )?;
+    println!(
+        "drew {} figures in {:.1} ms",
+        figures.len(),
+        t.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(figures)
+}
+
+/// Where the path ended, what it cost (from `t0`), the mesh's note and the files written.
+fn print_summary(outcome: &PathOutcome, t0: Instant, note: Option<&str>, written: &[PathBuf]) {
+    let last = outcome.points.last().expect("step 0 is always there");
+    println!(
+        "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
+        last.eps,
+        t0.elapsed().as_secs_f64() * 1e3,
+        outcome.stats.steps,
+        outcome.stats.rejected,
+        outcome.stats.iterations,
+        outcome.stats.factorisations,
+        outcome.unknowns,
+        last.load[2],
+        last.energy
+    );
+    if let Some(mb) = peak_memory_mb() {
+        println!("peak memory {mb:.0} MB");
+    }
+    if let Some(n) = note {
+        println!("{n}");
+    }
+    let names: Vec<String> = written.iter().map(|f| f.display().to_string()).collect();
+    println!("wrote {}", names.join(", "));
+}
+
+/// The peak resident memory of this process (MB), where the system tells it (Linux's
+/// `VmHWM`).
+fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}

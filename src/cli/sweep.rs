@@ -1,0 +1,183 @@
+//! `spira sweep`: the cases of a sweep file run in parallel into one table, or the tables
+//! of shard folders merged (`--merge`).
+
+use super::signals::stop_on_signal;
+use anyhow::{bail, Result};
+use spira::sweep::{
+    merge_dirs, run_sweep, workers, CaseStatus, Combine, Progress, RunOptions, Shard, Sweep,
+    SweepReport,
+};
+use std::io::{IsTerminal as _, Write as _};
+use std::path::{Path, PathBuf};
+
+/// `spira sweep`: the cases of the sweep file at `path` of the shard `shard` (default: the
+/// Slurm array task's, or all), `jobs` at once (default: the cores), into `out` (default:
+/// out/<sweep name>); with `check`, only the cases listed.
+pub fn sweep(
+    path: &Path,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    shard: Option<&str>,
+    check: bool,
+) -> Result<()> {
+    let sweep = Sweep::from_file(path)?;
+    let shard = match shard {
+        Some(s) => Shard::parse(s)?,
+        None => Shard::from_slurm(|v| std::env::var(v).ok())?.unwrap_or(Shard::ALL),
+    };
+    let out = out.unwrap_or_else(|| Path::new("out").join(&sweep.name));
+    let mine: Vec<_> = sweep
+        .cases
+        .iter()
+        .filter(|c| shard.contains(c.index))
+        .collect();
+    let jobs = workers(jobs);
+    print_heading(&sweep, path, shard, mine.len(), &out, jobs);
+    if check {
+        for c in &mine {
+            println!("  {}", c.id);
+        }
+        println!("all {} generated cases are valid", sweep.cases.len());
+        return Ok(());
+    }
+    let terminal = std::io::stdout().is_terminal();
+    let interrupt = stop_on_signal(
+        "spira sweep: interrupted; the cases under way stop and are not written, no case starts",
+    );
+    let opts = RunOptions {
+        out,
+        jobs: Some(jobs),
+        shard,
+        interrupt: Some(interrupt),
+    };
+    let report = run_sweep(&sweep, &opts, |p| {
+        print_progress(p, terminal);
+        std::ops::ControlFlow::Continue(())
+    })?;
+    if terminal {
+        println!();
+    }
+    conclude(&report)
+}
+
+/// The sweep, its shard, the number of its cases in the shard (`cases`), where they go and
+/// on how many workers.
+fn print_heading(sweep: &Sweep, path: &Path, shard: Shard, cases: usize, out: &Path, jobs: usize) {
+    println!(
+        "spira sweep: {} ({}): {} cases ({} axes, {}){}, {} into {} on {jobs} worker(s)",
+        sweep.name,
+        path.display(),
+        sweep.cases.len(),
+        sweep.axes.len(),
+        match sweep.combine {
+            Combine::Product => "product",
+            Combine::Zip => "zip",
+        },
+        if shard == Shard::ALL {
+            String::new()
+        } else {
+            format!(", shard {}", shard.label())
+        },
+        cases,
+        out.display()
+    );
+}
+
+/// The progress of a finished case: on a terminal one line, rewritten (a failure stays on
+/// its own line), elsewhere one line per case.
+fn print_progress(p: &Progress, terminal: bool) {
+    let eta = p
+        .eta()
+        .map(|d| format!(", ETA {:.0} s", d.as_secs_f64()))
+        .unwrap_or_default();
+    let what = match p.status {
+        CaseStatus::Done => format!("done in {:.2} s", p.wall.as_secs_f64()),
+        CaseStatus::Skipped => "complete already, skipped".to_string(),
+        CaseStatus::Failed => format!(
+            "FAILED after {:.2} s: {}",
+            p.wall.as_secs_f64(),
+            p.reason.as_deref().unwrap_or("")
+        ),
+    };
+    if terminal {
+        if p.status == CaseStatus::Failed {
+            print!("\r\x1b[2K{}: {what}\n", p.case.id);
+        }
+        print!(
+            "\r\x1b[2K[{}/{}] {:.0} s elapsed{eta}; last {}: {}",
+            p.done,
+            p.total,
+            p.elapsed.as_secs_f64(),
+            p.case.id,
+            if p.status == CaseStatus::Failed {
+                "failed"
+            } else {
+                &what
+            }
+        );
+        let _ = std::io::stdout().flush();
+    } else {
+        println!(
+            "[{}/{}] {} {what} ({:.1} s elapsed{eta})",
+            p.done,
+            p.total,
+            p.case.id,
+            p.elapsed.as_secs_f64()
+        );
+    }
+}
+
+/// What the sweep did, and a failure when it was interrupted or a case failed.
+fn conclude(report: &SweepReport) -> Result<()> {
+    if report.interrupted {
+        bail!(
+            "interrupted after {:.1} s: {} of {} cases complete ({} run now, {} complete already, {} of them failed), {} not done; wrote {}, and the same command goes on with the rest",
+            report.wall.as_secs_f64(),
+            report.ran + report.skipped,
+            report.total,
+            report.ran,
+            report.skipped,
+            report.failed,
+            report.pending,
+            report.table_path.display()
+        );
+    }
+    println!(
+        "{} cases in {:.1} s: {} run, {} complete already, {} failed; wrote {}",
+        report.total,
+        report.wall.as_secs_f64(),
+        report.ran,
+        report.skipped,
+        report.failed,
+        report.table_path.display()
+    );
+    if report.failed > 0 {
+        bail!(
+            "{} of {} cases failed (status and reason in {})",
+            report.failed,
+            report.total,
+            report.table_path.display()
+        );
+    }
+    Ok(())
+}
+
+/// `spira sweep --merge`: the sweep tables in the folders (or files) `inputs` merged into
+/// OUT/sweep.csv.
+pub fn merge(inputs: &[PathBuf], out: Option<PathBuf>) -> Result<()> {
+    let Some(out) = out else {
+        bail!("--merge needs --out DIR for the merged sweep.csv");
+    };
+    let (table, path) = merge_dirs(inputs, &out)?;
+    let failed = table
+        .column("status")
+        .map_or(0, |c| table.rows.iter().filter(|r| r[c] != "done").count());
+    println!(
+        "merged {} cases ({} failed) from {} input(s) into {}",
+        table.rows.len(),
+        failed,
+        inputs.len(),
+        path.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,197 @@
+//! Leaving a path: onto another branch at a critical point, along its mode (within the
+//! problem, or onto another problem: the whole assembly behind a reduced model), and
+//! restarting with another problem (other boundary conditions). The statistics and the
+//! critical points found go on.
+
+use super::continuation::{Continuation, ContinuationError, StopReason};
+use super::linear::least_squares_multipliers;
+use super::newton::{Newton, NewtonSettings, StepEquation};
+use super::problem::Problem;
+
+impl<P: Problem> Continuation<P> {
+    /// Leaves the path at critical point `index` along its mode, in the direction `sign`
+    /// (±1), by an arclength step of `h` measured along the mode; continuation then goes on
+    /// in arclength steps along the new branch.
+    pub fn switch_branch(
+        &mut self,
+        index: usize,
+        sign: f64,
+        h: f64,
+    ) -> Result<(), ContinuationError> {
+        let Some(cp) = self.critical.get(index).cloned() else {
+            let lambda = self.state.lambda;
+            return Err(self.error(lambda, 0.0, StopReason::NoCriticalPoint { index }));
+        };
+        self.switch_onto(&cp.state, cp.parameter, &cp.mode, sign, h)
+    }
+
+    /// Leaves the critical state `(state, λ)` along `mode` (its primal unknowns at least;
+    /// unit norm over them), in the direction `sign` (±1), by an arclength step of `h`
+    /// measured along the mode; continuation then goes on in arclength steps along the new
+    /// branch. On failure the current state is kept.
+    pub fn switch_onto(
+        &mut self,
+        state: &[f64],
+        parameter: f64,
+        mode: &[f64],
+        sign: f64,
+        h: f64,
+    ) -> Result<(), ContinuationError> {
+        let np = self.problem.primal_unknowns();
+        let tx: Vec<f64> = mode[..np].iter().map(|v| v * sign).collect();
+        let x: Vec<f64> = state
+            .iter()
+            .enumerate()
+            .map(|(i, a)| a + sign * h * mode.get(i).copied().unwrap_or(0.0))
+            .collect();
+        self.newton.discard_factorisation();
+        let step = StepEquation {
+            tx: Some(&tx),
+            tl: 0.0,
+            x0: state,
+            l0: parameter,
+            ds: h,
+        };
+        let settings = self.settings.newton;
+        match self.correct(x, parameter, &step, &settings) {
+            Ok(t) => {
+                self.state.x = state.to_vec();
+                self.state.lambda = parameter;
+                self.state.arclength = true;
+                self.accept(t);
+                self.state.step = h;
+                self.update_stability(true);
+                Ok(())
+            }
+            Err(cause) => Err(self.error(parameter, h, StopReason::Newton { step: h, cause })),
+        }
+    }
+
+    /// Replaces the problem (e.g. other boundary conditions) and solves it from `(x, λ)`;
+    /// the statistics and critical points go on. On failure the old problem and state are
+    /// kept.
+    pub fn restart_with(
+        &mut self,
+        problem: P,
+        x: Vec<f64>,
+        lambda: f64,
+    ) -> Result<(), ContinuationError> {
+        self.with_problem(problem, x, lambda, |this| {
+            this.state.arclength = false;
+            this.correct_in_place()?;
+            this.state.step = this.settings.initial_step;
+            this.update_stability(true);
+            Ok(())
+        })
+    }
+
+    /// Replaces the problem (e.g. the full model behind a reduced one) and leaves the
+    /// critical state `(x, λ)` of the new problem along `mode` as
+    /// [`Continuation::switch_onto`] does; on failure the old problem and state are kept.
+    /// `near` is another state of the new problem on the same path (the reduced model's
+    /// last accepted state, expanded), from which the critical state is re-solved when the
+    /// Jacobian at `x` itself is singular.
+    // the new problem and `near` on top of `switch_onto`'s state, load, mode, sign and step
+    #[allow(clippy::too_many_arguments)]
+    pub fn switch_onto_problem(
+        &mut self,
+        problem: P,
+        x: Vec<f64>,
+        lambda: f64,
+        mode: &[f64],
+        sign: f64,
+        h: f64,
+        near: Option<Vec<f64>>,
+    ) -> Result<(), ContinuationError> {
+        self.with_problem(problem, x, lambda, |this| {
+            this.state.tangent = None;
+            // the new problem's multipliers (of supports and joints, which the reduced
+            // state does not give) are fitted first by least squares at the known primal
+            // state: Newton's method would otherwise have to find them through the
+            // critical state's nearly singular Jacobian, and diverged there when the point
+            // was placed to rounding (the n = 8 sliding tips' double point); the state is
+            // then re-solved, and when its Jacobian is too singular to solve with, a
+            // little before the critical load (relative offsets 1e-7, 1e-6 of the load
+            // parameter, far below the accuracy of any branch followed from it), from the
+            // critical state and then from `near`, where the first Jacobian is regular
+            let mut x0 = this.state.x.clone();
+            this.fit_multipliers(&mut x0, lambda);
+            let settings = NewtonSettings {
+                singular_threshold: this.settings.newton.singular_threshold.max(1e-2),
+                ..this.settings.newton
+            };
+            const OFFSETS: [f64; 3] = [0.0, 1e-7, 1e-6];
+            let mut starts = vec![x0.clone()];
+            if let Some(mut near) = near {
+                near.resize(x0.len(), 0.0);
+                this.fit_multipliers(&mut near, lambda);
+                starts.push(near);
+            }
+            let mut last = None;
+            let mut solved = None;
+            'starts: for start in &starts {
+                for offset in OFFSETS {
+                    let l0 = lambda - offset * lambda.abs().max(1e-3);
+                    let step = StepEquation::natural(&x0, l0, 0.0);
+                    match this.correct(start.clone(), l0, &step, &settings) {
+                        Ok(t) => {
+                            solved = Some((t, l0));
+                            break 'starts;
+                        }
+                        Err(cause) => last = Some(cause),
+                    }
+                }
+            }
+            let Some((t, l0)) = solved else {
+                let cause = last.expect("at least one start tried");
+                return Err(this.error(lambda, 0.0, StopReason::Newton { step: 0.0, cause }));
+            };
+            this.state.x.clone_from(&t.x);
+            this.state.lambda = l0;
+            this.switch_onto(&t.x, l0, mode, sign, h)
+        })
+    }
+
+    /// Replaces the multipliers of `x` by those that leave the least residual at its
+    /// primal unknowns and load `lambda` ([`least_squares_multipliers`]), where they can be
+    /// found.
+    fn fit_multipliers(&mut self, x: &mut [f64], lambda: f64) {
+        let n = self.problem.unknowns();
+        let n_primal = self.problem.primal_unknowns();
+        let mut residual = vec![0.0; n];
+        let mut kkt = vec![0.0; self.problem.pattern().row_idx().len()];
+        self.problem.jacobian(x, lambda, &mut residual, &mut kkt);
+        let fitted = least_squares_multipliers(self.problem.pattern(), &kkt, &residual, n_primal);
+        if let Some(delta) = fitted {
+            for (v, d) in x[n_primal..].iter_mut().zip(&delta) {
+                *v += d;
+            }
+        }
+        self.problem.restore(&self.state.x, self.state.lambda);
+    }
+
+    /// Puts `problem` (with a Newton solver of its own) in place at `(x, λ)` and runs `f`;
+    /// if `f` fails, the old problem, solver and state come back. The statistics go on.
+    fn with_problem(
+        &mut self,
+        problem: P,
+        mut x: Vec<f64>,
+        lambda: f64,
+        f: impl FnOnce(&mut Self) -> Result<(), ContinuationError>,
+    ) -> Result<(), ContinuationError> {
+        x.resize(problem.unknowns(), 0.0);
+        let mut newton = Newton::new(&problem);
+        newton.carry_count(self.newton.factorisations());
+        let old_problem = std::mem::replace(&mut self.problem, problem);
+        let mut old_newton = std::mem::replace(&mut self.newton, newton);
+        let old_state = self.state.clone();
+        self.state.x = x;
+        self.state.lambda = lambda;
+        f(self).inspect_err(|_| {
+            old_newton.carry_count(self.newton.factorisations());
+            self.problem = old_problem;
+            self.newton = old_newton;
+            self.state = old_state;
+        })
+    }
+}
