@@ -11,8 +11,11 @@ fn thesis(n: usize) -> Case {
     Case::from_file(Path::new(&format!("cases/thesis-n{n}.toml"))).unwrap()
 }
 
+/// The block work on one thread: the tests run in parallel.
+const THREADS: usize = 1;
+
 fn solve(case: &Case, eps: f64) -> Simulation {
-    let mut sim = Simulation::from_case(case).unwrap();
+    let mut sim = Simulation::from_case_on(case, THREADS).unwrap();
     for k in 1..=6 {
         sim.advance_to(eps * k as f64 / 6.0).unwrap();
     }
@@ -122,7 +125,7 @@ fn assemblies_without_the_symmetry_are_refused_the_reduction() {
     // and a pair that has crossed no critical point has no branch to switch to
     let mut c = thesis(4);
     c.discretisation.symmetric = true;
-    let mut sim = Simulation::from_case(&c).unwrap();
+    let mut sim = Simulation::from_case_on(&c, THREADS).unwrap();
     assert!(sim.switch_branch(0, 1.0, 0.05).is_err());
 }
 
@@ -133,7 +136,7 @@ fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
     use spira::discretisation::symmetry::expand_state;
     use spira::discretisation::system::System;
     use spira::model::loading::{Control, Loads};
-    use spira::simulation::problem::RodProblem;
+    use spira::simulation::problem::LoadedAssembly;
     use spira::solver::problem::Problem;
     let pair = case.model();
     let np = pair.n_primal;
@@ -145,8 +148,8 @@ fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
     expand_state(&pair, &pair_system, x, &full, &full_system0, &mut xf);
     // the supports hold what they hold at the expanded state, as the pair's at its own
     let full_system = System::new(&full, case.boundary, &xf[..full.n_primal], tip, 0.0);
-    let mut blocks = RodProblem::new(pair.clone(), pair_system);
-    let mut whole = RodProblem::new(full, full_system);
+    let mut blocks = LoadedAssembly::new(pair.clone(), pair_system).with_threads(THREADS);
+    let mut whole = LoadedAssembly::new(full, full_system);
     let per_block = blocks.block_stability(x, false).unwrap();
     let counted: usize = per_block
         .iter()
@@ -278,7 +281,7 @@ fn the_sliding_tip_sways_at_a_double_wavenumber_one_mode_rebuilt_on_the_whole_as
     assert!(torn < 1e-6, "constraints violated by {torn}");
     let energy_at_critical: f64 = u.iter().zip(&hu).map(|(a, b)| a * b).sum();
     // the same direction at the stable state ε = 0.1 stores energy
-    let mut early = Simulation::from_case(&pair_case).unwrap();
+    let mut early = Simulation::from_case_on(&pair_case, THREADS).unwrap();
     early.advance_to(0.1).unwrap();
     let (system, xf) = at(early.state());
     let (hu, _) = kkt_action(&whole, &system, &xf, u);

@@ -72,8 +72,6 @@ pub fn expand_state(
 pub struct BlochBlocks {
     /// Sectors `m`.
     pub m: usize,
-    /// Primal unknowns of the pair.
-    n_primal: usize,
     /// For each stored entry of the pair's KKT pattern: the sector its coupling reaches and
     /// the sign of its phase, for the joints that tie the pair to another sector.
     phase: Vec<Option<(f64, usize)>>,
@@ -109,11 +107,7 @@ impl BlochBlocks {
                 phase[entry(d, row)] = Some((-1.0, r));
             }
         }
-        Some(BlochBlocks {
-            m,
-            n_primal: pair.n_primal,
-            phase,
-        })
+        Some(BlochBlocks { m, phase })
     }
 
     /// The wavenumbers whose blocks are distinct: `0 ..= m/2` (`p` and `m − p` conjugate).
@@ -137,7 +131,7 @@ impl BlochBlocks {
 
     /// The phase angle `2π p r / m` (rad) of a coupling to sector `r`.
     fn angle(&self, p: usize, r: usize) -> f64 {
-        2.0 * PI * (p * r % self.m) as f64 / self.m as f64
+        phase_angle(self.m, p, r)
     }
 
     /// The real block `p` (`p = 0` or `m/2`) in the pair's pattern, from the pair's KKT
@@ -167,61 +161,56 @@ impl BlochBlocks {
     }
 }
 
-impl BlochBlocks {
-    /// The real mode of the full assembly `full` (its primal unknowns) that an eigenvector
-    /// `v` of block `p` stands for: over the pair's primal unknowns for a real block, real
-    /// then imaginary parts for a complex one. In sector `r` (the rods turned by `2πr/m`
-    /// from the pair's) the mode is `Re(v e^{2πipr/m})` in the sector's rotated frame —
-    /// the Bloch form whose phases the blocks carry —, turned into the global frame; the
-    /// result has unit (Euclidean) norm, as the engine's critical modes.
-    pub fn assembly_mode(
-        &self,
-        pair: &DiscreteModel,
-        p: usize,
-        v: &[f64],
-        full: &DiscreteModel,
-    ) -> Vec<f64> {
-        let sym = pair
-            .assembly
-            .symmetry
-            .expect("an assembly mode needs a symmetric pair");
-        let np = self.n_primal;
-        let (re, im) = if v.len() >= 2 * np {
-            (&v[..np], &v[np..2 * np])
-        } else {
-            (&v[..np], &[][..])
-        };
-        let at = |i: usize, c: f64, s: f64| {
-            let imag = im.get(i).copied().unwrap_or(0.0);
-            re[i] * c - imag * s
-        };
-        let mut out = vec![0.0; full.n_primal];
-        for (k, rod) in full.rods.iter().enumerate() {
-            let (src, angle) = sym.image(k);
-            let from = &pair.rods[src];
-            let r = (angle * self.m as f64 / (2.0 * PI))
-                .round()
-                .rem_euclid(self.m as f64) as usize;
-            let (s, c) = self.angle(p, r).sin_cos();
-            let turn = TurnZ::new(angle);
-            for node in 0..rod.mesh.quaternion_nodes() {
-                let [a, b, cc, d] = [0, 1, 2, 3].map(|k| at(from.q_dof(node, k), c, s));
-                let dq = turn.rotate(&Quat::new(a, b, cc, d));
-                for k in 0..4 {
-                    out[rod.q_dof(node, k)] = dq[k];
-                }
-            }
-            for vtx in 0..=rod.mesh.elements() {
-                let dr = turn.apply([0, 1, 2].map(|k| at(from.r_dof(vtx, k), c, s)));
-                for k in 0..3 {
-                    out[rod.r_dof(vtx, k)] = dr[k];
-                }
+/// The phase angle `2π p r / m` (rad) of wavenumber `p` in sector `r` of `m`.
+fn phase_angle(m: usize, p: usize, r: usize) -> f64 {
+    2.0 * PI * (p * r % m) as f64 / m as f64
+}
+
+/// The real mode of the full assembly `full` (its primal unknowns) that an eigenvector `v`
+/// of Bloch block `p` of the symmetric pair `pair` stands for: over the pair's primal
+/// unknowns for a real block, real then imaginary parts for a complex one. In sector `r`
+/// (the rods turned by `2πr/m` from the pair's) the mode is `Re(v e^{2πipr/m})` in the
+/// sector's rotated frame — the Bloch form whose phases the blocks carry —, turned into the
+/// global frame; the result has unit (Euclidean) norm, as the engine's critical modes.
+pub fn assembly_mode(pair: &DiscreteModel, p: usize, v: &[f64], full: &DiscreteModel) -> Vec<f64> {
+    let sym = pair
+        .assembly
+        .symmetry
+        .expect("an assembly mode needs a symmetric pair");
+    let (m, np) = (sym.m, pair.n_primal);
+    let (re, im) = if v.len() >= 2 * np {
+        (&v[..np], &v[np..2 * np])
+    } else {
+        (&v[..np], &[][..])
+    };
+    let at = |i: usize, c: f64, s: f64| {
+        let imag = im.get(i).copied().unwrap_or(0.0);
+        re[i] * c - imag * s
+    };
+    let mut out = vec![0.0; full.n_primal];
+    for (k, rod) in full.rods.iter().enumerate() {
+        let (src, angle) = sym.image(k);
+        let from = &pair.rods[src];
+        let r = (angle * m as f64 / (2.0 * PI)).round().rem_euclid(m as f64) as usize;
+        let (s, c) = phase_angle(m, p, r).sin_cos();
+        let turn = TurnZ::new(angle);
+        for node in 0..rod.mesh.quaternion_nodes() {
+            let [a, b, cc, d] = [0, 1, 2, 3].map(|k| at(from.q_dof(node, k), c, s));
+            let dq = turn.rotate(&Quat::new(a, b, cc, d));
+            for k in 0..4 {
+                out[rod.q_dof(node, k)] = dq[k];
             }
         }
-        let norm = out.iter().map(|u| u * u).sum::<f64>().sqrt();
-        if norm > 0.0 {
-            out.iter_mut().for_each(|u| *u /= norm);
+        for vtx in 0..=rod.mesh.elements() {
+            let dr = turn.apply([0, 1, 2].map(|k| at(from.r_dof(vtx, k), c, s)));
+            for k in 0..3 {
+                out[rod.r_dof(vtx, k)] = dr[k];
+            }
         }
-        out
     }
+    let norm = out.iter().map(|u| u * u).sum::<f64>().sqrt();
+    if norm > 0.0 {
+        out.iter_mut().for_each(|u| *u /= norm);
+    }
+    out
 }

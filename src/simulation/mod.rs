@@ -1,29 +1,36 @@
 //! A discrete assembly moved along its load path: the continuation engine of
-//! [`crate::solver`] on the rods' problem ([`problem::RodProblem`]), reporting what it
-//! finds in the terms of [`crate::results`] — reactions, loads, shapes, stability and
-//! critical points of the whole assembly.
+//! [`crate::solver`] on the loaded assembly ([`problem::LoadedAssembly`]), reporting what
+//! it finds in the terms of [`crate::results`] — reactions, loads, shapes, stability and
+//! critical points of the whole assembly, whichever reduction of it is solved
+//! ([`reduction`]).
 
+pub mod blocks;
+pub mod judge;
 pub mod problem;
+pub mod reduction;
+mod switch;
 
 use crate::case::Case;
 use crate::discretisation::fields;
 use crate::discretisation::model::DiscreteModel;
-use crate::discretisation::symmetry::expand_state;
 use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
 use crate::model::loading::{AxisLoad, Control, Driven, LoadParameter, Loads, SupportAxis};
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, Stability};
 use crate::solver::continuation::Critical;
-use crate::solver::continuation::{
-    Continuation, ContinuationError, ContinuationSettings, Observer, StopReason,
-};
+use crate::solver::continuation::{ContinuationError, ContinuationSettings, Observer, StopReason};
 use crate::solver::interrupt::Interrupt;
 use crate::solver::newton::NewtonReport;
 use crate::solver::problem::Problem;
 use crate::solver::stability::InertiaError;
 use crate::solver::stats::Statistics;
-use problem::{mean_tip_height, pcrit, RodProblem};
+use judge::all_cores;
+use problem::{mean_tip_height, pcrit, LoadedAssembly};
+use reduction::{CriticalModes, Reduction};
+
+/// The continuation of a loaded assembly.
+type Continuation = crate::solver::continuation::Continuation<LoadedAssembly>;
 
 /// The continuation could not reach its target; the last converged state is kept.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
@@ -46,12 +53,14 @@ pub struct SolveError {
 /// A discrete model under boundary conditions, at a converged state, that can be moved
 /// along its load path.
 pub struct Simulation {
-    path: Continuation<RodProblem>,
+    path: Continuation,
     /// The engine's critical points, reported with the loads and compression there.
     critical: Vec<CriticalPoint>,
-    /// The symmetric pair and its system, once the path has left it for the full model
-    /// (its critical points' states are the pair's).
-    pair: Option<Box<(DiscreteModel, System)>>,
+    /// The reduced model and its system, once the path has left it for the whole assembly
+    /// (its critical points' states are the reduced model's).
+    reduced: Option<Box<(DiscreteModel, System)>>,
+    /// Threads of the block work of every problem solved (at least one).
+    threads: usize,
 }
 
 impl Simulation {
@@ -59,6 +68,17 @@ impl Simulation {
     /// boundary conditions, control and solver settings.
     pub fn from_case(case: &Case) -> Result<Simulation, SolveError> {
         Simulation::from_case_with(case, None, None)
+    }
+
+    /// As [`Simulation::from_case`], with the block work (a cyclic pair's Bloch blocks)
+    /// shared out on `threads` threads (at least one; all the cores by default) from the
+    /// natural state's solve on: one where other work runs in parallel (tests).
+    pub fn from_case_on(case: &Case, threads: usize) -> Result<Simulation, SolveError> {
+        let start = Start {
+            threads,
+            ..Start::plain(case.solver)
+        };
+        Simulation::start_case(case, start)
     }
 
     /// As [`Simulation::from_case`], with `interrupt` in force from the natural state's
@@ -69,17 +89,19 @@ impl Simulation {
         interrupt: Option<Interrupt>,
         observer: Option<Observer>,
     ) -> Result<Simulation, SolveError> {
-        let model = case.model();
-        let x0 = model.natural_state();
-        Simulation::start(
-            model,
-            case.boundary,
-            case.loads(),
-            x0,
-            case.solver,
+        let start = Start {
             interrupt,
             observer,
-        )
+            ..Start::plain(case.solver)
+        };
+        Simulation::start_case(case, start)
+    }
+
+    /// The case's simulation at its natural state, solved.
+    fn start_case(case: &Case, start: Start) -> Result<Simulation, SolveError> {
+        let model = case.model();
+        let x0 = model.natural_state();
+        Simulation::start(model, case.boundary, case.loads(), x0, start)
     }
 
     /// Starts from the natural state at `ε = 0` under displacement control and solves it.
@@ -103,7 +125,7 @@ impl Simulation {
         x: Vec<f64>,
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
-        Simulation::start(model, bc, Loads::axial(control), x, settings, None, None)
+        Simulation::start(model, bc, Loads::axial(control), x, Start::plain(settings))
     }
 
     /// Starts from the primal state `x` under `loads` and solves it, as
@@ -115,7 +137,7 @@ impl Simulation {
         x: Vec<f64>,
         settings: ContinuationSettings,
     ) -> Result<Simulation, SolveError> {
-        Simulation::start(model, bc, loads, x, settings, None, None)
+        Simulation::start(model, bc, loads, x, Start::plain(settings))
     }
 
     fn start(
@@ -123,22 +145,27 @@ impl Simulation {
         bc: BoundaryConditions,
         loads: Loads,
         mut x: Vec<f64>,
-        settings: ContinuationSettings,
-        interrupt: Option<Interrupt>,
-        observer: Option<Observer>,
+        start: Start,
     ) -> Result<Simulation, SolveError> {
+        let Start {
+            settings,
+            interrupt,
+            observer,
+            threads,
+        } = start;
         x.truncate(model.n_primal);
         let eps = 1.0 - mean_tip_height(&model, &x) / model.height0();
         let lambda = parameter_of_state(&loads, eps);
         let control = loads.control();
         let system = System::new(&model, bc, &x, &loads, lambda);
-        let problem = RodProblem::new(model, system);
+        let problem = LoadedAssembly::new(model, system).with_threads(threads);
         let path = Continuation::new_with(problem, x, lambda, settings, interrupt, observer)
             .map_err(|e| solve_error(e, control, eps))?;
         Ok(Simulation {
             path,
             critical: Vec::new(),
-            pair: None,
+            reduced: None,
+            threads,
         })
     }
 
@@ -186,17 +213,29 @@ impl Simulation {
         self.path.set_step_length(step);
     }
 
-    /// Whether the model solved is a symmetric pair standing for the whole assembly (false
-    /// for the full model, and after a switch has moved a pair's path onto it).
-    pub fn solves_pair(&self) -> bool {
-        self.rods().is_symmetric_pair()
+    /// Shares the block work (a cyclic pair's Bloch blocks) out on `threads` threads (at
+    /// least one) from now on.
+    pub fn set_threads(&mut self, threads: usize) {
+        self.threads = threads.max(1);
+        self.path.problem_mut().set_threads(self.threads);
     }
 
-    fn rods(&self) -> &RodProblem {
+    /// Whether the model solved is reduced, standing for the whole assembly (false for the
+    /// full model, and after a switch has moved a reduced model's path onto it).
+    pub fn solves_pair(&self) -> bool {
+        self.reduction().is_reduced()
+    }
+
+    /// How the model solved stands for the whole assembly.
+    pub fn reduction(&self) -> &dyn Reduction {
+        self.rods().reduction()
+    }
+
+    fn rods(&self) -> &LoadedAssembly {
         self.path.problem()
     }
 
-    /// The discrete model solved (a symmetric pair, or the whole assembly).
+    /// The discrete model solved (a reduction of the whole assembly, or all of it).
     pub fn model(&self) -> &DiscreteModel {
         &self.rods().model
     }
@@ -299,35 +338,12 @@ impl Simulation {
             let reactions = fields::reactions(&rods.model, &rods.system, &c.state);
             let load = fields::normalised_load(&rods.model, &reactions);
             let eps = eps_of(&rods.model, &c.state);
-            let (wavenumber, multiplicity, assembly_mode, second_mode) =
-                match (rods.bloch().cloned(), rods.model.full_model()) {
-                    (Some(bloch), Some(full)) => {
-                        let p = c.block;
-                        let v = rods.block_mode(&c.state, p);
-                        let rebuilt = |v: &[f64]| bloch.assembly_mode(&rods.model, p, v, &full);
-                        let first = v.as_deref().map(rebuilt);
-                        // i v: (re, im) → (−im, re)
-                        let second = v.filter(|_| !bloch.is_real(p)).map(|v| {
-                            let half = v.len() / 2;
-                            let turned: Vec<f64> = v[half..]
-                                .iter()
-                                .map(|x| -x)
-                                .chain(v[..half].iter().copied())
-                                .collect();
-                            rebuilt(&turned)
-                        });
-                        (Some(p), bloch.multiplicity(p), first, second)
-                    }
-                    // a model judged on itself: at a double point (two eigenvalues
-                    // crossing together) the plane's other mode
-                    _ => {
-                        let double = c.unstable_after.abs_diff(c.unstable_before) == 2;
-                        let second = double
-                            .then(|| rods.second_mode(&c.state, &c.mode))
-                            .flatten();
-                        (None, 1, None, second)
-                    }
-                };
+            let CriticalModes {
+                wavenumber,
+                multiplicity,
+                assembly_mode,
+                second_mode,
+            } = rods.critical_modes(&c);
             self.critical.push(CriticalPoint {
                 kind: c.kind,
                 control,
@@ -364,198 +380,6 @@ impl Simulation {
         self.path.problem_mut().unstable_directions(&x, lambda)
     }
 
-    /// Leaves the path at bifurcation `index` (of [`Simulation::critical_points`]) along
-    /// its critical mode, in the direction `sign` (±1), by an arclength step of `h`
-    /// measured along the mode; continuation then goes on in arclength steps along the new
-    /// branch. A symmetric pair stays the pair for a mode of wavenumber 0 (it keeps the
-    /// symmetry); for a mode of wavenumber `p ≠ 0` the path moves onto the full model,
-    /// from the critical state expanded onto every rod, along the mode rebuilt on the
-    /// whole assembly.
-    pub fn switch_branch(&mut self, index: usize, sign: f64, h: f64) -> Result<(), SolveError> {
-        let breaking = self
-            .critical
-            .get(index)
-            .filter(|c| self.rods().is_symmetric_pair() && c.wavenumber != Some(0))
-            .cloned();
-        // a critical point of a problem the path has left cannot be switched at
-        let left = self
-            .critical
-            .get(index)
-            .is_some_and(|c| c.state.len() != self.system().n && breaking.is_none());
-        if left {
-            let lambda = self.parameter();
-            return Err(self.error(ContinuationError {
-                reached: lambda,
-                target: lambda,
-                step: 0.0,
-                reason: StopReason::LeftProblem { index },
-            }));
-        }
-        let Some(cp) = breaking else {
-            if let Some(cp) = self.critical.get(index).cloned() {
-                if let Some(second) = cp
-                    .second_mode
-                    .as_ref()
-                    .filter(|_| cp.assembly_mode.is_none())
-                {
-                    return self.switch_in_plane(&cp, &cp.mode, second, sign, h);
-                }
-            }
-            return self
-                .path
-                .switch_branch(index, sign, h)
-                .map_err(|e| self.error(e));
-        };
-        let (Some(mode), Some(full)) = (cp.assembly_mode.as_ref(), self.model().full_model())
-        else {
-            let lambda = self.parameter();
-            return Err(self.error(ContinuationError {
-                reached: lambda,
-                target: lambda,
-                step: 0.0,
-                reason: StopReason::SymmetricPair,
-            }));
-        };
-        let bc = self.boundary_conditions();
-        let loads = self.loads().clone();
-        let natural = System::new(&full, bc, &full.natural_state(), &loads, cp.parameter);
-        let mut x = vec![0.0; natural.n];
-        expand_state(
-            self.model(),
-            self.system(),
-            &cp.state,
-            &full,
-            &natural,
-            &mut x,
-        );
-        // the pair's last accepted state on the whole assembly: a regular state of the
-        // same path to re-solve the critical state from
-        let mut near = vec![0.0; natural.n];
-        expand_state(
-            self.model(),
-            self.system(),
-            self.state(),
-            &full,
-            &natural,
-            &mut near,
-        );
-        // the supports hold what they hold at the critical state, as the pair's did
-        let system = System::new(&full, bc, &x[..full.n_primal], &loads, cp.parameter);
-        // the branches of a double point leave it along particular directions of its
-        // plane (where the symmetry's higher-order terms are extremal, at multiples of
-        // π/2m for a wavenumber-1 mode): the directions φ = jπ/2m are tried in turn
-        // — the one in which the energy falls most first (the block eigenvector's complex
-        // phase, which fixes φ = 0, is arbitrary; the energy of the first step is not)
-        let m = full.rods.len() / 2;
-        let tries = if cp.second_mode.is_some() { 2 * m } else { 1 };
-        let directions: Vec<Vec<f64>> = (0..tries)
-            .map(|j| {
-                let phi = j as f64 * std::f64::consts::PI / (2 * m) as f64;
-                let (c, s) = (phi.cos(), phi.sin());
-                match &cp.second_mode {
-                    Some(b) => mode.iter().zip(b).map(|(a, b)| c * a + s * b).collect(),
-                    None => mode.clone(),
-                }
-            })
-            .collect();
-        let mut order: Vec<(f64, usize)> = {
-            let mut probe = RodProblem::new(full.clone(), system.clone());
-            let mut residual = vec![0.0; x.len()];
-            directions
-                .iter()
-                .enumerate()
-                .map(|(j, d)| {
-                    let moved: Vec<f64> = x
-                        .iter()
-                        .enumerate()
-                        .map(|(i, v)| v + sign * h * d.get(i).copied().unwrap_or(0.0))
-                        .collect();
-                    let e = probe.residual(&moved, cp.parameter, &mut residual);
-                    (if e.is_finite() { e } else { f64::INFINITY }, j)
-                })
-                .collect()
-        };
-        order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut last = None;
-        for (_, j) in order {
-            let along = &directions[j];
-            let problem = RodProblem::new(full.clone(), system.clone());
-            let pair = (self.model().clone(), self.system().clone());
-            match self.path.switch_onto_problem(
-                problem,
-                x.clone(),
-                cp.parameter,
-                along,
-                sign,
-                h,
-                Some(near.clone()),
-            ) {
-                Ok(()) => {
-                    self.pair = Some(Box::new(pair));
-                    return Ok(());
-                }
-                Err(e) => last = Some(e),
-            }
-        }
-        Err(self.error(last.expect("at least one direction tried")))
-    }
-
-    /// Leaves the double critical point `cp` of the model solved along a direction of the
-    /// plane of its modes `a`, `b`: the directions `φ = jπ/2m` (`cos φ a + sin φ b`, `m`
-    /// half the rods) are tried in turn, the one in which the energy of the first step falls
-    /// most first, as for a symmetric pair's double point (the phase of the modes in their
-    /// plane is arbitrary; the energy is not).
-    fn switch_in_plane(
-        &mut self,
-        cp: &CriticalPoint,
-        a: &[f64],
-        b: &[f64],
-        sign: f64,
-        h: f64,
-    ) -> Result<(), SolveError> {
-        let m = (self.model().rods.len() / 2).max(1);
-        let directions: Vec<Vec<f64>> = (0..2 * m)
-            .map(|j| {
-                let phi = j as f64 * std::f64::consts::PI / (2 * m) as f64;
-                let (c, s) = (phi.cos(), phi.sin());
-                a.iter()
-                    .zip(b.iter().chain(std::iter::repeat(&0.0)))
-                    .map(|(a, b)| c * a + s * b)
-                    .collect()
-            })
-            .collect();
-        let mut residual = vec![0.0; cp.state.len()];
-        let rods = self.path.problem_mut();
-        let mut order: Vec<(f64, usize)> = directions
-            .iter()
-            .enumerate()
-            .map(|(j, d)| {
-                let moved: Vec<f64> = cp
-                    .state
-                    .iter()
-                    .zip(d.iter().chain(std::iter::repeat(&0.0)))
-                    .map(|(v, d)| v + sign * h * d)
-                    .collect();
-                let e = rods.residual(&moved, cp.parameter, &mut residual);
-                (if e.is_finite() { e } else { f64::INFINITY }, j)
-            })
-            .collect();
-        let (x, lambda) = (self.path.state().x.clone(), self.path.state().lambda);
-        self.path.problem_mut().restore(&x, lambda);
-        order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut last = None;
-        for (_, j) in order {
-            match self
-                .path
-                .switch_onto(&cp.state, cp.parameter, &directions[j], sign, h)
-            {
-                Ok(()) => return Ok(()),
-                Err(e) => last = Some(e),
-            }
-        }
-        Err(self.error(last.expect("at least one direction tried")))
-    }
-
     /// Changes the boundary conditions and re-solves at the current load from the current
     /// state; what the new conditions hold is held where it is now. On failure the old
     /// conditions and state are kept.
@@ -589,7 +413,7 @@ impl Simulation {
         let keep = system.linear_row(0).min(x.len());
         let x = x[..keep].to_vec();
         let eps = self.eps();
-        let problem = RodProblem::new(model, system);
+        let problem = LoadedAssembly::new(model, system).with_threads(self.threads);
         self.path
             .restart_with(problem, x, lambda)
             .map_err(|e| solve_error(e, control, eps))
@@ -597,11 +421,7 @@ impl Simulation {
 
     /// Number of rods of the whole assembly each modelled rod stands for.
     fn images(&self) -> f64 {
-        let model = self.model();
-        model
-            .assembly
-            .symmetry
-            .map_or(1.0, |s| s.full_rods() as f64 / model.rods.len() as f64)
+        self.reduction().images(self.model())
     }
 
     /// Reactions, load, energy and stability at the current state.
@@ -630,21 +450,22 @@ impl Simulation {
         fields::snapshot(self.model(), self.system(), self.state(), self.eps())
     }
 
-    /// For a critical point of a symmetric pair whose mode was rebuilt on the whole
+    /// For a critical point of a reduced model whose mode was rebuilt on the whole
     /// assembly: the full model, its system and the critical state expanded onto it.
     fn on_whole_assembly(
         &self,
         critical: &CriticalPoint,
     ) -> Option<(DiscreteModel, System, Vec<f64>)> {
         critical.assembly_mode.as_ref()?;
-        let (pair, system) = match &self.pair {
+        let (reduced, system) = match &self.reduced {
             Some(p) => (&p.0, &p.1),
             None => (self.model(), self.system()),
         };
         if critical.state.len() != system.n {
             return None;
         }
-        let full = pair.full_model()?;
+        let reduction = reduction::of(reduced);
+        let full = reduction.whole(reduced)?;
         let full_system = System::new(
             &full,
             system.bc,
@@ -653,11 +474,18 @@ impl Simulation {
             0.0,
         );
         let mut x = vec![0.0; full_system.n];
-        expand_state(pair, system, &critical.state, &full, &full_system, &mut x);
+        reduction.expand_state(
+            reduced,
+            system,
+            &critical.state,
+            &full,
+            &full_system,
+            &mut x,
+        );
         Some((full, full_system, x))
     }
 
-    /// A critical mode on the geometry of its state (for a symmetric pair, on the whole
+    /// A critical mode on the geometry of its state (for a reduced model, on the whole
     /// assembly, where its mode was rebuilt): for ParaView series.
     pub fn mode_shape(&self, critical: &CriticalPoint) -> ModeShape {
         match (self.on_whole_assembly(critical), &critical.assembly_mode) {
@@ -671,8 +499,8 @@ impl Simulation {
                 critical.eps,
                 &critical.mode,
             ),
-            // a critical point of the pair, which the path has left: drawn on the pair
-            _ => match &self.pair {
+            // a critical point of the reduced model, which the path has left: drawn on it
+            _ => match &self.reduced {
                 Some(p) => {
                     fields::mode_shape(&p.0, &p.1, &critical.state, critical.eps, &critical.mode)
                 }
@@ -688,7 +516,7 @@ impl Simulation {
     }
 
     /// Shape of a critical mode: the state displaced by `amplitude` times the mode (for a
-    /// symmetric pair, the whole assembly displaced by the mode rebuilt on it).
+    /// reduced model, the whole assembly displaced by the mode rebuilt on it).
     pub fn mode_snapshot(&self, critical: &CriticalPoint, amplitude: f64) -> Snapshot {
         if let (Some((full, system, mut x)), Some(mode)) =
             (self.on_whole_assembly(critical), &critical.assembly_mode)
@@ -704,8 +532,8 @@ impl Simulation {
             .zip(&critical.mode)
             .map(|(a, m)| a + amplitude * m)
             .collect();
-        match &self.pair {
-            // a critical point of the pair, which the path has left
+        match &self.reduced {
+            // a critical point of the reduced model, which the path has left
             Some(p) if x.len() != self.system().n => fields::snapshot(&p.0, &p.1, &x, critical.eps),
             _ => fields::snapshot(self.model(), self.system(), &x, critical.eps),
         }
@@ -715,6 +543,27 @@ impl Simulation {
 /// Compression ratio `ε = 1 − h/h0` of state `x`, from the mean tip height.
 fn eps_of(model: &DiscreteModel, x: &[f64]) -> f64 {
     1.0 - mean_tip_height(model, x) / model.height0()
+}
+
+/// How a simulation starts: its continuation settings, what may stop it and be told of its
+/// steps, and the threads of its block work.
+struct Start {
+    settings: ContinuationSettings,
+    interrupt: Option<Interrupt>,
+    observer: Option<Observer>,
+    threads: usize,
+}
+
+impl Start {
+    /// Under `settings`, without interrupt or observer, the block work on all the cores.
+    fn plain(settings: ContinuationSettings) -> Start {
+        Start {
+            settings,
+            interrupt: None,
+            observer: None,
+            threads: all_cores(),
+        }
+    }
 }
 
 /// The load parameter at which a state of compression ratio `eps` starts a path under
