@@ -28,7 +28,7 @@ pub struct LoadPoint {
     /// Output step number (0 for the natural state).
     pub step: usize,
     /// Compression ratio `ε = (h0 − h)/h0` (negative in extension), from the mean tip height.
-    pub eps: f64,
+    pub compression_ratio: f64,
     /// Load parameter: `ε` under displacement control, `P/Pcrit` under load control.
     pub parameter: f64,
     /// Tip height `h` (m).
@@ -80,7 +80,8 @@ pub struct RodShape {
 /// The shape of every rod in a state.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
-    pub eps: f64,
+    /// Compression ratio `ε` of the state.
+    pub compression_ratio: f64,
     pub rods: Vec<RodShape>,
 }
 
@@ -135,7 +136,7 @@ pub struct CriticalPoint {
     /// Load parameter at the critical point.
     pub parameter: f64,
     /// Compression ratio there.
-    pub eps: f64,
+    pub compression_ratio: f64,
     /// `(1/(n Pcrit)) Σ F_tip` there.
     pub load: [f64; 3],
     pub unstable_before: usize,
@@ -210,7 +211,8 @@ impl RodBulk {
 #[derive(Clone, Debug, PartialEq)]
 pub struct StepBulk {
     pub step: usize,
-    pub eps: f64,
+    /// Compression ratio `ε` of the step.
+    pub compression_ratio: f64,
     pub rods: Vec<RodBulk>,
     /// Axial force per rod of the infinite tube at this `ε` (N): Love's on the helix of the
     /// same arc length per turn, `c = c0`, `b = b0 (1 − ε)` (DESIGN.md §7); `None` for

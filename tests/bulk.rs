@@ -212,7 +212,7 @@ fn longer_tubes_approach_the_infinite_tube_of_loves_family() {
         let out = spira::run::run_path(&case, &targets, |_, _| {}).expect("path");
         assert!(out.error.is_none(), "{turns} turns: {:?}", out.error);
         let step = out.bulk.last().expect("a bulk per point");
-        assert!((step.eps - eps).abs() < 1e-9);
+        assert!((step.compression_ratio - eps).abs() < 1e-9);
         let ratio = step.tube_ratio.expect("ratio at eps > 0");
         let tube = step.tube_force.expect("helical rods");
         assert!((tube - infinite.force()).abs() < 1e-9 * tube.abs());

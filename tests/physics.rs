@@ -666,7 +666,7 @@ fn rods_stress_free_when_straight_are_prestressed_at_rest() {
     case.discretisation.symmetric = true;
     let sim = Simulation::from_case(&case).unwrap();
     let lp = sim.load_point(0);
-    assert_eq!(lp.eps, 0.0);
+    assert_eq!(lp.compression_ratio, 0.0);
     let (a, b) = (A, B);
     let (k, t) = (a / (c() * c()), b / (c() * c()));
     let length = case.geometry.length;
@@ -734,7 +734,7 @@ fn with_the_continuums_curvature_the_natural_state_carries_a_force_that_falls_at
         let pcrit = spira::model::stiffness::euler_load(1.0, case.geometry.length);
         let sim = Simulation::from_case(&case).unwrap();
         let lp = sim.load_point(0);
-        assert_eq!(lp.eps, 0.0);
+        assert_eq!(lp.compression_ratio, 0.0);
         for k in 0..3 {
             assert!(
                 lp.load[k].abs() < 1e-4,
@@ -792,7 +792,7 @@ fn helices_stress_free_in_their_discrete_configuration_carry_nothing_at_rest() {
                     let sim = Simulation::from_case(&case).unwrap();
                     let lp = sim.load_point(0);
                     let what = format!("n = {n} ({symmetric}), {order:?} x {elements}, {bc:?}");
-                    assert_eq!(lp.eps, 0.0, "{what}");
+                    assert_eq!(lp.compression_ratio, 0.0, "{what}");
                     assert!(lp.energy.abs() < 1e-12, "{what}: energy {} J", lp.energy);
                     for r in &lp.reactions {
                         for end in [r.tip, r.base] {
@@ -1024,16 +1024,16 @@ fn switching_between_displacement_and_load_control_keeps_the_state() {
     // the load parameter is the compressive force over Pcrit; the state is unchanged
     assert!((sim.parameter() + before.load[2]).abs() < 1e-9);
     let after = sim.load_point(1);
-    assert!((after.eps - 0.2).abs() < 1e-9);
+    assert!((after.compression_ratio - 0.2).abs() < 1e-9);
     for k in 0..3 {
         assert!((after.load[k] - before.load[k]).abs() < 1e-8);
     }
     // more load, then back to displacement control at the new state
     let p = sim.parameter();
     sim.advance_to(p * 1.1).unwrap();
-    assert!(sim.eps() > 0.2);
+    assert!(sim.compression_ratio() > 0.2);
     sim.set_control(Control::Displacement).unwrap();
-    assert!((sim.parameter() - sim.eps()).abs() < 1e-12);
+    assert!((sim.parameter() - sim.compression_ratio()).abs() < 1e-12);
     assert!((-sim.load_point(2).load[2] - p * 1.1).abs() < 1e-7);
 }
 

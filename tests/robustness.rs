@@ -40,7 +40,7 @@ fn every_stiffness_times_1e5_gives_the_thesis_n1_path_scaled_by_1e5() {
     assert_eq!(a.points.len(), b.points.len());
     let rel = |x: f64, y: f64, scale: f64| (x - y).abs() / scale;
     for (p, q) in a.points.iter().zip(&b.points) {
-        assert_eq!(p.eps, q.eps);
+        assert_eq!(p.compression_ratio, q.compression_ratio);
         // normalised by n Pcrit: the same numbers
         for k in 0..3 {
             assert!(
@@ -176,10 +176,10 @@ fn every_length_times_1e_3_gives_the_thesis_n1_path_in_other_units() {
         let close = |x: f64, y: f64, scale: f64| (x - y).abs() <= 1e-6 * scale;
         for (p, q) in a.points.iter().zip(&b.points) {
             assert!(
-                close(p.eps, q.eps, 1.0),
+                close(p.compression_ratio, q.compression_ratio, 1.0),
                 "{label}: eps {} vs {}",
-                p.eps,
-                q.eps
+                p.compression_ratio,
+                q.compression_ratio
             );
             assert!(close(p.parameter, q.parameter, 1.0));
             assert!(close(p.height * s, q.height, p.height * s), "{label}: h");
@@ -255,10 +255,10 @@ fn every_length_times_1e_3_gives_the_thesis_n1_path_in_other_units() {
                 (cb.unstable_before, cb.unstable_after)
             );
             assert!(
-                close(ca.eps, cb.eps, 1.0),
+                close(ca.compression_ratio, cb.compression_ratio, 1.0),
                 "{label}: {} vs {}",
-                ca.eps,
-                cb.eps
+                ca.compression_ratio,
+                cb.compression_ratio
             );
             for k in 0..3 {
                 assert!(close(ca.load[k], cb.load[k], 1.0));
@@ -267,9 +267,9 @@ fn every_length_times_1e_3_gives_the_thesis_n1_path_in_other_units() {
         if label == "tip slides" {
             assert_eq!(a.critical.len(), 1, "the sliding tips' bifurcation");
             assert!(
-                (a.critical[0].eps - 0.1353).abs() < 1e-3,
+                (a.critical[0].compression_ratio - 0.1353).abs() < 1e-3,
                 "{}",
-                a.critical[0].eps
+                a.critical[0].compression_ratio
             );
         } else {
             assert!(a.critical.is_empty());

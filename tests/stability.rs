@@ -164,7 +164,7 @@ fn after_branch_switching_the_column_follows_the_elastica() {
     let mut checked = 0;
     let mut furthest: f64 = 0.0;
     for p in &out.points {
-        let shortening = p.eps; // h0 = L for a straight rod
+        let shortening = p.compression_ratio; // h0 = L for a straight rod
         if shortening < 1e-3 {
             continue; // still on (or at) the straight branch
         }
@@ -195,11 +195,14 @@ fn thesis_assemblies_of_one_four_and_eight_helices_stay_stable_to_half_height() 
         assert!(
             out.critical.is_empty(),
             "n = {n}: {:?}",
-            out.critical.iter().map(|c| c.eps).collect::<Vec<_>>()
+            out.critical
+                .iter()
+                .map(|c| c.compression_ratio)
+                .collect::<Vec<_>>()
         );
         for p in &out.points {
             let st = p.stability.expect("stability tracked");
-            assert!(st.is_stable(), "n = {n} at eps = {}", p.eps);
+            assert!(st.is_stable(), "n = {n} at eps = {}", p.compression_ratio);
             assert!(st.lowest_eigenvalue.is_some_and(|l| l > 0.0));
         }
     }
@@ -213,7 +216,11 @@ fn two_helices_leave_the_symmetric_path_at_a_bifurcation_onto_a_stable_softer_br
     let first = &stay.critical[0];
     assert_eq!(first.kind, CriticalKind::Bifurcation);
     assert_eq!((first.unstable_before, first.unstable_after), (0, 1));
-    assert!(first.eps > 0.3 && first.eps < 0.4, "{}", first.eps);
+    assert!(
+        first.compression_ratio > 0.3 && first.compression_ratio < 0.4,
+        "{}",
+        first.compression_ratio
+    );
     let end = stay.points.last().unwrap();
     assert!(!end.stability.unwrap().is_stable());
     // switching in either direction gives mirror-image states of equal energy and load
@@ -341,11 +348,11 @@ fn a_buckled_isotropic_column_has_one_neutral_direction_and_reaches_its_target()
             "{}",
             p.parameter
         );
-        let expected = elastica_load(p.eps) / 4.0;
+        let expected = elastica_load(p.compression_ratio) / 4.0;
         assert!(
             (p.parameter - expected).abs() < 1e-3 * expected,
             "δ/L = {}: P/Pcrit = {} vs the pinned elastica's {expected}",
-            p.eps,
+            p.compression_ratio,
             p.parameter
         );
     }

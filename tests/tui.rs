@@ -410,7 +410,7 @@ fn space_while_running_pauses_and_the_answer_in_flight_asks_no_more() {
     sim.advance_to(eps).expect("converges");
     assert!(app.on_worker_event(answer(&r, solved(&sim, 1))).is_empty());
     assert!(!app.busy());
-    assert_close(app.eps(), 0.05);
+    assert_close(app.compression_ratio(), 0.05);
 }
 
 #[test]
@@ -429,7 +429,11 @@ fn a_failed_step_shows_the_reason_and_keeps_the_last_state() {
     assert!(effects.is_empty());
     assert_eq!(app.message, Some(Message::Error(reason.into())));
     assert!(!app.requests.running && !app.busy());
-    assert_eq!(app.eps(), Some(0.0), "last converged state stays");
+    assert_eq!(
+        app.compression_ratio(),
+        Some(0.0),
+        "last converged state stays"
+    );
     assert_eq!(
         app.screen.requested_parameter, 0.0,
         "the next step starts from it"
@@ -605,14 +609,14 @@ fn the_solver_thread_answers_and_the_last_request_wins() {
     let mut app = App::new(small_case(2), std::env::temp_dir());
     let start = app.start();
     settle(&mut app, &worker, start);
-    assert_eq!(app.eps(), Some(0.0));
+    assert_eq!(app.compression_ratio(), Some(0.0));
     // three presses in a row: the last is solved, the middle one never (the first only
     // if the solver took it before the others arrived)
     let mut effects = app.handle_key(ch('l'));
     effects.extend(app.handle_key(ch('l')));
     effects.extend(app.handle_key(ch('l')));
     settle(&mut app, &worker, effects);
-    assert_close(app.eps(), 0.15);
+    assert_close(app.compression_ratio(), 0.15);
     assert!(
         app.screen.path.len() == 2 || app.screen.path.len() == 3,
         "{}",
@@ -625,7 +629,7 @@ fn the_solver_thread_answers_and_the_last_request_wins() {
     settle(&mut app, &worker, effects);
     let state = app.screen.state.as_ref().unwrap();
     assert!(!state.boundary.joints);
-    assert_close(Some(state.point.eps), 0.15);
+    assert_close(Some(state.point.compression_ratio), 0.15);
     // asking again for what is in force needs no solve and adds no point
     let n = app.screen.path.len();
     let effects = app.handle_key(ch('p'));
@@ -661,7 +665,11 @@ fn the_solver_thread_reports_failures_and_keeps_the_state() {
     effects.extend(app.handle_key(ch('t')));
     effects.extend(app.handle_key(ch('b')));
     settle(&mut app, &worker, effects);
-    assert_eq!(app.eps(), Some(0.0), "the last converged state stays");
+    assert_eq!(
+        app.compression_ratio(),
+        Some(0.0),
+        "the last converged state stays"
+    );
     match &app.message {
         Some(Message::Error(m)) => assert!(!m.is_empty()),
         other => panic!("expected the failure on screen, got {other:?}"),
@@ -1222,7 +1230,7 @@ fn the_mesh_chosen_for_an_accuracy_is_on_the_status_line() {
         .clone()
         .expect("a mesh chosen for the accuracy");
     assert!(mesh.estimated_error <= 1e-3);
-    assert_eq!(app.eps(), Some(0.0));
+    assert_eq!(app.compression_ratio(), Some(0.0));
     let screen = text(&draw(&app, 80, 24));
     let want = format!(
         "mesh {} {}, err {:.0e}",
@@ -1264,7 +1272,11 @@ fn c_cancels_the_solve_and_the_answer_keeps_the_last_state() {
     assert!(effects.is_empty());
     assert!(!app.busy() && app.requests.solving.is_none());
     assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("cancelled")));
-    assert_eq!(app.eps(), Some(0.0), "last converged state stays");
+    assert_eq!(
+        app.compression_ratio(),
+        Some(0.0),
+        "last converged state stays"
+    );
 }
 
 #[test]
@@ -1297,7 +1309,7 @@ fn the_worker_answers_cancelled_requests_without_solving_and_stops_at_its_budget
     let mut app = App::new(small_case(1), PathBuf::from("."));
     let effects = app.start();
     settle(&mut app, &worker, effects);
-    assert_eq!(app.eps(), Some(0.0));
+    assert_eq!(app.compression_ratio(), Some(0.0));
     worker.set_budget(Duration::ZERO);
     let effects = app.handle_key(ch('l'));
     settle(&mut app, &worker, effects);
@@ -1308,7 +1320,7 @@ fn the_worker_answers_cancelled_requests_without_solving_and_stops_at_its_budget
         }
         other => panic!("expected the budget's message, got {other:?}"),
     }
-    assert_eq!(app.eps(), Some(0.0));
+    assert_eq!(app.compression_ratio(), Some(0.0));
     // and the natural state of a new simulation too: the one on screen stays
     let effects = app.handle_key(ch('n'));
     settle(&mut app, &worker, effects);
@@ -1320,7 +1332,10 @@ fn the_worker_answers_cancelled_requests_without_solving_and_stops_at_its_budget
         }
         other => panic!("expected the budget's message, got {other:?}"),
     }
-    assert_eq!((app.screen.helices, app.eps()), (1, Some(0.0)));
+    assert_eq!(
+        (app.screen.helices, app.compression_ratio()),
+        (1, Some(0.0))
+    );
     worker.join();
 }
 
@@ -1353,7 +1368,7 @@ fn critical_point() -> spira::results::CriticalPoint {
         kind: spira::results::CriticalKind::Bifurcation,
         control: spira::model::loading::Control::Displacement,
         parameter: 0.05,
-        eps: 0.05,
+        compression_ratio: 0.05,
         load: [0.0, 0.0, -1.25],
         unstable_before: 0,
         unstable_after: 1,
@@ -1641,7 +1656,7 @@ fn a_cancelled_natural_state_keeps_the_previous_simulation() {
     settle(&mut app, &worker, effects);
     let effects = app.handle_key(ch('l'));
     settle(&mut app, &worker, effects);
-    assert_close(app.eps(), 0.05);
+    assert_close(app.compression_ratio(), 0.05);
     let before = app.screen.path.clone();
     // n = 2 asked for, and cancelled before the solver takes it (the cancel reaches the
     // solver first, so the test does not depend on timing)
@@ -1661,7 +1676,7 @@ fn a_cancelled_natural_state_keeps_the_previous_simulation() {
     settle_with(&mut app, &worker, |_, _| {});
     assert_eq!(app.screen.helices, 1, "back to the previous n");
     assert_eq!(app.screen.path, before, "the previous path is back");
-    assert_close(app.eps(), 0.05);
+    assert_close(app.compression_ratio(), 0.05);
     match &app.message {
         Some(Message::Info(m)) => assert!(m.contains("cancelled"), "{m}"),
         other => panic!("expected the cancellation, got {other:?}"),
@@ -1674,7 +1689,7 @@ fn a_cancelled_natural_state_keeps_the_previous_simulation() {
     // the solver kept it too: the next step continues the previous path
     let effects = app.handle_key(ch('l'));
     settle(&mut app, &worker, effects);
-    assert_close(app.eps(), 0.1);
+    assert_close(app.compression_ratio(), 0.1);
     assert_eq!(app.screen.path.len(), 3);
     assert!(
         !matches!(
@@ -1759,7 +1774,7 @@ fn a_step_cancelled_part_of_the_way_replays_to_the_same_state() {
             send_all(&worker, cancel);
         }
     });
-    let eps = app.eps().expect("a state");
+    let eps = app.compression_ratio().expect("a state");
     assert!(
         eps > 0.05 && eps < 0.1,
         "stopped part of the way: ε = {eps} ({:?})",
@@ -1813,7 +1828,7 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
         let effects = app.handle_key(ch('l'));
         settle(&mut app, &worker, effects);
     }
-    assert_close(app.eps(), 0.35);
+    assert_close(app.compression_ratio(), 0.35);
     assert_eq!(
         app.screen.critical.len(),
         1,
@@ -1835,7 +1850,7 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
     );
     settle(&mut app, &worker, effects);
     assert!(!app.view.show_critical, "the list closes");
-    assert_close(app.eps(), 0.35);
+    assert_close(app.compression_ratio(), 0.35);
     let switched = app.screen.path.last().unwrap().clone();
     // `spira run` of the same case with branch = "switch", to the same ε in the same steps
     let run = spira::run::run_path(

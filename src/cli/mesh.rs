@@ -40,6 +40,6 @@ pub fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
 pub fn response(case: &Case, point: &LoadPoint) -> f64 {
     match case.loading.control {
         Control::Displacement => point.load[2],
-        Control::Force => point.eps,
+        Control::Force => point.compression_ratio,
     }
 }

@@ -89,7 +89,7 @@ pub fn run(
     if let Some(err) = outcome.error {
         bail!(
             "{err}; the converged steps up to eps = {:.6} were written",
-            err.eps
+            err.compression_ratio
         );
     }
     if let Some(e) = figure_error {
@@ -202,7 +202,7 @@ fn print_step(step: &Step) {
     println!(
         "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
         p.step,
-        p.eps,
+        p.compression_ratio,
         p.load[2],
         p.iterations,
         p.residual,
@@ -251,7 +251,7 @@ fn print_critical_points(outcome: &PathOutcome) {
         println!(
             "critical point {i}: {} at eps = {:.6} ({} parameter {:.8}), fz/(n Pcrit) = {:.6}, unstable directions {} -> {}{}",
             c.kind.name(),
-            c.eps,
+            c.compression_ratio,
             c.control.name(),
             c.parameter,
             c.load[2],
@@ -320,7 +320,7 @@ fn print_summary(outcome: &PathOutcome, t0: Instant, note: Option<&str>, written
     let last = outcome.points.last().expect("step 0 is always there");
     println!(
         "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
-        last.eps,
+        last.compression_ratio,
         t0.elapsed().as_secs_f64() * 1e3,
         outcome.stats.steps,
         outcome.stats.rejected,

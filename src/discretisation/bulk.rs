@@ -178,11 +178,11 @@ pub fn step_bulk(model: &DiscreteModel, snapshot: &Snapshot, point: &LoadPoint) 
         .collect();
     let natural = model.rods.first().map(|r| r.helix);
     let tube_force = natural
-        .filter(|h| !h.is_straight() && point.eps < 1.0)
-        .map(|h| tube_force(&h, model, length, point.eps))
+        .filter(|h| !h.is_straight() && point.compression_ratio < 1.0)
+        .map(|h| tube_force(&h, model, length, point.compression_ratio))
         .filter(|f| f.is_finite());
     let tube_ratio = tube_force.and_then(|tf| {
-        if point.eps.abs() <= EPS_FLOOR || tf == 0.0 || rods.is_empty() {
+        if point.compression_ratio.abs() <= EPS_FLOOR || tf == 0.0 || rods.is_empty() {
             return None;
         }
         let mean = rods.iter().map(|r| r.axial_force).sum::<f64>() / rods.len() as f64;
@@ -190,7 +190,7 @@ pub fn step_bulk(model: &DiscreteModel, snapshot: &Snapshot, point: &LoadPoint) 
     });
     StepBulk {
         step: point.step,
-        eps: point.eps,
+        compression_ratio: point.compression_ratio,
         rods,
         tube_force,
         tube_ratio,

@@ -100,7 +100,10 @@ pub fn snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> 
             }
         })
         .collect();
-    Snapshot { eps, rods }
+    Snapshot {
+        compression_ratio: eps,
+        rods,
+    }
 }
 
 fn own_snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> Snapshot {
@@ -164,7 +167,10 @@ fn own_snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> 
             }
         })
         .collect();
-    Snapshot { eps, rods }
+    Snapshot {
+        compression_ratio: eps,
+        rods,
+    }
 }
 
 // ---------------------------------------------------------------- curvature

@@ -140,7 +140,7 @@ pub fn load_csv(case: &str, points: &[LoadPoint]) -> String {
     ];
     let rows = points.iter().map(|p| LoadRow {
         step: p.step,
-        eps: p.eps,
+        eps: p.compression_ratio,
         height: p.height,
         fx: p.load[0],
         fy: p.load[1],
@@ -193,7 +193,7 @@ pub fn critical_csv(case: &str, critical: &[CriticalPoint]) -> String {
         kind: c.kind.name(),
         control: c.control.name(),
         parameter: c.parameter,
-        eps: c.eps,
+        eps: c.compression_ratio,
         fx: c.load[0],
         fy: c.load[1],
         fz: c.load[2],
@@ -305,7 +305,7 @@ pub fn reactions_csv(case: &str, points: &[LoadPoint]) -> String {
             let (f, m) = (r.tip.force, r.tip.moment);
             ReactionRow {
                 step: p.step,
-                eps: p.eps,
+                eps: p.compression_ratio,
                 rod: r.rod,
                 chirality: r.chirality.name(),
                 fx: f[0],
@@ -365,7 +365,7 @@ struct NodeRow {
 /// `state.csv`: every quaternion node of every rod.
 pub fn state_csv(case: &str, snapshot: &Snapshot) -> String {
     let comments = [
-        format!("spira state, case {case}, eps = {:.10e}", snapshot.eps),
+        format!("spira state, case {case}, eps = {:.10e}", snapshot.compression_ratio),
         "s: arc length (m); x,y,z: centreline (m); q1..q4: unit quaternion (vector, scalar); k1,k2,omega: curvatures (1/m), recovered from the Barlow points of the elements by a local least-squares fit; nx,ny,nz: internal force (N; at an element vertex the mean of the two elements)".to_string(),
     ];
     let rows = snapshot.rods.iter().flat_map(|rod| {
@@ -450,7 +450,7 @@ pub fn bulk_csv(case: &str, steps: &[StepBulk]) -> String {
     let rows = steps.iter().flat_map(|st| {
         st.rods.iter().map(move |b| BulkRow {
             step: st.step,
-            eps: st.eps,
+            eps: st.compression_ratio,
             rod: b.rod,
             chirality: b.chirality.name(),
             bulk_start: b.start_over_l(),

@@ -52,7 +52,10 @@ pub fn pvd(case: &str, steps: &[(f64, String)]) -> Result<String, NonFinite> {
 /// vertices.
 pub fn vtp(case: &str, snapshot: &Snapshot) -> Result<String, NonFinite> {
     poly_data(
-        &format!("spira state, case {case}, eps = {:e}", snapshot.eps),
+        &format!(
+            "spira state, case {case}, eps = {:e}",
+            snapshot.compression_ratio
+        ),
         snapshot,
         None,
     )

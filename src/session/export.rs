@@ -114,7 +114,10 @@ pub fn write(
         output::reactions_csv(label, path),
     ];
     let mut files = Vec::new();
-    for (name, text) in names(label, last.step, last.eps).iter().zip(texts) {
+    for (name, text) in names(label, last.step, last.compression_ratio)
+        .iter()
+        .zip(texts)
+    {
         let file = dir.join(name);
         output::write_atomic(&file, &text)?;
         files.push(file);

@@ -35,7 +35,7 @@ type Continuation = crate::solver::continuation::Continuation<LoadedAssembly>;
 /// The continuation could not reach its target; the last converged state is kept.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error(
-    "continuation stopped at eps = {eps:.6} ({} parameter {reached:.6}, target {target:.6}): {reason}",
+    "continuation stopped at eps = {compression_ratio:.6} ({} parameter {reached:.6}, target {target:.6}): {reason}",
     .control.name()
 )]
 pub struct SolveError {
@@ -43,7 +43,7 @@ pub struct SolveError {
     /// Last converged load parameter.
     pub reached: f64,
     /// Compression ratio of the last converged state.
-    pub eps: f64,
+    pub compression_ratio: f64,
     pub target: f64,
     /// The last step tried.
     pub step: f64,
@@ -266,7 +266,7 @@ impl Simulation {
     }
 
     /// Compression ratio of the current state, from the mean tip height.
-    pub fn eps(&self) -> f64 {
+    pub fn compression_ratio(&self) -> f64 {
         eps_of(self.model(), &self.path.state().x)
     }
 
@@ -324,7 +324,7 @@ impl Simulation {
     }
 
     fn error(&self, e: ContinuationError) -> SolveError {
-        solve_error(e, self.control(), self.eps())
+        solve_error(e, self.control(), self.compression_ratio())
     }
 
     /// Reports the critical points the engine found since the last call, with the load
@@ -348,7 +348,7 @@ impl Simulation {
                 kind: c.kind,
                 control,
                 parameter: c.parameter,
-                eps,
+                compression_ratio: eps,
                 load,
                 unstable_before: c.unstable_before,
                 unstable_after: c.unstable_after,
@@ -398,7 +398,7 @@ impl Simulation {
 
     fn rebuild(&mut self, bc: BoundaryConditions, control: Control) -> Result<(), SolveError> {
         let lambda = match control {
-            Control::Displacement => self.eps(),
+            Control::Displacement => self.compression_ratio(),
             Control::Force => -self.load_point(0).load[2],
         };
         let model = self.model().clone();
@@ -412,7 +412,7 @@ impl Simulation {
         // multipliers enter the KKT matrix linearly and restart from zero
         let keep = system.linear_row(0).min(x.len());
         let x = x[..keep].to_vec();
-        let eps = self.eps();
+        let eps = self.compression_ratio();
         let problem = LoadedAssembly::new(model, system).with_threads(self.threads);
         self.path
             .restart_with(problem, x, lambda)
@@ -430,10 +430,10 @@ impl Simulation {
         let state = self.path.state();
         let reactions = fields::reactions(model, system, &state.x);
         let load = fields::normalised_load(model, &reactions);
-        let eps = self.eps();
+        let eps = self.compression_ratio();
         LoadPoint {
             step,
-            eps,
+            compression_ratio: eps,
             parameter: state.lambda,
             height: self.height_at(eps),
             reactions,
@@ -447,7 +447,12 @@ impl Simulation {
 
     /// Shapes and curvatures at the current state.
     pub fn snapshot(&self) -> Snapshot {
-        fields::snapshot(self.model(), self.system(), self.state(), self.eps())
+        fields::snapshot(
+            self.model(),
+            self.system(),
+            self.state(),
+            self.compression_ratio(),
+        )
     }
 
     /// For a critical point of a reduced model whose mode was rebuilt on the whole
@@ -490,25 +495,29 @@ impl Simulation {
     pub fn mode_shape(&self, critical: &CriticalPoint) -> ModeShape {
         match (self.on_whole_assembly(critical), &critical.assembly_mode) {
             (Some((full, system, x)), Some(mode)) => {
-                fields::mode_shape(&full, &system, &x, critical.eps, mode)
+                fields::mode_shape(&full, &system, &x, critical.compression_ratio, mode)
             }
             _ if critical.state.len() == self.system().n => fields::mode_shape(
                 self.model(),
                 self.system(),
                 &critical.state,
-                critical.eps,
+                critical.compression_ratio,
                 &critical.mode,
             ),
             // a critical point of the reduced model, which the path has left: drawn on it
             _ => match &self.reduced {
-                Some(p) => {
-                    fields::mode_shape(&p.0, &p.1, &critical.state, critical.eps, &critical.mode)
-                }
+                Some(p) => fields::mode_shape(
+                    &p.0,
+                    &p.1,
+                    &critical.state,
+                    critical.compression_ratio,
+                    &critical.mode,
+                ),
                 None => fields::mode_shape(
                     self.model(),
                     self.system(),
                     &critical.state,
-                    critical.eps,
+                    critical.compression_ratio,
                     &critical.mode,
                 ),
             },
@@ -524,7 +533,7 @@ impl Simulation {
             for (xi, mi) in x.iter_mut().zip(mode) {
                 *xi += amplitude * mi;
             }
-            return fields::snapshot(&full, &system, &x, critical.eps);
+            return fields::snapshot(&full, &system, &x, critical.compression_ratio);
         }
         let x: Vec<f64> = critical
             .state
@@ -534,8 +543,10 @@ impl Simulation {
             .collect();
         match &self.reduced {
             // a critical point of the reduced model, which the path has left
-            Some(p) if x.len() != self.system().n => fields::snapshot(&p.0, &p.1, &x, critical.eps),
-            _ => fields::snapshot(self.model(), self.system(), &x, critical.eps),
+            Some(p) if x.len() != self.system().n => {
+                fields::snapshot(&p.0, &p.1, &x, critical.compression_ratio)
+            }
+            _ => fields::snapshot(self.model(), self.system(), &x, critical.compression_ratio),
         }
     }
 }
@@ -580,7 +591,7 @@ fn solve_error(e: ContinuationError, control: Control, eps: f64) -> SolveError {
     SolveError {
         control,
         reached: e.reached,
-        eps,
+        compression_ratio: eps,
         target: e.target,
         step: e.step,
         reason: e.reason,

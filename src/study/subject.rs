@@ -303,7 +303,7 @@ impl Subject {
                 let last = outcome.points.last().expect("step 0 is always there");
                 let response = match case.loading.control {
                     Control::Displacement => last.load[2],
-                    Control::Force => last.eps,
+                    Control::Force => last.compression_ratio,
                 };
                 Ok(Values {
                     response,

@@ -330,7 +330,7 @@ fn run_case(
         Ok(s) => s.outcome.error.as_ref().map(|e| {
             format!(
                 "{e}; the converged steps up to eps = {:.6} were written",
-                e.eps
+                e.compression_ratio
             )
         }),
         Err(e) => Some(e.clone()),
@@ -376,7 +376,7 @@ fn solve(case: &Case, interrupt: Option<&Interrupt>) -> Result<Solved, String> {
         let last = outcome.points.last().expect("step 0 is always there");
         let response = match case.loading.control {
             Control::Displacement => last.load[2],
-            Control::Force => last.eps,
+            Control::Force => last.compression_ratio,
         };
         ch.note(ch.estimate_with(response))
     });
@@ -468,7 +468,7 @@ fn row(
             rest.extend([
                 o.unknowns.to_string(),
                 num(case.loading.target),
-                num(last.eps),
+                num(last.compression_ratio),
                 num(last.load[2]),
                 num(last.energy),
                 stab.map_or(String::new(), |s| {
@@ -477,7 +477,7 @@ fn row(
                 stab.map_or(String::new(), |s| s.unstable_directions.to_string()),
                 stab.and_then(|s| s.lowest_eigenvalue)
                     .map_or(String::new(), num),
-                first.map_or(String::new(), |f| num(f.eps)),
+                first.map_or(String::new(), |f| num(f.compression_ratio)),
                 first.map_or(String::new(), |f| f.kind.name().into()),
                 first.map_or(String::new(), |f| {
                     format!("{}->{}", f.unstable_before, f.unstable_after)

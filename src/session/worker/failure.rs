@@ -46,7 +46,10 @@ pub(super) fn describe_failure(
     };
     let kept = match asked {
         Asked::Start(_) => "the previous simulation is kept".to_string(),
-        _ => format!("the last converged state (ε = {:.5}) is kept", e.eps),
+        _ => format!(
+            "the last converged state (ε = {:.5}) is kept",
+            e.compression_ratio
+        ),
     };
     match (interruption(e), asked) {
         (Some(Interruption::Cancelled), _) => {

@@ -366,12 +366,12 @@ impl Solver {
             }];
         };
         let symbol = sim.load_parameter().symbol();
-        let ratio_before = sim.eps();
+        let ratio_before = sim.compression_ratio();
         let (state_before, lambda_before) = (sim.state().to_vec(), sim.parameter());
         match step(sim) {
             Ok(()) => self.solved(seq, true, t0).into_iter().collect(),
             Err(e) => {
-                let moved = sim.eps() != ratio_before;
+                let moved = sim.compression_ratio() != ratio_before;
                 let boundary = Some(sim.boundary_conditions());
                 // what a replay needs: the steps taken, or none when nothing changed
                 let changed = sim.parameter() != lambda_before || sim.state() != state_before;

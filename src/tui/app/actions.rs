@@ -225,7 +225,7 @@ impl App {
             )));
             return vec![];
         }
-        let (index, at) = (self.view.critical_cursor, c.eps);
+        let (index, at) = (self.view.critical_cursor, c.compression_ratio);
         let (symbol, parameter) = (self.symbol(), self.screen.requested_parameter);
         self.requests.running = false;
         self.view.show_critical = false;

@@ -95,7 +95,7 @@ impl App {
             if done {
                 self.message = Some(Message::Info(format!(
                     "on the bifurcated branch at ε = {:.5}: fz/(n Pcrit) = {:.4}, {}; steps go on along it",
-                    state.point.eps,
+                    state.point.compression_ratio,
                     state.point.load[2],
                     state.point.stability.map_or("stability not computed".to_string(), |s| format!(
                         "unstable directions {}",
@@ -110,7 +110,7 @@ impl App {
             self.message = Some(Message::Info(format!(
                 "critical point: {} at ε = {:.5}, fz/(n Pcrit) = {:.4}, unstable directions {} → {} (x lists them)",
                 c.kind.name(),
-                c.eps,
+                c.compression_ratio,
                 c.load[2],
                 c.unstable_before,
                 c.unstable_after

@@ -171,8 +171,11 @@ impl App {
     }
 
     /// Compression ratio `ε` of the state on screen.
-    pub fn eps(&self) -> Option<f64> {
-        self.screen.state.as_ref().map(|s| s.point.eps)
+    pub fn compression_ratio(&self) -> Option<f64> {
+        self.screen
+            .state
+            .as_ref()
+            .map(|s| s.point.compression_ratio)
     }
 
     /// Load parameter `λ` of the state on screen.

@@ -10,7 +10,11 @@ impl App {
     /// File names of an export of the current state.
     pub fn export_names(&self) -> Option<[String; 3]> {
         let point = &self.screen.state.as_ref()?.point;
-        Some(export::names(&self.case_label(), point.step, point.eps))
+        Some(export::names(
+            &self.case_label(),
+            point.step,
+            point.compression_ratio,
+        ))
     }
 
     fn place(&self) -> String {

@@ -27,7 +27,7 @@ pub(super) fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
                 ' '
             },
             c.kind.name(),
-            c.eps,
+            c.compression_ratio,
             c.load[2],
             c.unstable_before,
             c.unstable_after,

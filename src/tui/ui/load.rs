@@ -86,7 +86,7 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
 /// either control (the compression ratio for the axial load), so that a dead load's curve is
 /// its load against the motion it causes.
 fn along(p: &LoadPoint) -> f64 {
-    p.eps
+    p.compression_ratio
 }
 
 /// The points marked over the curves: the state on screen, the path cursor's loads, the
@@ -117,7 +117,7 @@ impl Marks {
                 .screen
                 .critical
                 .iter()
-                .map(|c| (c.eps, c.load[2]))
+                .map(|c| (c.compression_ratio, c.load[2]))
                 .collect(),
         }
     }

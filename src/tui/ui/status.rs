@@ -44,7 +44,10 @@ pub(super) fn message_lines(app: &App, width: u16) -> u16 {
 /// Status line 1: case, `n`, the load parameter and its target, the step, the activity.
 fn case_line(app: &App) -> Line<'static> {
     let parameter = app.screen.state.as_ref().map_or("–".to_string(), |s| {
-        format!("{:.5}", app.shown_parameter(s.point.eps, s.point.parameter))
+        format!(
+            "{:.5}",
+            app.shown_parameter(s.point.compression_ratio, s.point.parameter)
+        )
     });
     Line::from(vec![
         bold(app.case_label()),
