@@ -32,7 +32,7 @@ pub struct PathOutcome {
     /// Each critical point's mode on the geometry of its state (same order as `critical`).
     pub modes: Vec<ModeShape>,
     /// The discrete model (for mode output).
-    pub model: crate::discretisation::model::DiscreteModel,
+    pub model: crate::discretisation::discrete_model::DiscreteModel,
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,

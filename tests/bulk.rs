@@ -4,8 +4,8 @@
 
 use spira::case::Case;
 use spira::discretisation::bulk;
+use spira::discretisation::discrete_model::DiscreteModel;
 use spira::discretisation::fields;
-use spira::discretisation::model::DiscreteModel;
 use spira::discretisation::shape::Order;
 use spira::model::assembly::Assembly;
 use spira::model::helix::Chirality;

@@ -924,7 +924,7 @@ fn output_steps_are_equally_spaced_up_to_the_target() {
 
 #[test]
 fn the_elastic_hypotheses_default_to_kirchhoff_rods_stress_free_in_their_discrete_helix() {
-    use spira::discretisation::model::Reference;
+    use spira::discretisation::discrete_model::Reference;
     use spira::model::elasticity::{Elasticity, Energy, StressFree};
     let case = Case::parse("", "empty.toml", "empty").unwrap();
     assert_eq!(case.rod, Elasticity::default());

@@ -6,8 +6,8 @@
 
 use nalgebra::Vector3;
 use spira::case::Case;
+use spira::discretisation::discrete_model::{DiscreteModel, End, Reference};
 use spira::discretisation::element;
-use spira::discretisation::model::{DiscreteModel, End, Reference};
 use spira::discretisation::shape::Order;
 use spira::discretisation::system::System;
 use spira::model::assembly::Assembly;

@@ -8,7 +8,7 @@
 //! checked against them, so that a test never compares the program with itself.
 
 use spira::case::Case;
-use spira::discretisation::model::Reference as Curvatures;
+use spira::discretisation::discrete_model::Reference as Curvatures;
 use spira::discretisation::shape::Order;
 use spira::model::elasticity::{Elasticity, Energy, Ribbon, StressFree};
 use spira::model::love::LoveHelix;

@@ -3,7 +3,7 @@
 //! continuation where Newton fails.
 
 use spira::case::Case;
-use spira::discretisation::model::DiscreteModel;
+use spira::discretisation::discrete_model::DiscreteModel;
 use spira::model::boundary::BoundaryConditions;
 use spira::model::loading::Control;
 use spira::results::CriticalKind;
@@ -265,7 +265,7 @@ fn a_duplicated_joint_is_reported_as_a_singular_system() {
     // the continuum's reference curvatures, so that the natural state is not already an
     // equilibrium and Newton must factorise the matrix (with the discrete ones it is one
     // exactly, and is accepted before any solve)
-    c.discretisation.reference = spira::discretisation::model::Reference::Continuum;
+    c.discretisation.reference = spira::discretisation::discrete_model::Reference::Continuum;
     let mut model: DiscreteModel = c.model();
     // an interior joint tied twice: two identical constraint rows
     let j = model.assembly.joints[3];

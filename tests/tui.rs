@@ -654,7 +654,7 @@ fn the_solver_thread_reports_failures_and_keeps_the_state() {
     // ones the unloaded natural state is still an equilibrium once they are released, and
     // the singular system is met only at the next step)
     let mut case = small_case(1);
-    case.discretisation.reference = spira::discretisation::model::Reference::Continuum;
+    case.discretisation.reference = spira::discretisation::discrete_model::Reference::Continuum;
     let mut app = App::new(case, std::env::temp_dir());
     let start = app.start();
     settle(&mut app, &worker, start);

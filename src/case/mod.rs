@@ -27,7 +27,7 @@ pub use settings::{AccuracyTarget, Discretisation, Geometry, Loading};
 pub use size::{available_memory, SizeEstimate, TooLarge, LONG_STEP_SECONDS};
 pub use target::TargetError;
 
-use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::elasticity::Elasticity;

@@ -3,7 +3,7 @@
 //! that a value out of range can be pointed at.
 
 use super::error::CaseError;
-use crate::discretisation::model::Reference;
+use crate::discretisation::discrete_model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::boundary::{Rotation, Translation};
 use crate::model::loading::{Branch, Control};

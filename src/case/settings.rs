@@ -1,7 +1,7 @@
 //! The values a case sets, table by table, once read and checked: the geometry of the
 //! assembly, its loading and the mesh of its rods.
 
-use crate::discretisation::model::Reference;
+use crate::discretisation::discrete_model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::loading::{Branch, Control};
 use std::f64::consts::PI;

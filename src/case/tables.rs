@@ -10,7 +10,7 @@ use super::raw::{
 };
 use super::settings::{AccuracyTarget, Discretisation, Geometry, Loading};
 use super::target::check_target;
-use crate::discretisation::model::Reference;
+use crate::discretisation::discrete_model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::boundary::{BoundaryConditions, EndCondition};
 use crate::model::elasticity::{Elasticity, Energy, Ribbon, StressFree};

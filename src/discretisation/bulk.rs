@@ -6,7 +6,7 @@
 //! The curvatures read are those of a reported shape: the nodal values recovered from the
 //! Barlow points ([`super::fields::recovered_curvature`]), accurate to `O(h^{p+1})`.
 
-use super::model::DiscreteModel;
+use super::discrete_model::DiscreteModel;
 use crate::model::helix::Helix;
 use crate::model::love::{axial_wrench, LoveHelix};
 use crate::model::stiffness::Stiffness;

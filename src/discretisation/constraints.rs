@@ -1,7 +1,7 @@
 //! The linear constraints of the KKT system: supports at the rod ends (DESIGN.md §3), the
 //! prescribed tip height, and the pin joints at the crossings (DESIGN.md §2).
 
-use super::model::{DiscreteModel, End};
+use super::discrete_model::{DiscreteModel, End};
 use crate::model::assembly::{Joint, RodId};
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
 use crate::model::quaternion::{self, Quat};

@@ -3,8 +3,8 @@
 //! and curvatures at the quaternion nodes), for the full assembly when the model is a
 //! symmetric pair; and the curvature of a reported shape anywhere along a rod.
 
+use super::discrete_model::{DiscreteModel, End};
 use super::element;
-use super::model::{DiscreteModel, End};
 use super::shape::{self, Order, GAUSS_3, MAX_NODES};
 use super::system::System;
 use crate::model::assembly::RodId;

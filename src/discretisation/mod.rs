@@ -4,10 +4,10 @@
 
 pub mod bulk;
 pub mod constraints;
+pub mod discrete_model;
 pub mod element;
 pub mod fields;
 pub mod mesh;
-pub mod model;
 pub mod shape;
 pub mod symmetry;
 pub mod system;

@@ -2,7 +2,7 @@
 //! pair expanded to the state of every rod, and the Bloch blocks of its KKT matrix.
 
 use super::constraints::Role;
-use super::model::DiscreteModel;
+use super::discrete_model::DiscreteModel;
 use super::system::System;
 use crate::model::quaternion::Quat;
 use crate::model::symmetry::TurnZ;

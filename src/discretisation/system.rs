@@ -12,8 +12,8 @@
 //! pattern that is built once per set of constraints.
 
 use super::constraints::{joint_constraints, support_constraints, LinearConstraint, Role};
+use super::discrete_model::{DiscreteModel, End};
 use super::element::{self, ElementLoad, ElementTerms};
-use super::model::{DiscreteModel, End};
 use crate::model::assembly::RodId;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::loading::{AxisLoad, Loads, SupportAxis};

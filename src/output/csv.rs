@@ -7,7 +7,7 @@
 //! value is an empty cell.
 
 use crate::discretisation::bulk::BULK_TOLERANCE;
-use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, Snapshot, StepBulk};
 use serde::Serialize;
 

@@ -7,7 +7,7 @@ use super::csv::{
 };
 use super::files::write_folder;
 use super::vtk;
-use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::run::PathOutcome;
 use std::io;

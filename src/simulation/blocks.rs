@@ -4,7 +4,7 @@
 //! independent, and are judged on a number of threads given by the caller.
 
 use super::judge::{clearly_stable, lowest_of, metric, BlockStability, StabilityJudge};
-use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::symmetry::BlochBlocks;
 use crate::discretisation::system::System;
 use crate::solver::stability::{InertiaError, KktStability, KktStructure, RoughLowest, WarmStart};

@@ -4,7 +4,7 @@
 //! ([`JudgeOnItself`]) or on independent blocks of the whole assembly's
 //! ([`super::blocks::JudgeByBlocks`] for a cyclic pair).
 
-use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::system::System;
 use crate::solver::stability::{InertiaError, KktStability, KktStructure};
 use faer::sparse::SymbolicSparseColMat;

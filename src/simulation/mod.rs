@@ -11,8 +11,8 @@ pub mod reduction;
 mod switch;
 
 use crate::case::Case;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::fields;
-use crate::discretisation::model::DiscreteModel;
 use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;

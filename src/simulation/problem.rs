@@ -8,7 +8,7 @@
 
 use super::judge::{all_cores, lowest_of, BlockStability, StabilityJudge};
 use super::reduction::{self, CriticalModes, Reduction};
-use crate::discretisation::model::{DiscreteModel, End};
+use crate::discretisation::discrete_model::{DiscreteModel, End};
 use crate::discretisation::system::System;
 use crate::results::Stability;
 use crate::solver::continuation::Critical;

@@ -8,7 +8,7 @@
 
 use super::blocks::JudgeByBlocks;
 use super::judge::{JudgeOnItself, StabilityJudge};
-use crate::discretisation::model::DiscreteModel;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::symmetry::{assembly_mode, expand_state};
 use crate::discretisation::system::System;
 use crate::results::CriticalPoint;

@@ -2,8 +2,8 @@
 //! solution and their theoretical orders.
 
 use crate::case::Case;
+use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::fields;
-use crate::discretisation::model::DiscreteModel;
 use crate::discretisation::shape::Order;
 use crate::model::assembly::Assembly;
 use crate::model::helix::Chirality;
