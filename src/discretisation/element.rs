@@ -337,7 +337,7 @@ pub fn chord(
 /// multiplier `lambda` (N) that weights the chord's Hessian, and the potential of the line
 /// load `load`; without `hessian`, the Hessian is left zero (a residual needs the rest only).
 // The kernel's inputs are the element's own quantities, named as in the equations; a struct
-// of them would only rename them at the one call site.
+// of them would only rename them at its call sites.
 #[allow(clippy::too_many_arguments)]
 pub fn element_terms(
     order: Order,
