@@ -19,7 +19,7 @@
 //! on a line), so the unknowns are six per group of rods tied so; the free motions are the
 //! null space of the rows above. The check is exact for the geometry: it names a motion
 //! exactly when the stiffness matrix of the natural state has a zero-energy mode
-//! (`tests/free_motion.rs` solves every combination of the supports).
+//! (`tests/physics/free_motion.rs` solves every combination of the supports).
 
 use super::settings::Geometry;
 use crate::model::assembly::{Assembly, Joint};

@@ -79,7 +79,7 @@ struct Probe {
 
 /// Above this cosine of the mode and the load derivative (see
 /// `Continuation::load_along_mode`) a critical point is a fold, below it a bifurcation
-/// (measured: 0.99 at the folds of tests/continuation.rs, 1e-17 to 2e-12 at the thesis
+/// (measured: 0.99 at the folds of tests/unit/continuation.rs, 1e-17 to 2e-12 at the thesis
 /// n = 2, Olson and sliding-tip bifurcations).
 const FOLD_COSINE: f64 = 1e-6;
 

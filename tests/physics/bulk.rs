@@ -31,7 +31,7 @@ fn c0() -> f64 {
 
 /// A right- and a left-handed rod (no joints) of 3.5 turns held at both ends on the helix
 /// of pitch parameter `b` and the same arc length per turn: the Love set-up of
-/// tests/physics.rs.
+/// tests/physics/rods.rs.
 fn held_pair(b: f64, elements: usize, order: Order) -> (Simulation, f64) {
     let length = 7.0 * PI * c0();
     let model = DiscreteModel::new(Assembly::new(2, A0, B0, length), STIFFNESS, elements, order);
@@ -81,7 +81,7 @@ fn the_bulk_of_a_rod_held_on_a_perfect_helix_is_the_whole_rod_and_that_helix() {
             assert!((lf - f).abs() < 1e-6 * f.abs(), "Love F {lf} vs {f}");
             assert!((lm - m).abs() < 1e-6 * m.abs(), "Love M {lm} vs {m}");
             // the rod's own reactions are Love's (to the discretisation error at 384
-            // elements, 2e-7 relative in the couple: tests/physics.rs)
+            // elements, 2e-7 relative in the couple: tests/physics/rods.rs)
             assert!((rb.axial_force - f).abs() < 1e-6 * f.abs());
             assert!((rb.axial_moment - m).abs() < 1e-6 * m.abs());
         }
@@ -149,7 +149,8 @@ fn love_curvature_errors(elements: usize, order: Order) -> (f64, f64) {
 
 /// Curvature at the Barlow points, and recovered from them at the nodes, converges at order
 /// `p + 1` (quadratic 3, linear 2: `Measure::theoretical_order`), measured against Love's
-/// closed form on doubling meshes (observed within 0.3 of the theory, as tests/precision.rs).
+/// closed form on doubling meshes (observed within 0.3 of the theory, as
+/// tests/physics/precision.rs).
 #[test]
 fn curvature_at_the_barlow_points_converges_at_order_p_plus_one_against_love() {
     for (order, meshes, theory) in [

@@ -1,7 +1,7 @@
 //! The `spira run` command end to end: the real binary on small cases, its output files,
 //! its exit status and its messages.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};

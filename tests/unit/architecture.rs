@@ -46,7 +46,7 @@ fn modules_respect_the_layers_and_do_not_import_each_other() {
     let problems = problems(&source_files());
     assert!(
         problems.is_empty(),
-        "the layer rules of tests/architecture.rs are broken:\n\n{}",
+        "the layer rules of tests/unit/architecture.rs are broken:\n\n{}",
         problems.join("\n\n")
     );
 }
@@ -62,7 +62,7 @@ fn layer_table_covers_every_module_declared_in_lib_rs() {
     assert!(
         missing.is_empty(),
         "src/lib.rs declares modules that are in no layer; place them in LAYERS in \
-         tests/architecture.rs:\n{}",
+         tests/unit/architecture.rs:\n{}",
         missing.join("\n")
     );
 }
@@ -113,7 +113,7 @@ fn unplaced_modules(files: &[SourceFile]) -> Vec<String> {
         .filter(|file| seen.insert(file.module[0].clone()))
         .map(|file| {
             format!(
-                "  {} (module `{}`) is in no layer: place it in LAYERS in tests/architecture.rs",
+                "  {} (module `{}`) is in no layer: place it in LAYERS in tests/unit/architecture.rs",
                 file.shown, file.module[0]
             )
         })

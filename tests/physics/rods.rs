@@ -705,7 +705,7 @@ fn rods_stress_free_when_straight_are_prestressed_at_rest() {
         );
     }
     // the stability of the prestressed state is reported like any other (what it is, is
-    // in the README's comparison; tests/symmetry.rs checks the pair's count against the
+    // in the README's comparison; tests/physics/symmetry.rs checks the pair's count against the
     // full model's)
     assert!(lp.stability.is_some());
 }
@@ -838,7 +838,7 @@ fn energy_and_work(case: &Case, steps: usize) -> Vec<(f64, f64)> {
 
 /// Issue 11: energy stored = work done by the supports, to the accuracy of the quadrature
 /// of the work. n = 8, thesis mesh, clamped, compressed to ε = 0.5 in 100 equal steps (the
-/// symmetric pair: the same equilibria as the full model, tests/symmetry.rs).
+/// symmetric pair: the same equilibria as the full model, tests/physics/symmetry.rs).
 ///
 /// The trapezoid rule's own error is `O(Δε²)` times the change of the stiffness: at the
 /// first step (ε = 0.005) it is 2.7e-4 of the energy, because Fz(ε) stiffens from the

@@ -19,11 +19,11 @@
 //! temporary file anywhere in the scratch folder, and a run folder that holds `load.csv`
 //! holds the whole set of its tables.
 //!
-//! Longer runs: `SPIRA_FUZZ_CLI=2000 SPIRA_FUZZ_SEED=7 cargo test --release --test fuzz_cli
-//! -- --nocapture` (defaults 60 command lines, seed 12: a few seconds; `SPIRA_FUZZ_PATIENCE`
-//! the seconds before a command is stopped).
+//! Longer runs: `SPIRA_FUZZ_CLI=2000 SPIRA_FUZZ_SEED=7 cargo test --release --test faces
+//! fuzz_cli -- --nocapture` (defaults 60 command lines, seed 12: a few seconds;
+//! `SPIRA_FUZZ_PATIENCE` the seconds before a command is stopped).
 
-mod common;
+use crate::common;
 
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;

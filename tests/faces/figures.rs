@@ -5,7 +5,7 @@
 //! Most checks run on small run folders written here (a known load path with a stable and
 //! an unstable stretch, a known state), so that what each figure must hold is known exactly.
 
-mod common;
+use crate::common;
 
 use spira::output::figures::{
     curvature_figure, load_figure, run_figures, stretches, views_figure, Kinds, Rods, Shade, Steps,

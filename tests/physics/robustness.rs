@@ -136,7 +136,7 @@ fn sliding_tips(case: &str) -> String {
 #[test]
 fn every_length_times_1e_3_gives_the_thesis_n1_path_in_other_units() {
     let s: f64 = 1e-3;
-    let metres = include_str!("../cases/thesis-n1.toml");
+    let metres = include_str!("../../cases/thesis-n1.toml");
     let scaled = metres
         .replace("radius = 0.06 ", &format!("radius = {:e} ", 0.06 * s))
         .replace("pitch = 0.025 ", &format!("pitch = {:e} ", 0.025 * s))

@@ -6,23 +6,23 @@
 //! line, in one line of text, without serde's private names or 309-digit numbers; an
 //! accepted case has finite, bounded derived quantities and size estimate.
 //!
-//! Longer runs: `SPIRA_FUZZ_CASES=200000 SPIRA_FUZZ_SEED=7 cargo test --release --test
+//! Longer runs: `SPIRA_FUZZ_CASES=200000 SPIRA_FUZZ_SEED=7 cargo test --release --test unit
 //! fuzz_cases` (defaults 3000 cases, seed 12).
 
-mod common;
+use crate::common;
 
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use spira::case::{Case, CaseError};
 
 const BASES: [&str; 7] = [
-    include_str!("../cases/thesis-n1.toml"),
-    include_str!("../cases/thesis-n2.toml"),
-    include_str!("../cases/thesis-n4.toml"),
-    include_str!("../cases/thesis-n8.toml"),
-    include_str!("../cases/euler-clamped.toml"),
-    include_str!("../cases/euler-pinned.toml"),
-    include_str!("../cases/elastica.toml"),
+    include_str!("../../cases/thesis-n1.toml"),
+    include_str!("../../cases/thesis-n2.toml"),
+    include_str!("../../cases/thesis-n4.toml"),
+    include_str!("../../cases/thesis-n8.toml"),
+    include_str!("../../cases/euler-clamped.toml"),
+    include_str!("../../cases/euler-pinned.toml"),
+    include_str!("../../cases/elastica.toml"),
 ];
 
 /// (table, key) of every key a case file has, and a few it has not.

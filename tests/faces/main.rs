@@ -1,0 +1,14 @@
+//! What a user meets: the `spira` commands run as processes, the explorer (in memory and in
+//! a pseudo-terminal), figures, ParaView files, sweeps and the command-line fuzz
+//! (`cargo test --release --test faces`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod cli;
+mod figures;
+mod fuzz_cli;
+mod sweep;
+mod tui;
+mod tui_e2e;
+mod vtk;

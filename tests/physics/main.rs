@@ -1,0 +1,11 @@
+//! The mechanics against numbers that do not come from spira: closed forms, finite
+//! differences, convergence orders, the symmetric pair against the full model
+//! (`cargo test --release --test physics`).
+
+mod bulk;
+mod free_motion;
+mod precision;
+mod robustness;
+mod rods;
+mod stability;
+mod symmetry;

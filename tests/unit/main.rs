@@ -1,0 +1,10 @@
+//! The parts on their own: the crate's layers, the case reader and its fuzz, and the
+//! continuation engine on canonical problems (`cargo test --release --test unit`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod architecture;
+mod cases;
+mod continuation;
+mod fuzz_cases;
