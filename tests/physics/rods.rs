@@ -404,6 +404,18 @@ fn global_residual_is_the_gradient_of_the_lagrangian() {
     }
 }
 
+/// `∂R/∂x_j` at `x` by central differences of step 1e-6.
+fn residual_derivative(model: &DiscreteModel, sys: &System, x: &[f64], j: usize) -> Vec<f64> {
+    let h = 1e-6;
+    let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+    xp[j] += h;
+    xm[j] -= h;
+    let (mut rp, mut rm) = (vec![0.0; sys.n], vec![0.0; sys.n]);
+    sys.residual(model, &xp, &mut rp);
+    sys.residual(model, &xm, &mut rm);
+    (0..sys.n).map(|i| (rp[i] - rm[i]) / (2.0 * h)).collect()
+}
+
 #[test]
 fn kkt_matrix_is_the_jacobian_of_the_residual() {
     for order in [Order::Linear, Order::Quadratic] {
@@ -420,15 +432,9 @@ fn kkt_matrix_is_the_jacobian_of_the_residual() {
                 }
             }
             for j in 0..sys.n {
-                let h = 1e-6;
-                let (mut xp, mut xm) = (x.clone(), x.clone());
-                xp[j] += h;
-                xm[j] -= h;
-                let (mut rp, mut rm) = (vec![0.0; sys.n], vec![0.0; sys.n]);
-                sys.residual(&model, &xp, &mut rp);
-                sys.residual(&model, &xm, &mut rm);
+                let column = residual_derivative(&model, &sys, &x, j);
                 for i in 0..sys.n {
-                    let fd = (rp[i] - rm[i]) / (2.0 * h);
+                    let fd = column[i];
                     assert!(
                         (fd - dense[i][j]).abs() < 1e-5 * (1.0 + fd.abs()),
                         "{order:?}: K[{i}][{j}] = {} vs finite difference {fd}",
@@ -1092,19 +1098,13 @@ fn residual_and_kkt_matrix_are_the_derivatives_of_the_lagrangian_with_a_line_loa
         let m = sys.matrix(&values);
         let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
         for j in 0..model.n_primal {
-            let h = 1e-6;
-            let (mut xp, mut xm) = (x.clone(), x.clone());
-            xp[j] += h;
-            xm[j] -= h;
-            let (mut rp, mut rm) = (vec![0.0; sys.n], vec![0.0; sys.n]);
-            sys.residual(&model, &xp, &mut rp);
-            sys.residual(&model, &xm, &mut rm);
+            let differences = residual_derivative(&model, &sys, &x, j);
             let mut column = vec![0.0; sys.n];
             for p in cp[j]..cp[j + 1] {
                 column[ri[p]] += m.val()[p];
             }
             for i in 0..sys.n {
-                let fd = (rp[i] - rm[i]) / (2.0 * h);
+                let fd = differences[i];
                 assert!(
                     (fd - column[i]).abs() < 1e-5 * (1.0 + fd.abs()),
                     "{order}: K[{i}][{j}] = {} vs finite difference {fd}",
