@@ -179,7 +179,7 @@ impl Case {
 
     /// What the case's load parameter is.
     pub fn load_parameter(&self) -> LoadParameter {
-        self.loads().parameter
+        self.loads().parameter()
     }
 
     /// The output values of the load parameter: `steps` equal increments from 0 (exclusive)

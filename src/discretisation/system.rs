@@ -210,7 +210,7 @@ impl System {
     /// `P = Pcrit · (P/Pcrit)` (compressive positive), when the tip support's z carries a
     /// dead load.
     fn tip_force_z(&self) -> Option<f64> {
-        match self.loads.tip.axis(SupportAxis::Z) {
+        match self.loads.tip().axis(SupportAxis::Z) {
             AxisLoad::Force(r) => Some(-(self.pcrit * r.at(self.lambda))),
             AxisLoad::Motion(_) => None,
         }
@@ -314,7 +314,7 @@ impl System {
     /// Whether `∂R/∂λ` is the same at every state and load parameter (the loads' values
     /// are affine in `λ` and none depends on the state).
     pub fn load_derivative_is_constant(&self) -> bool {
-        self.loads.along_rods.is_empty()
+        self.loads.along_rods().is_empty()
     }
 
     /// `∂R/∂λ` at the state `x` and load parameter `lambda`, from the loads: on the tip-height rows
@@ -322,7 +322,7 @@ impl System {
     /// `−∂F/∂λ = Pcrit ∂(P/Pcrit)/∂λ` under a dead axial load.
     pub fn load_derivative(&self, model: &DiscreteModel, x: &[f64], lambda: f64, out: &mut [f64]) {
         out.fill(0.0);
-        match self.loads.tip.axis(SupportAxis::Z) {
+        match self.loads.tip().axis(SupportAxis::Z) {
             AxisLoad::Motion(r) => {
                 let rate = self.height0 * r.rate(lambda);
                 for row in self.height_rows() {
@@ -477,7 +477,7 @@ impl System {
     /// `lambda` (their sum: every one is uniform), or its rate `d/dλ` with `rate`.
     fn line_load_of(&self, lambda: f64, rate: bool) -> ElementLoad {
         let mut force = [0.0; 3];
-        for load in &self.loads.along_rods {
+        for load in self.loads.along_rods() {
             let f = if rate {
                 load.rate(lambda)
             } else {
@@ -600,7 +600,7 @@ impl System {
 /// The tip's height (m) at load parameter `lambda` when the tip support's z is a prescribed
 /// motion: `h = h0 (1 − ε)`, `ε` the compression ratio it prescribes.
 fn tip_height(loads: &Loads, height0: f64, lambda: f64) -> Option<f64> {
-    match loads.tip.axis(SupportAxis::Z) {
+    match loads.tip().axis(SupportAxis::Z) {
         AxisLoad::Motion(r) => Some(height0 * (1.0 - r.at(lambda))),
         AxisLoad::Force(_) => None,
     }

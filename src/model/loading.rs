@@ -286,12 +286,15 @@ impl LoadParameter {
 /// Everything applied to an assembly, as functions of the load parameter: the tip support
 /// axis by axis and the loads along the rods. The base is held where the rods' end
 /// conditions say.
+///
+/// Built only by the constructors below, which make what the discretisation applies: the
+/// tip support's z (driven, or free under a dead load) and uniform dead loads along the rods;
+/// its other axes are held.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Loads {
-    pub tip: TipSupport,
-    /// Loads along every rod.
-    pub along_rods: Vec<LineLoad>,
-    pub parameter: LoadParameter,
+    tip: TipSupport,
+    along_rods: Vec<LineLoad>,
+    parameter: LoadParameter,
 }
 
 impl Loads {
@@ -308,6 +311,49 @@ impl Loads {
             along_rods: Vec::new(),
             parameter: LoadParameter::axial(control),
         }
+    }
+
+    /// A uniform dead line load on every rod driven by the load parameter (`λ` the
+    /// magnitude of `direction`'s force, N/m), the tip support held but for its z, free.
+    pub fn line_load(direction: [f64; 3]) -> Loads {
+        Loads {
+            tip: TipSupport::HELD.with(SupportAxis::Z, AxisLoad::Force(Ramp::ZERO)),
+            along_rods: vec![LineLoad::Dead {
+                direction,
+                ramp: Ramp::PARAMETER,
+            }],
+            parameter: LoadParameter {
+                driven: Driven::AlongRods,
+                control: Control::Force,
+            },
+        }
+    }
+
+    /// The same loads with the axial load parameter under `control`; loads whose parameter
+    /// drives something else are kept as they are.
+    pub fn with_axial_control(&self, control: Control) -> Loads {
+        match self.parameter.driven {
+            Driven::Tip(SupportAxis::Z) => Loads {
+                along_rods: self.along_rods.clone(),
+                ..Loads::axial(control)
+            },
+            _ => self.clone(),
+        }
+    }
+
+    /// The tip support.
+    pub fn tip(&self) -> &TipSupport {
+        &self.tip
+    }
+
+    /// The loads along every rod.
+    pub fn along_rods(&self) -> &[LineLoad] {
+        &self.along_rods
+    }
+
+    /// What the load parameter is.
+    pub fn parameter(&self) -> LoadParameter {
+        self.parameter
     }
 
     /// The control of the load parameter.

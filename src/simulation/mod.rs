@@ -257,7 +257,7 @@ impl Simulation {
 
     /// What the load parameter `λ` is (its symbol, unit and label for the faces).
     pub fn load_parameter(&self) -> LoadParameter {
-        self.loads().parameter
+        self.loads().parameter()
     }
 
     /// Current load parameter `λ`.
@@ -384,28 +384,27 @@ impl Simulation {
     /// state; what the new conditions hold is held where it is now. On failure the old
     /// conditions and state are kept.
     pub fn set_boundary_conditions(&mut self, bc: BoundaryConditions) -> Result<(), SolveError> {
-        let control = self.control();
-        self.rebuild(bc, control)
+        let loads = self.loads().clone();
+        self.rebuild(bc, loads)
     }
 
-    /// Changes the control (displacement or load) at the current state: the load
-    /// parameter becomes the current `ε`, or the current mean compressive tip force over
-    /// `Pcrit`.
+    /// Changes the control (displacement or load) of the axial load parameter at the
+    /// current state: the load parameter becomes the current `ε`, or the current mean
+    /// compressive tip force over `Pcrit` (a path driven otherwise keeps its loads).
     pub fn set_control(&mut self, control: Control) -> Result<(), SolveError> {
         let bc = self.boundary_conditions();
-        self.rebuild(bc, control)
+        let loads = self.loads().with_axial_control(control);
+        self.rebuild(bc, loads)
     }
 
-    fn rebuild(&mut self, bc: BoundaryConditions, control: Control) -> Result<(), SolveError> {
-        let lambda = match control {
-            Control::Displacement => self.compression_ratio(),
-            Control::Force => -self.load_point(0).load[2],
+    fn rebuild(&mut self, bc: BoundaryConditions, loads: Loads) -> Result<(), SolveError> {
+        let control = loads.control();
+        let lambda = match (loads.parameter().driven, control) {
+            (Driven::Tip(SupportAxis::Z), Control::Displacement) => self.compression_ratio(),
+            (Driven::Tip(SupportAxis::Z), Control::Force) => -self.load_point(0).load[2],
+            _ => self.parameter(),
         };
         let model = self.model().clone();
-        let loads = Loads {
-            along_rods: self.loads().along_rods.clone(),
-            ..Loads::axial(control)
-        };
         let x = self.state();
         let system = System::new(&model, bc, &x[..model.n_primal], &loads, lambda);
         // inextensibility and unit-norm multipliers keep their rows; support and joint
@@ -581,7 +580,7 @@ impl Start {
 /// `loads`: `ε` itself when the parameter prescribes the axial motion (the supports then
 /// hold the tips where the state has them), zero otherwise.
 fn parameter_of_state(loads: &Loads, eps: f64) -> f64 {
-    match (loads.parameter.driven, loads.tip.axis(SupportAxis::Z)) {
+    match (loads.parameter().driven, loads.tip().axis(SupportAxis::Z)) {
         (Driven::Tip(SupportAxis::Z), AxisLoad::Motion(r)) => (eps - r.at_zero) / r.per_unit,
         _ => 0.0,
     }

@@ -15,9 +15,7 @@ use spira::model::boundary::BoundaryConditions;
 use spira::model::elasticity::{Elasticity, Energy, Ribbon, StressFree};
 use spira::model::helix::{Chirality, Helix};
 use spira::model::loading::Control;
-use spira::model::loading::{
-    AxisLoad, Driven, LineLoad, LoadParameter, Loads, Ramp, SupportAxis, TipSupport,
-};
+use spira::model::loading::Loads;
 use spira::model::quaternion;
 use spira::model::stiffness::Stiffness;
 use spira::simulation::Simulation;
@@ -1055,17 +1053,7 @@ fn rod_under_line_load(order: &str) -> (Case, Loads) {
          [discretisation]\nelements = 32\norder = \"{order}\"\n"
     );
     let case = Case::parse(&text, "line-load.toml", "line-load").unwrap();
-    let loads = Loads {
-        tip: TipSupport::HELD.with(SupportAxis::Z, AxisLoad::Force(Ramp::ZERO)),
-        along_rods: vec![LineLoad::Dead {
-            direction: [1.0, 0.0, 0.0],
-            ramp: Ramp::PARAMETER,
-        }],
-        parameter: LoadParameter {
-            driven: Driven::AlongRods,
-            control: Control::Force,
-        },
-    };
+    let loads = Loads::line_load([1.0, 0.0, 0.0]);
     (case, loads)
 }
 
