@@ -4,7 +4,7 @@
 
 use crate::model::assembly::RodId;
 use crate::model::helix::Chirality;
-use crate::model::loading::Control;
+use crate::model::loading::{Component, Control};
 
 /// Force (N) and moment (N m) applied by a support to a rod end, global frame.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -44,6 +44,46 @@ pub struct LoadPoint {
     pub residual: f64,
     /// Stability of the state, when tracked.
     pub stability: Option<Stability>,
+    /// The tube's answer to its twist, tilt and pressure.
+    pub support: SupportResponse,
+}
+
+impl SupportResponse {
+    /// The displacement of `component` and its conjugate force, with their names and
+    /// units for a table's head: `(φ, T)`, `(θ, M)`, `(radius, q)`; `None` for the axial
+    /// component, whose pair is the load point's compression ratio and load.
+    pub fn pair(&self, component: Component) -> Option<[(f64, &'static str); 2]> {
+        match component {
+            Component::Axial => None,
+            Component::Twist => Some([(self.twist, "phi (rad)"), (self.torque, "T (N m)")]),
+            Component::Tilt => Some([(self.tilt, "theta (rad)"), (self.bending_moment, "M (N m)")]),
+            Component::Pressure => Some([(self.radius, "radius (m)"), (self.pressure, "q (N/m)")]),
+        }
+    }
+}
+
+/// Each load component's displacement beside its conjugate force, for the whole assembly
+/// (the axial pair is [`LoadPoint`]'s `compression_ratio` and `load`): the work of the
+/// supports is `∫ torque dφ + ∫ bending_moment dθ − n L ∫ pressure d(radius)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SupportResponse {
+    /// Twist `φ` of the tip support about the tube's axis (rad).
+    pub twist: f64,
+    /// Torque about the axis that the tip support applies to the rods (N m), summed.
+    pub torque: f64,
+    /// Tilt `θ` of the tip support about the x axis through the tip's centre (rad).
+    pub tilt: f64,
+    /// Bending moment about that axis that the tip support applies to the rods (N m).
+    pub bending_moment: f64,
+    /// Radial line pressure `q` on every rod (N/m, inward positive).
+    pub pressure: f64,
+    /// The rods' mean distance from the axis, `(1/(n L)) Σ ∫ ρ ds` (m).
+    pub radius: f64,
+    /// The pressure on the tube's lateral surface that the line pressure amounts to,
+    /// `n q L / (2π radius h)` (Pa): the total radial force over the cylinder's area.
+    pub lateral_pressure: f64,
+    /// The unit of the normalised moments, `B1/L` (N m).
+    pub unit_moment: f64,
 }
 
 /// One quaternion node of a rod in a state.

@@ -10,6 +10,7 @@
 
 mod error;
 mod limits;
+mod loads;
 mod motion;
 mod raw;
 mod settings;
@@ -31,7 +32,7 @@ use crate::discretisation::discrete_model::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::elasticity::Elasticity;
-use crate::model::loading::{Branch, Control, LoadParameter, Loads};
+use crate::model::loading::{Branch, LoadParameter, Loads};
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
 use raw::RawCase;
@@ -91,11 +92,23 @@ impl Case {
         let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
         let rod = tables::rod(&raw.rod, &ck)?;
         let boundary = tables::boundary(&raw.boundary);
-        // the tip's height is free under load control
-        let control = raw.loading.control.unwrap_or(Control::Displacement);
-        tables::free_motion(&boundary, &geometry, control, &ck)?;
-        let loading = tables::loading(&raw.loading, &geometry, &ck)?;
+        let loading = loads::loading(&raw.loading, &geometry, stiffness.b1, &boundary, &ck)?;
+        // the tip's height is free under a dead axial load
+        tables::free_motion(&boundary, &geometry, loading.tip_height_held(), &ck)?;
         let mut discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
+        if !loading.parameter.keeps_cyclic_symmetry() || loading.hold.tilt != 0.0 {
+            // a tilt is a wavenumber-1 load: the full model
+            if discretisation.symmetric && !discretisation.symmetric_auto {
+                return Err(CaseError::Invalid {
+                    file: file.to_string(),
+                    line: ck.line_of_key("symmetric"),
+                    key: "discretisation.symmetric".into(),
+                    message: "expected symmetric = false with a tilt (it breaks the cyclic symmetry), found true".into(),
+                });
+            }
+            discretisation.symmetric = false;
+            discretisation.symmetric_auto = false;
+        }
         // a branch switched onto may break the symmetry: the automatic choice is then the
         // full model
         if discretisation.symmetric_auto && loading.branch == Branch::Switch {
@@ -119,7 +132,7 @@ impl Case {
         let mut c = self.clone();
         c.geometry.helices = n;
         // the symmetric reduction needs n = 2m, m ≥ 2
-        let has = n >= 4 && n % 2 == 0;
+        let has = n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
         c.discretisation.symmetric = if c.discretisation.symmetric_auto {
             has && c.loading.branch != Branch::Switch
         } else {
@@ -135,7 +148,7 @@ impl Case {
     pub fn for_explorer(&self) -> Case {
         let mut c = self.clone();
         let n = c.geometry.helices;
-        c.discretisation.symmetric |= n >= 4 && n % 2 == 0;
+        c.discretisation.symmetric |= n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
         c.solver.lowest_eigenvalue = false;
         c
     }
@@ -143,7 +156,7 @@ impl Case {
     /// The rigid motion that supports `bc` would leave free on the case's assembly, if any
     /// (the check the case reader refuses a file's `[boundary]` by).
     pub fn free_motion(&self, bc: &BoundaryConditions) -> Option<FreeMotion> {
-        motion::free_motion_of(bc, &self.geometry, self.loading.control)
+        motion::free_motion_of(bc, &self.geometry, self.loading.tip_height_held())
     }
 
     /// The size of the case's problem, estimated from its mesh without building it.
@@ -171,10 +184,14 @@ impl Case {
         )
     }
 
-    /// What the case applies to the assembly: the tips pushed along the axis under the
-    /// case's control.
+    /// What the case applies to the assembly: the component stepped under the case's
+    /// control, the others held.
     pub fn loads(&self) -> Loads {
-        Loads::axial(self.loading.control)
+        Loads::compose(
+            self.loading.parameter,
+            self.loading.control,
+            self.loading.hold,
+        )
     }
 
     /// What the case's load parameter is.
@@ -194,6 +211,12 @@ impl Case {
     /// compression ratio `ε` the geometry admits (tip height `0 < h < L`), under load
     /// control a finite `P / Pcrit`. The error says which limit is crossed.
     pub fn check_target(&self, target: f64) -> Result<(), TargetError> {
-        target::check_target(&self.geometry, self.loading.control, target)
+        target::check_component_target(
+            &self.geometry,
+            self.stiffness.b1,
+            self.loading.parameter,
+            self.loading.control,
+            target,
+        )
     }
 }

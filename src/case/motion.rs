@@ -24,7 +24,6 @@
 use super::settings::Geometry;
 use crate::model::assembly::{Assembly, Joint};
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
-use crate::model::loading::Control;
 use nalgebra::{DMatrix, Vector3};
 
 /// A rigid motion of the assembly its supports leave free: a zero-energy mode the solver
@@ -52,7 +51,7 @@ const RANK_TOL: f64 = 1e-7;
 pub fn free_motion_of(
     b: &BoundaryConditions,
     geometry: &Geometry,
-    control: Control,
+    tip_height_held: bool,
 ) -> Option<FreeMotion> {
     let n = geometry.helices.max(1);
     let assembly = Assembly::new(n, geometry.radius, geometry.pitch, geometry.length);
@@ -67,7 +66,7 @@ pub fn free_motion_of(
         b,
         joints,
         scale: geometry.length.max(geometry.radius).max(f64::MIN_POSITIVE),
-        tip_height_held: control == Control::Displacement,
+        tip_height_held,
     };
     let (mut body, comps) = bodies(rods, joints);
     let mut seen = Vec::new();

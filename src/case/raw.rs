@@ -6,7 +6,7 @@ use super::error::CaseError;
 use crate::discretisation::discrete_model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::boundary::{Rotation, Translation};
-use crate::model::loading::{Branch, Control};
+use crate::model::loading::{Branch, Component, Control};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -122,12 +122,32 @@ pub(super) struct RawEnd {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawLoading {
+    /// The component stepped: `"axial"` (the default), `"twist"`, `"tilt"`, `"pressure"`.
+    pub parameter: Option<Spanned<Component>>,
     pub control: Option<Control>,
+    /// The values the other components are held at.
+    pub hold: Option<RawHold>,
     /// `ε` under displacement control, `P / Pcrit` under load control.
     pub target: Option<Spanned<f64>>,
     /// Number of output steps.
     pub steps: Option<Spanned<i64>>,
     pub branch: Option<Branch>,
+}
+
+/// `[loading] hold = { … }`: the held values of the components not stepped.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawHold {
+    /// Compression ratio `ε` the tip height is held at; not with `axial_force`.
+    pub axial: Option<Spanned<f64>>,
+    /// Dead compressive load `P/Pcrit` on every tip (0: free along the axis).
+    pub axial_force: Option<Spanned<f64>>,
+    /// Twist `φ` (rad).
+    pub twist: Option<Spanned<f64>>,
+    /// Tilt `θ` (rad).
+    pub tilt: Option<Spanned<f64>>,
+    /// Radial pressure `q` (N/m, inward).
+    pub pressure: Option<Spanned<f64>>,
 }
 
 /// `[discretisation]`.

@@ -3,7 +3,7 @@
 
 use crate::discretisation::discrete_model::Reference;
 use crate::discretisation::shape::Order;
-use crate::model::loading::{Branch, Control};
+use crate::model::loading::{Branch, Component, Control, Held};
 use std::f64::consts::PI;
 
 /// Assembly geometry.
@@ -37,6 +37,10 @@ impl Geometry {
 /// The loading: what is controlled, up to where, and which branch is followed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Loading {
+    /// The component the load parameter steps (axial by default).
+    pub parameter: Component,
+    /// The values the other components are held at.
+    pub hold: Held,
     /// Displacement control (tip height) or load control (dead load on the tips).
     pub control: Control,
     /// Target load parameter: the compression ratio `ε = (h0 − h)/h0` (negative:
@@ -81,4 +85,15 @@ pub struct AccuracyTarget {
     pub target: f64,
     /// The element order when the case names one; otherwise both are tried.
     pub order: Option<Order>,
+}
+
+impl Loading {
+    /// Whether the tip's height is held (the axial component a prescribed motion): not
+    /// under a dead axial load, stepped or held.
+    pub fn tip_height_held(&self) -> bool {
+        match self.parameter {
+            Component::Axial => self.control == Control::Displacement,
+            _ => matches!(self.hold.axial, crate::model::loading::AxialHeld::Ratio(_)),
+        }
+    }
 }

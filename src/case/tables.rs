@@ -5,16 +5,14 @@ use super::error::{line_of, CaseError};
 use super::limits::*;
 use super::motion::free_motion_of;
 use super::raw::{
-    EnergyName, RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawLoading, RawRod, RawSolver,
+    EnergyName, RawBoundary, RawDiscretisation, RawEnd, RawGeometry, RawRod, RawSolver,
     RawStiffness, StressFreeName, SymmetricKey,
 };
-use super::settings::{AccuracyTarget, Discretisation, Geometry, Loading};
-use super::target::check_target;
+use super::settings::{AccuracyTarget, Discretisation, Geometry};
 use crate::discretisation::discrete_model::Reference;
 use crate::discretisation::shape::Order;
 use crate::model::boundary::{BoundaryConditions, EndCondition};
 use crate::model::elasticity::{Elasticity, Energy, Ribbon, StressFree};
-use crate::model::loading::{Branch, Control};
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
 use std::f64::consts::PI;
@@ -358,10 +356,10 @@ pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
 pub(super) fn free_motion(
     b: &BoundaryConditions,
     geometry: &Geometry,
-    control: Control,
+    tip_height_held: bool,
     ck: &Checker,
 ) -> Result<(), CaseError> {
-    match free_motion_of(b, geometry, control) {
+    match free_motion_of(b, geometry, tip_height_held) {
         None => Ok(()),
         Some(motion) => {
             let at = ck.line_of_key("tip");
@@ -384,38 +382,6 @@ fn end_condition(end: &Option<RawEnd>, default: EndCondition) -> EndCondition {
             rotation: e.rotation.unwrap_or(default.rotation),
         },
     }
-}
-
-/// `[loading]`: the control, the target (checked against the geometry under displacement
-/// control), the number of output steps and the branch taken at the first bifurcation.
-pub(super) fn loading(
-    l: &RawLoading,
-    geometry: &Geometry,
-    ck: &Checker,
-) -> Result<Loading, CaseError> {
-    let control = l.control.unwrap_or(Control::Displacement);
-    let target = match &l.target {
-        None => 0.5,
-        Some(t) => {
-            let target = *t.get_ref();
-            check_target(geometry, control, target)
-                .map_err(|why| ck.invalid("loading.target", t.span(), why))?;
-            target
-        }
-    };
-    let steps = ck.integer(
-        "loading.steps",
-        &l.steps,
-        10,
-        (1, MAX_STEPS as i64),
-        "a number of output steps",
-    )?;
-    Ok(Loading {
-        control,
-        target,
-        steps,
-        branch: l.branch.unwrap_or(Branch::Fundamental),
-    })
 }
 
 /// `[discretisation]`: the mesh of every rod (or a target accuracy it is chosen for), and
@@ -571,7 +537,7 @@ pub(super) fn solver(s: &RawSolver, ck: &Checker) -> Result<ContinuationSettings
 }
 
 /// Where a value given in the file is (the start of the text when it is not given).
-fn span<T>(value: &Option<Spanned<T>>) -> Range<usize> {
+pub(super) fn span<T>(value: &Option<Spanned<T>>) -> Range<usize> {
     value.as_ref().map_or(0..0, Spanned::span)
 }
 
@@ -583,7 +549,7 @@ pub(super) struct Checker<'a> {
 
 impl Checker<'_> {
     /// The line of the first key `name = …` of the text (1 when there is none).
-    fn line_of_key(&self, name: &str) -> usize {
+    pub(super) fn line_of_key(&self, name: &str) -> usize {
         self.text
             .lines()
             .position(|l| {
@@ -596,7 +562,12 @@ impl Checker<'_> {
     }
 
     /// A value out of range, at `span` in the text.
-    fn invalid(&self, key: &str, span: Range<usize>, message: impl fmt::Display) -> CaseError {
+    pub(super) fn invalid(
+        &self,
+        key: &str,
+        span: Range<usize>,
+        message: impl fmt::Display,
+    ) -> CaseError {
         CaseError::Invalid {
             file: self.file.to_string(),
             line: line_of(self.text, span.start),
@@ -606,7 +577,7 @@ impl Checker<'_> {
     }
 
     /// A finite number satisfying `ok`, or the default; `expected` says what `ok` asks.
-    fn number(
+    pub(super) fn number(
         &self,
         key: &str,
         value: &Option<Spanned<f64>>,
@@ -626,7 +597,7 @@ impl Checker<'_> {
     }
 
     /// A whole number in `min..=max`, or the default; `what` names it in the message.
-    fn integer(
+    pub(super) fn integer(
         &self,
         key: &str,
         value: &Option<Spanned<i64>>,

@@ -7,12 +7,28 @@
 
 use super::limits::{num, MAX_LOAD};
 use super::settings::Geometry;
-use crate::model::loading::Control;
+use crate::model::loading::{Component, Control};
 use std::fmt;
+
+/// The largest twist a case may step to (rad): sixteen turns of the support.
+pub const MAX_TWIST: f64 = 32.0 * std::f64::consts::PI;
+/// The largest tilt a case may step to (rad): a full turn of the support.
+pub const MAX_TILT: f64 = 2.0 * std::f64::consts::PI;
+/// The largest radial pressure a case may step to, in units of `B1/L³` (N/m).
+pub const MAX_PRESSURE: f64 = 1e9;
 
 /// A target load parameter the case cannot reach; the message says which limit is crossed.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum TargetError {
+    /// An angle or a pressure that is NaN or infinite; `what` names it with its symbol.
+    NotFinite { what: &'static str, value: f64 },
+    /// An angle or a pressure beyond `max` in magnitude (in `unit`).
+    OutOfRange {
+        what: &'static str,
+        value: f64,
+        max: f64,
+        unit: &'static str,
+    },
     /// Load control: `P / Pcrit` is NaN or infinite.
     LoadNotFinite { load: f64 },
     /// Load control: `|P / Pcrit|` beyond [`MAX_LOAD`] (a path of more than
@@ -37,6 +53,21 @@ pub enum TargetError {
 impl fmt::Display for TargetError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
+            TargetError::NotFinite { what, value } => {
+                write!(f, "expected a finite {what}, found {value}")
+            }
+            TargetError::OutOfRange {
+                what,
+                value,
+                max,
+                unit,
+            } => write!(
+                f,
+                "expected a {what} from -{} to {} {unit}, found {}",
+                short(max),
+                short(max),
+                num(value)
+            ),
             TargetError::LoadNotFinite { load } => {
                 write!(f, "expected a finite load P/Pcrit, found {load}")
             }
@@ -101,6 +132,43 @@ fn tip_height(height: f64) -> String {
         "the tip would be at height h = h0 (1 − ε) = {} m",
         short(height)
     )
+}
+
+/// Checks `target` as the target of `component`: under [`check_target`] for the axial one,
+/// a finite angle or pressure within its range for the others (the pressure's range in
+/// units of `b1/L³`, `b1` in N m²).
+pub(super) fn check_component_target(
+    geometry: &Geometry,
+    b1: f64,
+    component: Component,
+    control: Control,
+    target: f64,
+) -> Result<(), TargetError> {
+    let (what, max, unit) = match component {
+        Component::Axial => return check_target(geometry, control, target),
+        Component::Twist => ("twist angle φ", MAX_TWIST, "rad"),
+        Component::Tilt => ("tilt angle θ", MAX_TILT, "rad"),
+        Component::Pressure => (
+            "radial pressure q",
+            MAX_PRESSURE * b1 / geometry.length.powi(3),
+            "N/m",
+        ),
+    };
+    if !target.is_finite() {
+        Err(TargetError::NotFinite {
+            what,
+            value: target,
+        })
+    } else if target.abs() > max {
+        Err(TargetError::OutOfRange {
+            what,
+            value: target,
+            max,
+            unit,
+        })
+    } else {
+        Ok(())
+    }
 }
 
 /// Checks `target` as the target load parameter of `geometry` under `control`.

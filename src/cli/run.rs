@@ -6,11 +6,12 @@ use super::signals::stop_on_signal;
 use super::{check_size, command_line};
 use anyhow::{bail, Context, Result};
 use spira::case::Case;
+use spira::model::loading::{AxialHeld, Component};
 use spira::model::stiffness::euler_load;
 use spira::output::figures::{run_figures, Kinds, Rods, Steps};
 use spira::output::precision::ChoiceReport as _;
 use spira::output::read::RunTables;
-use spira::results::{RodBulk, Snapshot, StepBulk};
+use spira::results::{RodBulk, Snapshot, StepBulk, SupportResponse};
 use spira::run::{run_path_steps, PathOutcome, Step};
 use spira::solver::continuation::Observer;
 use spira::study::MeshChoice;
@@ -63,7 +64,7 @@ pub fn run(
                 shapes.push(step.snapshot.clone());
             }
             *last_line.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
-            print_step(step);
+            print_step(step, case.loading.parameter);
         },
     )
     .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
@@ -85,7 +86,13 @@ pub fn run(
     }
     let written = spira::output::write_run_files(out, &files)
         .with_context(|| format!("writing results into {}", out.display()))?;
-    print_summary(&outcome, t0, note.as_deref(), &written);
+    print_summary(
+        &outcome,
+        case.loading.parameter,
+        t0,
+        note.as_deref(),
+        &written,
+    );
     if let Some(err) = outcome.error {
         bail!(
             "{err}; the converged steps up to eps = {:.6} were written",
@@ -141,14 +148,23 @@ fn steps_flag(steps: Option<u64>, case: &Case) -> Result<usize> {
 /// The case, the model solved and the head of the progress table.
 fn print_heading(case: &Case, target: f64, steps: usize) {
     let n = case.geometry.helices;
+    let parameter = case.loading.parameter;
+    let stepped = match parameter {
+        Component::Axial => format!("{} control", case.loading.control.name()),
+        _ => format!("{} {}", parameter.name(), case.load_parameter().ascii()),
+    };
+    let unit = case.load_parameter().unit();
     println!(
-        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), {} control 0 -> {target} in {steps} steps",
+        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), {stepped} 0 -> {target}{}{unit} in {steps} steps",
         case.name,
         case.geometry.length,
         case.geometry.height0(),
         euler_load(case.stiffness.b1, case.geometry.length),
-        case.loading.control.name()
+        if unit.is_empty() { "" } else { " " },
     );
+    if !case.loading.hold.is_natural() || parameter != Component::Axial {
+        println!("held: {}", held_line(case));
+    }
     if case.discretisation.symmetric {
         let m = n / 2;
         println!(
@@ -163,10 +179,37 @@ fn print_heading(case: &Case, target: f64, steps: usize) {
         case.rod.describe(),
         case.discretisation.reference.name()
     );
+    let pair = SupportResponse::default()
+        .pair(parameter)
+        .map_or(String::new(), |[m, f]| format!(" {:>13} {:>13}", m.1, f.1));
     println!(
-        "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}",
+        "{:>5} {:>10} {:>14} {:>5} {:>10} {:>10} {:>9}{pair}",
         "step", "eps", "fz/(n Pcrit)", "iter", "residual", "time (ms)", "unstable"
     );
+}
+
+/// The values the components not stepped are held at.
+fn held_line(case: &Case) -> String {
+    let h = case.loading.hold;
+    let parameter = case.loading.parameter;
+    let mut parts = Vec::new();
+    if parameter != Component::Axial {
+        parts.push(match h.axial {
+            AxialHeld::Ratio(e) => format!("eps = {e}"),
+            AxialHeld::Load(0.0) => "axial position free".to_string(),
+            AxialHeld::Load(p) => format!("P/Pcrit = {p}"),
+        });
+    }
+    for (c, v, unit) in [
+        (Component::Twist, h.twist, "rad"),
+        (Component::Tilt, h.tilt, "rad"),
+        (Component::Pressure, h.pressure, "N/m"),
+    ] {
+        if c != parameter {
+            parts.push(format!("{} = {v} {unit}", c.name()));
+        }
+    }
+    parts.join(", ")
 }
 
 /// The progress of a step that takes long: an observer of the inner steps that says, at
@@ -193,14 +236,17 @@ fn still_solving(t0: Instant) -> (Arc<Mutex<Instant>>, Observer) {
 }
 
 /// The line of the progress table of an output step, and the line on its bulk.
-fn print_step(step: &Step) {
+fn print_step(step: &Step, parameter: Component) {
     let (p, dt) = (step.point, step.time);
     let unstable = p
         .stability
         .map(|s| s.unstable_directions.to_string())
         .unwrap_or_else(|| "-".into());
+    let pair = p.support.pair(parameter).map_or(String::new(), |[m, f]| {
+        format!(" {:>13.6e} {:>13.6e}", m.0, f.0)
+    });
     println!(
-        "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}",
+        "{:>5} {:>10.5} {:>14.6} {:>5} {:>10.2e} {:>10.2} {:>9}{pair}",
         p.step,
         p.compression_ratio,
         p.load[2],
@@ -316,8 +362,24 @@ fn figures(case: &Case, out: &Path, files: &[(String, String)]) -> Result<Vec<(S
 }
 
 /// Where the path ended, what it cost (from `t0`), the mesh's note and the files written.
-fn print_summary(outcome: &PathOutcome, t0: Instant, note: Option<&str>, written: &[PathBuf]) {
+fn print_summary(
+    outcome: &PathOutcome,
+    parameter: Component,
+    t0: Instant,
+    note: Option<&str>,
+    written: &[PathBuf],
+) {
     let last = outcome.points.last().expect("step 0 is always there");
+    if let Some([m, f]) = last.support.pair(parameter) {
+        println!(
+            "{}: {} = {:.6e}, {} = {:.6e}",
+            parameter.name(),
+            m.1,
+            m.0,
+            f.1,
+            f.0
+        );
+    }
     println!(
         "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
         last.compression_ratio,

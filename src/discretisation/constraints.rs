@@ -2,6 +2,7 @@
 //! prescribed tip height, and the pin joints at the crossings (DESIGN.md §2).
 
 use super::discrete_model::{DiscreteModel, End};
+use super::support::{turning_tip_constraints, Moving, SupportPose};
 use crate::model::assembly::{Joint, RodId};
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
 use crate::model::quaternion::{self, Quat};
@@ -25,6 +26,9 @@ pub struct LinearConstraint {
     pub terms: Vec<(usize, f64)>,
     pub value: f64,
     pub role: Role,
+    /// How the coefficients and value move with the load parameter (a turning tip
+    /// support), if they do.
+    pub moving: Option<Moving>,
 }
 
 /// Orthonormal directions along which a support of this kind holds an end at `position`,
@@ -63,19 +67,38 @@ fn free_directions(t: Translation, position: &Vector3<f64>) -> Vec<Vector3<f64>>
     }
 }
 
+/// Where the tip support is: not turned, with the tip's height (m) held when its axial
+/// motion is prescribed (`None`: under a dead load, free); or turned, at a pose.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum TipPlace {
+    Upright {
+        height: Option<f64>,
+    },
+    Turned {
+        pose: SupportPose,
+        height_held: bool,
+    },
+}
+
 /// The constraints by which the support at `end` holds rod `id` under the conditions `cond`,
-/// holding what it holds at its value in the state `x`; the tip's height is held at
-/// `tip_height` (m) when the tip support's z is a prescribed motion (`None`: under a dead
-/// load, free).
+/// holding what it holds at its value in the state `x`; the tip support is at `tip`.
 pub(super) fn support_constraints(
     model: &DiscreteModel,
     x: &[f64],
     id: RodId,
     end: End,
     cond: EndCondition,
-    tip_height: Option<f64>,
+    tip: TipPlace,
     out: &mut Vec<LinearConstraint>,
 ) {
+    let tip_height = match (end, tip) {
+        (End::Tip, TipPlace::Turned { pose, height_held }) => {
+            turning_tip_constraints(model, x, id, cond, &pose, height_held, out);
+            return;
+        }
+        (_, TipPlace::Upright { height }) => height,
+        (End::Base, TipPlace::Turned { .. }) => None,
+    };
     let rod = &model.rods[id];
     let v = rod.end_vertex(end);
     let r = model.vertex(x, id, v);
@@ -87,11 +110,13 @@ pub(super) fn support_constraints(
             terms: vec![(rod.r_dof(v, 2), 1.0)],
             value: r[2],
             role,
+            moving: None,
         }),
         (End::Tip, Some(h)) => out.push(LinearConstraint {
             terms: vec![(rod.r_dof(v, 2), 1.0)],
             value: h,
             role: Role::TipHeight { rod: id },
+            moving: None,
         }),
         (End::Tip, None) => {}
     }
@@ -104,6 +129,7 @@ pub(super) fn support_constraints(
             terms,
             value: dir.dot(&r),
             role,
+            moving: None,
         });
     }
     // g = Im(q̄_held ∘ q) is linear in q and, with |q| = 1, zero only at q = ±q_held; near
@@ -130,6 +156,7 @@ pub(super) fn support_constraints(
             terms,
             value: 0.0,
             role,
+            moving: None,
         });
     };
     match cond.rotation {
@@ -191,6 +218,7 @@ pub(super) fn joint_constraints(
             terms,
             value: dir.dot(&position) - back.dot(&left_position),
             role: Role::Joint(index),
+            moving: None,
         });
     }
 }

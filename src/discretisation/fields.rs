@@ -5,12 +5,16 @@
 
 use super::discrete_model::{DiscreteModel, End};
 use super::element;
+use super::pressure;
 use super::shape::{self, Order, GAUSS_3, MAX_NODES};
 use super::system::System;
 use crate::model::assembly::RodId;
+use crate::model::loading::{AxisLoad, SupportAxis};
 use crate::model::quaternion;
 use crate::model::symmetry::TurnZ;
-use crate::results::{ModeShape, NodeState, Reaction, RodReaction, RodShape, Snapshot};
+use crate::results::{
+    ModeShape, NodeState, Reaction, RodReaction, RodShape, Snapshot, SupportResponse,
+};
 use nalgebra::Vector3;
 
 /// Reactions of every rod at state `x` (of every rod of the full assembly when the model
@@ -57,6 +61,71 @@ fn own_reactions(model: &DiscreteModel, system: &System, x: &[f64]) -> Vec<RodRe
             }
         })
         .collect()
+}
+
+/// The tube's answer to its twist, tilt and pressure at state `x` under `system`'s loads:
+/// the support's angles and the pressure at the system's load parameter, the torque and
+/// bending moment from the tip reactions `reactions` (of the whole assembly) about the
+/// tip's centre `(0, 0, height)` (m), the mean radius by the pressure's own rule.
+pub fn support_response(
+    model: &DiscreteModel,
+    system: &System,
+    x: &[f64],
+    reactions: &[RodReaction],
+    height: f64,
+) -> SupportResponse {
+    let loads = system.loads();
+    let lambda = system.parameter();
+    let angle = |axis| match loads.tip().axis(axis) {
+        AxisLoad::Motion(r) => r.at(lambda),
+        AxisLoad::Force(_) => 0.0,
+    };
+    let tips = tip_positions(model, x);
+    let (mut torque, mut bending) = (0.0, 0.0);
+    for (r, p) in reactions.iter().zip(&tips) {
+        let arm = Vector3::new(p[0], p[1], p[2] - height);
+        let about = Vector3::from(r.tip.moment) + arm.cross(&Vector3::from(r.tip.force));
+        torque += about[2];
+        bending += about[0];
+    }
+    let pressure = loads.pressure(lambda).0;
+    let radius = pressure::mean_radius(model, x);
+    let n = reactions.len() as f64;
+    let area = 2.0 * std::f64::consts::PI * radius * height;
+    SupportResponse {
+        twist: angle(SupportAxis::RotZ),
+        torque,
+        tilt: angle(SupportAxis::RotX),
+        bending_moment: bending,
+        pressure,
+        radius,
+        lateral_pressure: if area > 0.0 {
+            n * pressure * model.length() / area
+        } else {
+            0.0
+        },
+        unit_moment: model.stiffness.b1 / model.length(),
+    }
+}
+
+/// The tip positions of every rod (of the full assembly for a symmetric pair), in the
+/// order of [`reactions`].
+fn tip_positions(model: &DiscreteModel, x: &[f64]) -> Vec<[f64; 3]> {
+    let own: Vec<[f64; 3]> = model
+        .rods
+        .iter()
+        .enumerate()
+        .map(|(id, rod)| model.vertex(x, id, rod.end_vertex(End::Tip)).into())
+        .collect();
+    match model.assembly.symmetry {
+        None => own,
+        Some(sym) => (0..sym.full_rods())
+            .map(|k| {
+                let (src, angle) = sym.image(k);
+                TurnZ::new(angle).apply(own[src])
+            })
+            .collect(),
+    }
 }
 
 /// `(1/(n Pcrit)) Σ F_tip`.

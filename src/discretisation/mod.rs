@@ -8,6 +8,8 @@ pub mod discrete_model;
 pub mod element;
 pub mod fields;
 pub mod mesh;
+pub mod pressure;
 pub mod shape;
+pub mod support;
 pub mod symmetry;
 pub mod system;

@@ -11,12 +11,16 @@
 //! Jacobian is the symmetric KKT matrix `[[H, Jᵀ], [J, 0]]`, assembled into a sparse
 //! pattern that is built once per set of constraints.
 
-use super::constraints::{joint_constraints, support_constraints, LinearConstraint, Role};
+use super::constraints::{
+    joint_constraints, support_constraints, LinearConstraint, Role, TipPlace,
+};
 use super::discrete_model::{DiscreteModel, End};
 use super::element::{self, ElementLoad, ElementTerms};
+use super::pressure;
+use super::support::SupportPose;
 use crate::model::assembly::RodId;
 use crate::model::boundary::BoundaryConditions;
-use crate::model::loading::{AxisLoad, Loads, SupportAxis};
+use crate::model::loading::{AxisLoad, LineLoad, Loads, SupportAxis};
 use crate::model::quaternion::{self, Quat};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
 use nalgebra::{Vector3, Vector4};
@@ -102,7 +106,16 @@ impl System {
     ) -> System {
         let height0 = model.height0();
         let pcrit = model.stiffness.euler_load(model.length());
-        let tip_height = tip_height(loads, height0, lambda);
+        let tip = if loads.tip().turns() {
+            TipPlace::Turned {
+                pose: SupportPose::of(loads, height0, lambda),
+                height_held: matches!(loads.tip().axis(SupportAxis::Z), AxisLoad::Motion(_)),
+            }
+        } else {
+            TipPlace::Upright {
+                height: tip_height(loads, height0, lambda),
+            }
+        };
         let mut row = model.n_primal;
         let mut compat_rows = Vec::new();
         for rod in &model.rods {
@@ -118,7 +131,7 @@ impl System {
         let mut linear = Vec::new();
         for id in 0..model.rods.len() {
             for (end, cond) in [(End::Base, bc.base), (End::Tip, bc.tip)] {
-                support_constraints(model, x, id, end, cond, tip_height, &mut linear);
+                support_constraints(model, x, id, end, cond, tip, &mut linear);
             }
         }
         if bc.joints {
@@ -199,9 +212,19 @@ impl System {
         self.lambda = lambda;
         if let Some(h) = tip_height(&self.loads, self.height0, lambda) {
             for c in &mut self.linear {
-                if matches!(c.role, Role::TipHeight { .. }) {
+                if matches!(c.role, Role::TipHeight { .. }) && c.moving.is_none() {
                     c.value = h;
                 }
+            }
+        }
+        let pose = SupportPose::of(&self.loads, self.height0, lambda);
+        for c in &mut self.linear {
+            if let Some(moving) = c.moving {
+                let (coeffs, value) = moving.coefficients(&pose, false);
+                for (term, a) in c.terms.iter_mut().zip(coeffs) {
+                    term.1 = a;
+                }
+                c.value = value;
             }
         }
     }
@@ -307,14 +330,14 @@ impl System {
         self.linear
             .iter()
             .enumerate()
-            .filter(|(_, c)| matches!(c.role, Role::TipHeight { .. }))
+            .filter(|(_, c)| matches!(c.role, Role::TipHeight { .. }) && c.moving.is_none())
             .map(|(i, _)| self.linear_row + i)
     }
 
     /// Whether `∂R/∂λ` is the same at every state and load parameter (the loads' values
     /// are affine in `λ` and none depends on the state).
     pub fn load_derivative_is_constant(&self) -> bool {
-        self.loads.along_rods().is_empty()
+        self.loads.along_rods().is_empty() && self.linear.iter().all(|c| c.moving.is_none())
     }
 
     /// `∂R/∂λ` at the state `x` and load parameter `lambda`, from the loads: on the tip-height rows
@@ -337,6 +360,36 @@ impl System {
             }
         }
         self.add_line_load_derivative(model, x, lambda, out);
+        self.add_turning_derivative(x, lambda, out);
+        let rate = self.loads.pressure(lambda).1;
+        if rate != 0.0 {
+            for share in pressure::shares(model, x) {
+                for k in 0..2 {
+                    out[share.dofs[k]] += rate * share.gradient[k];
+                }
+            }
+        }
+    }
+
+    /// `∂R/∂λ` of the constraints of a turning tip support, added to `out`:
+    /// `(∂a/∂λ)·x − ∂b/∂λ` on each one's row and `ν ∂a/∂λ` on its unknowns.
+    fn add_turning_derivative(&self, x: &[f64], lambda: f64, out: &mut [f64]) {
+        if self.linear.iter().all(|c| c.moving.is_none()) {
+            return;
+        }
+        let pose = SupportPose::of(&self.loads, self.height0, lambda);
+        for (i, c) in self.linear.iter().enumerate() {
+            let Some(moving) = c.moving else { continue };
+            let row = self.linear_row + i;
+            let nu = x[row];
+            let (rates, value_rate) = moving.coefficients(&pose, true);
+            let mut g = -value_rate;
+            for (&(d, _), da) in c.terms.iter().zip(rates) {
+                g += da * x[d];
+                out[d] += nu * da;
+            }
+            out[row] += g;
+        }
     }
 
     fn assemble(
@@ -426,6 +479,7 @@ impl System {
                 residual[rod.r_dof(rod.end_vertex(End::Tip), 2)] -= f;
             }
         }
+        potential += self.assemble_pressure(model, x, residual, sink);
         self.assemble_linear(x, residual, sink);
         Evaluation { energy, potential }
     }
@@ -455,6 +509,41 @@ impl System {
             }
             residual[row] = norm2 - 1.0;
         }
+    }
+
+    /// The radial pressure's terms (its gradient and Hessian, [`pressure`]), and its
+    /// potential (J). Visited whenever the loads have a radial pressure, at any value, so
+    /// that the pattern holds its entries.
+    fn assemble_pressure(
+        &self,
+        model: &DiscreteModel,
+        x: &[f64],
+        residual: &mut [f64],
+        sink: &mut dyn Sink,
+    ) -> f64 {
+        let radial = self
+            .loads
+            .along_rods()
+            .iter()
+            .any(|l| matches!(l, LineLoad::Radial { .. }));
+        if !radial {
+            return 0.0;
+        }
+        let q = self.loads.pressure(self.lambda).0;
+        let jacobian = sink.wants_jacobian();
+        let mut potential = 0.0;
+        for share in pressure::shares(model, x) {
+            potential += q * share.potential;
+            for i in 0..2 {
+                residual[share.dofs[i]] += q * share.gradient[i];
+                if jacobian {
+                    for j in 0..2 {
+                        sink.add(share.dofs[i], share.dofs[j], q * share.hessian[i][j]);
+                    }
+                }
+            }
+        }
+        potential
     }
 
     /// The linear constraints' rows `a·x − b` and their multipliers' terms `ν a`.

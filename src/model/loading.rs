@@ -1,6 +1,7 @@
 //! How an assembly is loaded (DESIGN.md §3): the control of the load parameter, what a path
 //! does at a bifurcation, and the axial loading of the tips it sets.
 
+use crate::model::quaternion::{self, Quat};
 use serde::{Deserialize, Serialize};
 
 /// What the load parameter `λ` prescribes.
@@ -126,7 +127,23 @@ pub enum AxisLoad {
     Force(Ramp),
 }
 
+/// A ramp's value at `lambda`, held from then on.
+fn constant_at(r: Ramp, lambda: f64) -> Ramp {
+    Ramp {
+        at_zero: r.at(lambda),
+        per_unit: 0.0,
+    }
+}
+
 impl AxisLoad {
+    /// The axial component held at this axis load's value at `λ = 0`.
+    fn held_axial(self) -> AxialHeld {
+        match self {
+            AxisLoad::Motion(r) => AxialHeld::Ratio(r.at_zero),
+            AxisLoad::Force(r) => AxialHeld::Load(r.at_zero),
+        }
+    }
+
     /// The prescribed value and its rate `d/dλ` at `lambda`, in the axis's measure.
     pub fn ramp(self) -> Ramp {
         match self {
@@ -163,27 +180,73 @@ impl TipSupport {
     }
 }
 
-/// A load distributed along every rod, per unit arc length: its slot in the element kernel
-/// is [`crate::discretisation::element::ElementLoad`].
+impl TipSupport {
+    /// The support's rotation at `lambda`: the twist `φ` about the tube's axis (z) followed
+    /// by the tilt `θ` about the x axis through the tip's centre, `q_s = q_x(θ) ∘ q_z(φ)`,
+    /// and its rate `d q_s/dλ`, when both are prescribed motions (a rotation under a
+    /// moment is not a motion of the support that the loads prescribe: identity).
+    pub fn rotation(&self, lambda: f64) -> (Quat, Quat) {
+        let angle = |axis| match self.axis(axis) {
+            AxisLoad::Motion(r) => (r.at(lambda), r.rate(lambda)),
+            AxisLoad::Force(_) => (0.0, 0.0),
+        };
+        let (phi, dphi) = angle(SupportAxis::RotZ);
+        let (theta, dtheta) = angle(SupportAxis::RotX);
+        let half = |a: f64| (0.5 * a).sin_cos();
+        let ((sz, cz), (sx, cx)) = (half(phi), half(theta));
+        let qz = Quat::new(0.0, 0.0, sz, cz);
+        let qx = Quat::new(sx, 0.0, 0.0, cx);
+        let dqz = Quat::new(0.0, 0.0, 0.5 * cz, -0.5 * sz) * dphi;
+        let dqx = Quat::new(0.5 * cx, 0.0, 0.0, -0.5 * sx) * dtheta;
+        let q = quaternion::mul(&qx, &qz);
+        let dq = quaternion::mul(&dqx, &qz) + quaternion::mul(&qx, &dqz);
+        (q, dq)
+    }
+
+    /// Whether the support turns (or is held turned) at some `λ`: its twist or tilt is a
+    /// prescribed motion that is not zero.
+    pub fn turns(&self) -> bool {
+        [SupportAxis::RotX, SupportAxis::RotY, SupportAxis::RotZ]
+            .iter()
+            .any(|&a| matches!(self.axis(a), AxisLoad::Motion(r) if r != Ramp::ZERO))
+    }
+}
+
+/// A load distributed along every rod, per unit arc length: a dead one has its slot in the
+/// element kernel ([`crate::discretisation::element::ElementLoad`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LineLoad {
     /// A dead force `f(λ) = ramp(λ) · direction` (N/m) of fixed direction, such as the rods'
     /// weight: potential `−∫ f·r ds`.
     Dead { direction: [f64; 3], ramp: Ramp },
+    /// Radial pressure on the tube: a force `q(λ) = ramp(λ)` (N/m) per unit length of rod
+    /// directed at the tube's axis from the rod's current point (inward for `q > 0`), a
+    /// central field in x–y with potential `q ∫ ρ ds`, `ρ = √(x² + y²)`.
+    Radial { ramp: Ramp },
 }
 
 impl LineLoad {
-    /// The force per unit length (N/m) at `lambda`.
+    /// The dead force per unit length (N/m) at `lambda` (zero for a radial load).
     pub fn force(&self, lambda: f64) -> [f64; 3] {
         match *self {
             LineLoad::Dead { direction, ramp } => direction.map(|d| d * ramp.at(lambda)),
+            LineLoad::Radial { .. } => [0.0; 3],
         }
     }
 
-    /// `d f/dλ` (N/m) at `lambda`.
+    /// `d f/dλ` (N/m) at `lambda` of the dead force.
     pub fn rate(&self, lambda: f64) -> [f64; 3] {
         match *self {
             LineLoad::Dead { direction, ramp } => direction.map(|d| d * ramp.rate(lambda)),
+            LineLoad::Radial { .. } => [0.0; 3],
+        }
+    }
+
+    /// The radial pressure `q` (N/m, inward positive) and its rate `dq/dλ` at `lambda`.
+    pub fn pressure(&self, lambda: f64) -> (f64, f64) {
+        match *self {
+            LineLoad::Radial { ramp } => (ramp.at(lambda), ramp.rate(lambda)),
+            LineLoad::Dead { .. } => (0.0, 0.0),
         }
     }
 }
@@ -195,6 +258,9 @@ pub enum Driven {
     Tip(SupportAxis),
     /// The loads along the rods.
     AlongRods,
+    /// The held loads of a path stepped otherwise, brought from zero (`λ = 0`) to their
+    /// values (`λ = 1`) before it starts.
+    Held,
 }
 
 /// What the load parameter `λ` is: what it drives and whether by motion or force. The faces
@@ -227,6 +293,7 @@ impl LoadParameter {
             (Driven::Tip(_), Control::Displacement) => "θ",
             (Driven::Tip(_), Control::Force) => "M",
             (Driven::AlongRods, _) => "q",
+            (Driven::Held, _) => "s",
         }
     }
 
@@ -236,7 +303,9 @@ impl LoadParameter {
     pub fn motion_symbol(&self) -> &'static str {
         use SupportAxis::*;
         match self.driven {
-            Driven::Tip(Z) | Driven::AlongRods => "ε",
+            Driven::Tip(Z) => "ε",
+            Driven::AlongRods => "a",
+            Driven::Held => "s",
             Driven::Tip(X | Y) => "u",
             Driven::Tip(RotZ) => "φ",
             Driven::Tip(RotX | RotY) => "θ",
@@ -263,6 +332,7 @@ impl LoadParameter {
             (Driven::Tip(_), Control::Displacement) => "rad",
             (Driven::Tip(_), Control::Force) => "N m",
             (Driven::AlongRods, _) => "N/m",
+            (Driven::Held, _) => "",
         }
     }
 
@@ -279,7 +349,90 @@ impl LoadParameter {
             (Driven::Tip(_), Control::Displacement) => "tilt angle",
             (Driven::Tip(_), Control::Force) => "bending moment",
             (Driven::AlongRods, _) => "line load",
+            (Driven::Held, _) => "fraction of the held loads",
         }
+    }
+}
+
+/// A component of the loading of the whole tube: one is stepped by the load parameter, the
+/// others are held ([`Held`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Component {
+    /// Along the axis: the compression ratio `ε` or the compressive tip load `P/Pcrit`.
+    Axial,
+    /// The tip support turned about the tube's axis by `φ` (rad).
+    Twist,
+    /// The tip support turned about the x axis through the tip's centre by `θ` (rad).
+    Tilt,
+    /// Radial pressure `q` (N/m, inward) on every rod.
+    Pressure,
+}
+
+impl Component {
+    /// Every component, in the order the explorer cycles through them.
+    pub const ALL: [Component; 4] = [
+        Component::Axial,
+        Component::Twist,
+        Component::Pressure,
+        Component::Tilt,
+    ];
+
+    /// Its name in case files and on screen.
+    pub fn name(self) -> &'static str {
+        match self {
+            Component::Axial => "axial",
+            Component::Twist => "twist",
+            Component::Tilt => "tilt",
+            Component::Pressure => "pressure",
+        }
+    }
+
+    /// Whether a load of this component keeps the tube's cyclic symmetry (the tilt is a
+    /// wavenumber-1 load).
+    pub fn keeps_cyclic_symmetry(self) -> bool {
+        self != Component::Tilt
+    }
+}
+
+/// The axial component when it is held: at a compression ratio, or under a dead load.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AxialHeld {
+    /// The tip height held at `h = h0 (1 − ε)`.
+    Ratio(f64),
+    /// A dead compressive load `P/Pcrit` on every tip (0: the tips free along the axis).
+    Load(f64),
+}
+
+/// The values at which the components that are not stepped are held.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Held {
+    pub axial: AxialHeld,
+    /// Twist `φ` (rad).
+    pub twist: f64,
+    /// Tilt `θ` (rad).
+    pub tilt: f64,
+    /// Radial pressure `q` (N/m, inward).
+    pub pressure: f64,
+}
+
+impl Held {
+    /// Everything held where it is in the natural state, the tip height included (the
+    /// thesis's support).
+    pub const NATURAL: Held = Held {
+        axial: AxialHeld::Ratio(0.0),
+        twist: 0.0,
+        tilt: 0.0,
+        pressure: 0.0,
+    };
+
+    /// Whether every held value is that of the natural state (a free axial position
+    /// included: it carries no load).
+    pub fn is_natural(&self) -> bool {
+        let axial = match self.axial {
+            AxialHeld::Ratio(e) | AxialHeld::Load(e) => e,
+        };
+        axial == 0.0 && self.twist == 0.0 && self.tilt == 0.0 && self.pressure == 0.0
     }
 }
 
@@ -313,6 +466,167 @@ impl Loads {
         }
     }
 
+    /// The tube loaded by its components: `stepped` driven by the load parameter under
+    /// `control` (the angles of twist and tilt by their motion, the pressure by its value:
+    /// `control` only chooses between `ε` and `P/Pcrit` for the axial component), the
+    /// others held at `held`'s values.
+    pub fn compose(stepped: Component, control: Control, held: Held) -> Loads {
+        let constant = |v: f64| Ramp {
+            at_zero: v,
+            per_unit: 0.0,
+        };
+        let z = match (stepped, control, held.axial) {
+            (Component::Axial, Control::Displacement, _) => AxisLoad::Motion(Ramp::PARAMETER),
+            (Component::Axial, Control::Force, _) => AxisLoad::Force(Ramp::PARAMETER),
+            (_, _, AxialHeld::Ratio(e)) => AxisLoad::Motion(constant(e)),
+            (_, _, AxialHeld::Load(p)) => AxisLoad::Force(constant(p)),
+        };
+        let angle = |c: Component, value: f64| {
+            AxisLoad::Motion(if stepped == c {
+                Ramp::PARAMETER
+            } else {
+                constant(value)
+            })
+        };
+        let tip = TipSupport::HELD
+            .with(SupportAxis::Z, z)
+            .with(SupportAxis::RotZ, angle(Component::Twist, held.twist))
+            .with(SupportAxis::RotX, angle(Component::Tilt, held.tilt));
+        let pressure = if stepped == Component::Pressure {
+            Some(Ramp::PARAMETER)
+        } else {
+            (held.pressure != 0.0).then(|| constant(held.pressure))
+        };
+        let parameter = match stepped {
+            Component::Axial => LoadParameter::axial(control),
+            Component::Twist | Component::Tilt => LoadParameter {
+                driven: Driven::Tip(if stepped == Component::Twist {
+                    SupportAxis::RotZ
+                } else {
+                    SupportAxis::RotX
+                }),
+                control: Control::Displacement,
+            },
+            Component::Pressure => LoadParameter {
+                driven: Driven::AlongRods,
+                control: Control::Force,
+            },
+        };
+        Loads {
+            tip,
+            along_rods: pressure
+                .map(|ramp| LineLoad::Radial { ramp })
+                .into_iter()
+                .collect(),
+            parameter,
+        }
+    }
+
+    /// The component the load parameter steps (`None` for loads not made by
+    /// [`Loads::compose`], such as a dead line load, or a preload).
+    pub fn stepped(&self) -> Option<Component> {
+        match self.parameter.driven {
+            Driven::Tip(SupportAxis::Z) => Some(Component::Axial),
+            Driven::Tip(SupportAxis::RotZ) => Some(Component::Twist),
+            Driven::Tip(SupportAxis::RotX) => Some(Component::Tilt),
+            Driven::AlongRods if self.is_radial() => Some(Component::Pressure),
+            _ => None,
+        }
+    }
+
+    fn is_radial(&self) -> bool {
+        self.along_rods
+            .iter()
+            .any(|l| matches!(l, LineLoad::Radial { .. }))
+    }
+
+    /// The values the components are held at when not stepped (at `λ = 0` for the one
+    /// stepped).
+    pub fn held(&self) -> Held {
+        let at_zero = |axis| self.tip.axis(axis).ramp().at_zero;
+        Held {
+            axial: self.tip.axis(SupportAxis::Z).held_axial(),
+            twist: at_zero(SupportAxis::RotZ),
+            tilt: at_zero(SupportAxis::RotX),
+            pressure: self.pressure(0.0).0,
+        }
+    }
+
+    /// The same loads with `component` stepped instead (under `control` for the axial
+    /// one), the others held at their values at load parameter `lambda` (the current
+    /// state's, so that the new path starts where the old one is).
+    pub fn restepped(&self, component: Component, control: Control, lambda: f64) -> Loads {
+        let at = |axis| self.tip.axis(axis).ramp().at(lambda);
+        let held = Held {
+            axial: match self.tip.axis(SupportAxis::Z) {
+                AxisLoad::Motion(r) => AxisLoad::Motion(constant_at(r, lambda)),
+                AxisLoad::Force(r) => AxisLoad::Force(constant_at(r, lambda)),
+            }
+            .held_axial(),
+            twist: at(SupportAxis::RotZ),
+            tilt: at(SupportAxis::RotX),
+            pressure: self.pressure(lambda).0,
+        };
+        Loads::compose(component, control, held)
+    }
+
+    /// The loads that bring a path from the natural state to where `self` holds it at
+    /// `λ = 0`: every held value scaled by the preload parameter (0 … 1), the stepped
+    /// component at zero (`None` when nothing is held away from the natural state).
+    pub fn preload(&self) -> Option<Loads> {
+        let scaled = |r: Ramp| Ramp {
+            at_zero: 0.0,
+            per_unit: r.at_zero,
+        };
+        let mut tip = self.tip;
+        for axis in SupportAxis::ALL {
+            tip = tip.with(
+                axis,
+                match tip.axis(axis) {
+                    AxisLoad::Motion(r) => AxisLoad::Motion(scaled(r)),
+                    AxisLoad::Force(r) => AxisLoad::Force(scaled(r)),
+                },
+            );
+        }
+        let along_rods: Vec<LineLoad> = self
+            .along_rods
+            .iter()
+            .map(|l| match *l {
+                LineLoad::Dead { direction, ramp } => LineLoad::Dead {
+                    direction,
+                    ramp: scaled(ramp),
+                },
+                LineLoad::Radial { ramp } => LineLoad::Radial { ramp: scaled(ramp) },
+            })
+            .collect();
+        let moves = SupportAxis::ALL
+            .iter()
+            .any(|&a| tip.axis(a).ramp().is_driven())
+            || along_rods.iter().any(|l| match *l {
+                LineLoad::Dead { ramp, .. } | LineLoad::Radial { ramp } => ramp.is_driven(),
+            });
+        moves.then_some(Loads {
+            tip,
+            along_rods,
+            parameter: LoadParameter {
+                driven: Driven::Held,
+                control: Control::Displacement,
+            },
+        })
+    }
+
+    /// Whether the loads keep the tube's cyclic symmetry (no tilt).
+    pub fn keeps_cyclic_symmetry(&self) -> bool {
+        [
+            SupportAxis::RotX,
+            SupportAxis::RotY,
+            SupportAxis::X,
+            SupportAxis::Y,
+        ]
+        .iter()
+        .all(|&a| self.tip.axis(a) == AxisLoad::Motion(Ramp::ZERO))
+    }
+
     /// A uniform dead line load on every rod driven by the load parameter (`λ` the
     /// magnitude of `direction`'s force, N/m), the tip support held but for its z, free.
     pub fn line_load(direction: [f64; 3]) -> Loads {
@@ -335,10 +649,19 @@ impl Loads {
         match self.parameter.driven {
             Driven::Tip(SupportAxis::Z) => Loads {
                 along_rods: self.along_rods.clone(),
-                ..Loads::axial(control)
+                ..Loads::compose(Component::Axial, control, self.held())
             },
             _ => self.clone(),
         }
+    }
+
+    /// The radial pressure `q` (N/m, inward) of the loads along the rods at `lambda`, and
+    /// its rate `dq/dλ`.
+    pub fn pressure(&self, lambda: f64) -> (f64, f64) {
+        self.along_rods.iter().fold((0.0, 0.0), |(q, dq), l| {
+            let (a, b) = l.pressure(lambda);
+            (q + a, dq + b)
+        })
     }
 
     /// The tip support.

@@ -130,13 +130,39 @@ struct LoadRow {
     /// Load parameter (`ε`, or `P/Pcrit` under load control).
     #[serde(serialize_with = "format::e10")]
     parameter: f64,
+    /// Twist of the tip support (rad) and the torque about the axis on the rods (N m).
+    #[serde(serialize_with = "format::e10")]
+    twist: f64,
+    #[serde(serialize_with = "format::e10")]
+    torque: f64,
+    /// `torque L / B1`.
+    #[serde(serialize_with = "format::e10")]
+    torque_norm: f64,
+    /// Tilt of the tip support (rad) and the bending moment about its axis (N m).
+    #[serde(serialize_with = "format::e10")]
+    tilt: f64,
+    #[serde(serialize_with = "format::e10")]
+    bending_moment: f64,
+    /// `bending_moment L / B1`.
+    #[serde(serialize_with = "format::e10")]
+    bending_moment_norm: f64,
+    /// Radial line pressure (N/m), mean radius (m), lateral pressure (Pa).
+    #[serde(serialize_with = "format::e10")]
+    pressure: f64,
+    #[serde(serialize_with = "format::e10")]
+    radius: f64,
+    #[serde(serialize_with = "format::e10")]
+    lateral_pressure: f64,
 }
+
+/// The glossary of `load.csv`'s columns, for its comment line.
+pub const LOAD_GLOSSARY: &str = "eps: compression ratio (h0-h)/h0; h: mean tip height (m); fx,fy,fz: sum of tip reactions over rods / (n Pcrit), Pcrit = B1 (2 pi/L)^2, negative fz = compression; energy: total elastic energy (J); residual: Newton residual inf-norm; stable: 1 if the Hessian is positive definite on the constraints' tangent space; unstable_dirs: its negative eigenvalues; lowest_eig: its lowest eigenvalue in the metric of nodal rotations weighted by arc length (J/m; empty where not computed); parameter: load parameter (eps, P/Pcrit under load control, twist or tilt in rad, pressure in N/m); twist: twist of the tip support about the axis (rad); torque: torque about the axis the support applies to the rods, summed (N m), torque_norm = torque L/B1; tilt: tilt of the tip support about the x axis through the tip's centre (rad); bending_moment: moment about that axis on the rods (N m), bending_moment_norm = bending_moment L/B1; pressure: radial line load q on every rod (N/m, inward); radius: the rods' mean distance from the axis (1/(n L)) sum int rho ds (m); lateral_pressure: n q L / (2 pi radius h), the pressure on the tube's surface (Pa)";
 
 /// `load.csv`: one row per output step.
 pub fn load_csv(case: &str, points: &[LoadPoint]) -> String {
     let comments = [
         format!("spira load path, case {case}"),
-        "eps: compression ratio (h0-h)/h0; h: mean tip height (m); fx,fy,fz: sum of tip reactions over rods / (n Pcrit), Pcrit = B1 (2 pi/L)^2, negative fz = compression; energy: total elastic energy (J); residual: Newton residual inf-norm; stable: 1 if the Hessian is positive definite on the constraints' tangent space; unstable_dirs: its negative eigenvalues; lowest_eig: its lowest eigenvalue in the metric of nodal rotations weighted by arc length (J/m; empty where not computed); parameter: load parameter (eps, or P/Pcrit under load control)".to_string(),
+        LOAD_GLOSSARY.to_string(),
     ];
     let rows = points.iter().map(|p| LoadRow {
         step: p.step,
@@ -152,6 +178,15 @@ pub fn load_csv(case: &str, points: &[LoadPoint]) -> String {
         unstable_dirs: p.stability.map(|st| st.unstable_directions),
         lowest_eigenvalue: p.stability.and_then(|st| st.lowest_eigenvalue),
         parameter: p.parameter,
+        twist: p.support.twist,
+        torque: p.support.torque,
+        torque_norm: p.support.torque / p.support.unit_moment,
+        tilt: p.support.tilt,
+        bending_moment: p.support.bending_moment,
+        bending_moment_norm: p.support.bending_moment / p.support.unit_moment,
+        pressure: p.support.pressure,
+        radius: p.support.radius,
+        lateral_pressure: p.support.lateral_pressure,
     });
     table(&comments, rows)
 }

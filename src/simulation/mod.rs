@@ -16,7 +16,9 @@ use crate::discretisation::fields;
 use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
-use crate::model::loading::{AxisLoad, Control, Driven, LoadParameter, Loads, SupportAxis};
+use crate::model::loading::{
+    AxisLoad, Component, Control, Driven, LoadParameter, Loads, SupportAxis,
+};
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, Stability};
 use crate::solver::continuation::Critical;
 use crate::solver::continuation::{ContinuationError, ContinuationSettings, Observer, StopReason};
@@ -154,6 +156,11 @@ impl Simulation {
             threads,
         } = start;
         x.truncate(model.n_primal);
+        let settings = settings.in_units(parameter_unit(&model, &loads));
+        let (model, x) = match loads.preload() {
+            Some(preload) => preloaded(model, bc, &preload, x, &settings, &interrupt, threads)?,
+            None => (model, x),
+        };
         let eps = 1.0 - mean_tip_height(&model, &x) / model.height0();
         let lambda = parameter_of_state(&loads, eps);
         let control = loads.control();
@@ -430,11 +437,14 @@ impl Simulation {
         let reactions = fields::reactions(model, system, &state.x);
         let load = fields::normalised_load(model, &reactions);
         let eps = self.compression_ratio();
+        let height = self.height_at(eps);
+        let support = fields::support_response(model, system, &state.x, &reactions, height);
         LoadPoint {
             step,
             compression_ratio: eps,
             parameter: state.lambda,
-            height: self.height_at(eps),
+            height,
+            support,
             reactions,
             load,
             energy: state.solve.energy * self.images(),
@@ -574,6 +584,53 @@ impl Start {
             threads: all_cores(),
         }
     }
+}
+
+/// The natural scale of the load parameter of `loads` on `model`, in its own measure: the
+/// continuation's step lengths are given per unit of it. 1 for the compression ratio, the
+/// axial load over `Pcrit` and the angles (rad); for the radial pressure `B1 a/c⁴` (N/m),
+/// the line pressure that changes the rods' curvature `a/c²` by its own size.
+pub fn parameter_unit(model: &DiscreteModel, loads: &Loads) -> f64 {
+    match loads.stepped() {
+        Some(Component::Pressure) => {
+            let helix = &model.rods[0].helix;
+            let c2 = helix.radius * helix.radius + helix.pitch * helix.pitch;
+            let unit = model.stiffness.b1 * helix.radius / (c2 * c2);
+            if unit.is_finite() && unit > 0.0 {
+                unit
+            } else {
+                1.0
+            }
+        }
+        _ => 1.0,
+    }
+}
+
+/// The state `x` (at the natural pose of the supports, unloaded) brought to where the held
+/// loads hold it, by a path of `preload` from 0 to 1 (`Driven::Held`): its model and primal
+/// state. A failure is reported in the terms of that path.
+fn preloaded(
+    model: DiscreteModel,
+    bc: BoundaryConditions,
+    preload: &Loads,
+    x: Vec<f64>,
+    settings: &ContinuationSettings,
+    interrupt: &Option<Interrupt>,
+    threads: usize,
+) -> Result<(DiscreteModel, Vec<f64>), SolveError> {
+    let eps = 1.0 - mean_tip_height(&model, &x) / model.height0();
+    let control = preload.control();
+    let system = System::new(&model, bc, &x, preload, 0.0);
+    let problem = LoadedAssembly::new(model, system).with_threads(threads);
+    let mut path = Continuation::new_with(problem, x, 0.0, *settings, interrupt.clone(), None)
+        .map_err(|e| solve_error(e, control, eps))?;
+    path.advance_to(1.0).map_err(|e| {
+        let eps = eps_of(&path.problem().model, &path.state().x);
+        solve_error(e, control, eps)
+    })?;
+    let model = path.problem().model.clone();
+    let x = path.state().x[..model.n_primal].to_vec();
+    Ok((model, x))
 }
 
 /// The load parameter at which a state of compression ratio `eps` starts a path under

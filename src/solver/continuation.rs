@@ -54,6 +54,19 @@ impl Default for ContinuationSettings {
     }
 }
 
+impl ContinuationSettings {
+    /// The same settings for a load parameter whose natural scale is `unit` (in its own
+    /// measure): the step lengths, given per unit of that scale, multiplied by it.
+    pub fn in_units(self, unit: f64) -> ContinuationSettings {
+        ContinuationSettings {
+            initial_step: self.initial_step * unit,
+            min_step: self.min_step * unit,
+            max_step: self.max_step * unit,
+            ..self
+        }
+    }
+}
+
 /// Why a continuation stopped.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum StopReason {
@@ -192,6 +205,12 @@ impl<P: Problem> Continuation<P> {
             return Err(path.error(lambda, 0.0, StopReason::Interrupted(why)));
         }
         Ok(path)
+    }
+
+    /// The settings from the next step on (the current step kept within their bounds).
+    pub fn set_settings(&mut self, settings: ContinuationSettings) {
+        self.settings = settings;
+        self.state.step = self.state.step.clamp(settings.min_step, settings.max_step);
     }
 
     /// Solves from now on stop when `interrupt` says so.

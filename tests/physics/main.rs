@@ -4,6 +4,7 @@
 
 mod bulk;
 mod free_motion;
+mod loads;
 mod precision;
 mod robustness;
 mod rods;

@@ -1,0 +1,174 @@
+//! `[loading]`: which component of the tube's loading the load parameter steps (axial,
+//! twist, tilt or radial pressure), to which target, the values the others are held at,
+//! the control of the axial component, the output steps and the branch taken at the first
+//! bifurcation.
+
+use super::error::CaseError;
+use super::limits::{num, MAX_STEPS};
+use super::raw::{RawHold, RawLoading};
+use super::settings::{Geometry, Loading};
+use super::tables::{span, Checker};
+use super::target::{check_component_target, MAX_PRESSURE, MAX_TILT, MAX_TWIST};
+use crate::model::boundary::{BoundaryConditions, Translation};
+use crate::model::loading::{AxialHeld, Branch, Component, Control, Held};
+
+/// `[loading]` checked against the geometry, the rods' bending stiffness `b1` (N m², the
+/// scale of the pressure's range) and the supports.
+pub(super) fn loading(
+    l: &RawLoading,
+    geometry: &Geometry,
+    b1: f64,
+    boundary: &BoundaryConditions,
+    ck: &Checker,
+) -> Result<Loading, CaseError> {
+    let parameter = l
+        .parameter
+        .as_ref()
+        .map_or(Component::Axial, |p| *p.get_ref());
+    let parameter_at = span(&l.parameter);
+    let control = l.control.unwrap_or(Control::Displacement);
+    if parameter != Component::Axial && control == Control::Force {
+        let what = match parameter {
+            Component::Twist => "a torque",
+            Component::Tilt => "a bending moment",
+            _ => "a force",
+        };
+        return Err(ck.invalid(
+            "loading.control",
+            parameter_at,
+            format!(
+                "expected control = \"displacement\" with parameter = \"{}\": the {} is stepped by the support's motion ({what} on the support is not modelled)",
+                parameter.name(),
+                parameter.name()
+            ),
+        ));
+    }
+    let target = match &l.target {
+        None if parameter == Component::Axial => 0.5,
+        None => {
+            return Err(ck.invalid(
+                "loading.target",
+                parameter_at,
+                format!(
+                    "expected a target for parameter = \"{}\" ({})",
+                    parameter.name(),
+                    unit_of(parameter)
+                ),
+            ))
+        }
+        Some(t) => {
+            let target = *t.get_ref();
+            check_component_target(geometry, b1, parameter, control, target)
+                .map_err(|why| ck.invalid("loading.target", t.span(), why))?;
+            target
+        }
+    };
+    let default = RawHold::default();
+    let hold = held(l.hold.as_ref().unwrap_or(&default), geometry, b1, ck)?;
+    check_combination(parameter, control, &hold, geometry, boundary, ck)?;
+    let steps = ck.integer(
+        "loading.steps",
+        &l.steps,
+        10,
+        (1, MAX_STEPS as i64),
+        "a number of output steps",
+    )?;
+    Ok(Loading {
+        parameter,
+        hold,
+        control,
+        target,
+        steps,
+        branch: l.branch.unwrap_or(Branch::Fundamental),
+    })
+}
+
+/// The unit a component's target is given in.
+fn unit_of(component: Component) -> &'static str {
+    match component {
+        Component::Axial => "ε or P/Pcrit",
+        Component::Twist | Component::Tilt => "rad",
+        Component::Pressure => "N/m",
+    }
+}
+
+/// `hold = { … }`: each value finite and in its component's range.
+fn held(h: &RawHold, geometry: &Geometry, b1: f64, ck: &Checker) -> Result<Held, CaseError> {
+    let ranged = |key: &str, value, max: f64, what: &str| {
+        ck.number(
+            &format!("loading.hold.{key}"),
+            value,
+            0.0,
+            |v| v.abs() <= max,
+            &format!("a {what} from -{} to {}", num(max), num(max)),
+        )
+    };
+    let axial = match (&h.axial, &h.axial_force) {
+        (Some(_), Some(f)) => {
+            return Err(ck.invalid(
+                "loading.hold.axial_force",
+                f.span(),
+                "expected either hold.axial (a compression ratio held) or hold.axial_force (a dead load), not both",
+            ))
+        }
+        (_, Some(_)) => AxialHeld::Load(ranged(
+            "axial_force",
+            &h.axial_force,
+            super::limits::MAX_LOAD,
+            "load P/Pcrit",
+        )?),
+        (Some(e), None) => {
+            let eps = *e.get_ref();
+            check_component_target(geometry, b1, Component::Axial, Control::Displacement, eps)
+                .map_err(|why| ck.invalid("loading.hold.axial", e.span(), why))?;
+            AxialHeld::Ratio(eps)
+        }
+        (None, None) => AxialHeld::Ratio(0.0),
+    };
+    let max_pressure = MAX_PRESSURE * b1 / geometry.length.powi(3);
+    Ok(Held {
+        axial,
+        twist: ranged("twist", &h.twist, MAX_TWIST, "twist angle in rad")?,
+        tilt: ranged("tilt", &h.tilt, MAX_TILT, "tilt angle in rad")?,
+        pressure: ranged(
+            "pressure",
+            &h.pressure,
+            max_pressure,
+            "radial pressure in N/m",
+        )?,
+    })
+}
+
+/// Refuses what the supports cannot carry: a radial pressure on a rod on the axis, and a
+/// tilted support that holds the tips' translations while its axial position is free
+/// (the tips' heights would then have no common centre to turn about).
+fn check_combination(
+    parameter: Component,
+    control: Control,
+    hold: &Held,
+    geometry: &Geometry,
+    boundary: &BoundaryConditions,
+    ck: &Checker,
+) -> Result<(), CaseError> {
+    let pressed = parameter == Component::Pressure || hold.pressure != 0.0;
+    if pressed && geometry.radius == 0.0 {
+        return Err(ck.invalid(
+            "loading.parameter",
+            0..0,
+            "a radial pressure needs rods off the axis (geometry.radius > 0), found radius 0",
+        ));
+    }
+    let tilted = parameter == Component::Tilt || hold.tilt != 0.0;
+    let axial_free = match parameter {
+        Component::Axial => control == Control::Force,
+        _ => matches!(hold.axial, AxialHeld::Load(_)),
+    };
+    if tilted && axial_free && boundary.tip.translation != Translation::Slide {
+        return Err(ck.invalid(
+            "loading.hold.axial_force",
+            0..0,
+            "a tilted tip support with a free axial position needs boundary.tip.translation = \"slide\" (or hold.axial instead)",
+        ));
+    }
+    Ok(())
+}

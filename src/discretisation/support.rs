@@ -1,0 +1,198 @@
+//! A tip support that turns: its pose at a load parameter (the twist and tilt of the loads,
+//! DESIGN.md §3's support carried rigidly), and the constraints by which it holds the rods'
+//! tips in its own frame, whose coefficients move with the load parameter.
+//!
+//! A support at rotation `q_s` (matrix `R_s`) and centre `c` holds a tip translation `d`
+//! (a direction of the support's frame) by `(R_s d)·(r − c) = d·p`, `p` the tip's position
+//! in the support's frame, and a tip rotation by `w·Im(q̄_t ∘ q) = 0`, `q_t = q_s ∘ q_ref`
+//! the held rotation (`q_ref` in the support's frame). Both are linear in the unknowns with
+//! coefficients that depend on `λ` only, so the KKT matrix keeps its form and `∂R/∂λ` has
+//! the terms `(∂a/∂λ)·x − ∂b/∂λ` on the constraint's row and `ν ∂a/∂λ` on its unknowns.
+
+use super::constraints::{LinearConstraint, Role};
+use super::discrete_model::{DiscreteModel, End};
+use crate::model::assembly::RodId;
+use crate::model::boundary::{EndCondition, Rotation, Translation};
+use crate::model::loading::{AxisLoad, Loads, SupportAxis};
+use crate::model::quaternion::{self, Quat};
+use nalgebra::Vector3;
+
+/// Where the tip support is at a load parameter, and how fast it moves.
+#[derive(Clone, Copy, Debug)]
+pub struct SupportPose {
+    /// Rotation of the support from its natural pose, and its rate `d/dλ`.
+    pub rotation: Quat,
+    pub rotation_rate: Quat,
+    /// The tip's centre on the axis (m), and its rate `d/dλ` (m).
+    pub centre: Vector3<f64>,
+    pub centre_rate: Vector3<f64>,
+}
+
+impl SupportPose {
+    /// The pose under `loads` at `lambda`: the support's twist and tilt, its centre at the
+    /// prescribed tip height `h0 (1 − ε)` (at `h0` when the axis is free: a free axial
+    /// position with a turning support holds no translation that the height enters).
+    pub fn of(loads: &Loads, height0: f64, lambda: f64) -> SupportPose {
+        let (rotation, rotation_rate) = loads.tip().rotation(lambda);
+        let (h, dh) = match loads.tip().axis(SupportAxis::Z) {
+            AxisLoad::Motion(r) => (height0 * (1.0 - r.at(lambda)), -height0 * r.rate(lambda)),
+            AxisLoad::Force(_) => (height0, 0.0),
+        };
+        SupportPose {
+            rotation,
+            rotation_rate,
+            centre: Vector3::new(0.0, 0.0, h),
+            centre_rate: Vector3::new(0.0, 0.0, dh),
+        }
+    }
+
+    /// `R_s v`.
+    fn turn(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        quaternion::rotation(&self.rotation) * v
+    }
+
+    /// `(dR_s/dλ) v`: `d/dλ (q v q̄) = q̇ v q̄ + q v q̄̇` for a unit `q`.
+    fn turn_rate(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        let pure = Quat::new(v[0], v[1], v[2], 0.0);
+        let (q, dq) = (&self.rotation, &self.rotation_rate);
+        let a = quaternion::mul(&quaternion::mul(dq, &pure), &quaternion::conj(q));
+        let b = quaternion::mul(&quaternion::mul(q, &pure), &quaternion::conj(dq));
+        Vector3::new(a[0] + b[0], a[1] + b[1], a[2] + b[2])
+    }
+}
+
+/// How a tip constraint held by a turning support depends on the load parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Moving {
+    /// `(R_s d)·(r − c) = offset` over the tip vertex's three position unknowns (in order).
+    Position {
+        direction: Vector3<f64>,
+        offset: f64,
+    },
+    /// `w·Im(q̄_t ∘ q) = 0`, `q_t = q_s ∘ reference`, over the tip node's four quaternion
+    /// unknowns (in order).
+    Orientation {
+        reference: Quat,
+        weights: Vector3<f64>,
+    },
+}
+
+impl Moving {
+    /// The coefficients (in the order of the constraint's terms) and the value at `pose`;
+    /// with `rate`, their rates `d/dλ`.
+    pub fn coefficients(&self, pose: &SupportPose, rate: bool) -> (Vec<f64>, f64) {
+        match *self {
+            Moving::Position { direction, offset } => {
+                let a = pose.turn(&direction);
+                if rate {
+                    let da = pose.turn_rate(&direction);
+                    let db = da.dot(&pose.centre) + a.dot(&pose.centre_rate);
+                    (da.iter().copied().collect(), db)
+                } else {
+                    (a.iter().copied().collect(), offset + a.dot(&pose.centre))
+                }
+            }
+            Moving::Orientation { reference, weights } => {
+                let q = if rate {
+                    pose.rotation_rate
+                } else {
+                    pose.rotation
+                };
+                let conj = quaternion::conj(&quaternion::mul(&q, &reference));
+                let coeffs = (0..4)
+                    .map(|k| {
+                        let mut ek = Quat::zeros();
+                        ek[k] = 1.0;
+                        let g = quaternion::mul(&conj, &ek);
+                        (0..3).map(|i| weights[i] * g[i]).sum()
+                    })
+                    .collect();
+                (coeffs, 0.0)
+            }
+        }
+    }
+}
+
+/// The constraints by which a turning support at `pose` holds rod `id`'s tip under the
+/// conditions `cond`, holding what it holds where the state `x` has it (`x` at `pose`); the
+/// height along the support's axis is held when `height_held` (the axial motion prescribed).
+pub(super) fn turning_tip_constraints(
+    model: &DiscreteModel,
+    x: &[f64],
+    id: RodId,
+    cond: EndCondition,
+    pose: &SupportPose,
+    height_held: bool,
+    out: &mut Vec<LinearConstraint>,
+) {
+    let rod = &model.rods[id];
+    let v = rod.end_vertex(End::Tip);
+    let r = model.vertex(x, id, v);
+    let rot = quaternion::rotation(&pose.rotation);
+    // the tip's position in the support's frame, in its plane
+    let mut p = rot.transpose() * (r - pose.centre);
+    p[2] = 0.0;
+    let role = Role::Support {
+        rod: id,
+        end: End::Tip,
+    };
+    let positions: Vec<(usize, f64)> = (0..3).map(|k| (rod.r_dof(v, k), 0.0)).collect();
+    let mut push = |moving: Moving, role: Role| {
+        let dofs: Vec<usize> = match moving {
+            Moving::Position { .. } => positions.iter().map(|t| t.0).collect(),
+            Moving::Orientation { .. } => (0..4)
+                .map(|k| rod.q_dof(rod.end_node(End::Tip), k))
+                .collect(),
+        };
+        let (coeffs, value) = moving.coefficients(pose, false);
+        out.push(LinearConstraint {
+            terms: dofs.into_iter().zip(coeffs).collect(),
+            value,
+            role,
+            moving: Some(moving),
+        });
+    };
+    if height_held {
+        push(
+            Moving::Position {
+                direction: Vector3::z(),
+                offset: 0.0,
+            },
+            Role::TipHeight { rod: id },
+        );
+    }
+    let held: Vec<Vector3<f64>> = match cond.translation {
+        Translation::Fixed => vec![Vector3::x(), Vector3::y()],
+        Translation::Slide => vec![],
+        Translation::Radial if p.norm() > 0.0 => {
+            let er = p / p.norm();
+            vec![Vector3::new(-er[1], er[0], 0.0)]
+        }
+        Translation::Radial => vec![Vector3::x(), Vector3::y()],
+    };
+    for d in held {
+        push(
+            Moving::Position {
+                direction: d,
+                offset: d.dot(&p),
+            },
+            role,
+        );
+    }
+    let node = rod.end_node(End::Tip);
+    let q = model.quaternion(x, id, node);
+    let reference = quaternion::mul(&quaternion::conj(&pose.rotation), &(q / q.norm()));
+    match cond.rotation {
+        Rotation::Clamped => {
+            for weights in [Vector3::x(), Vector3::y(), Vector3::z()] {
+                push(Moving::Orientation { reference, weights }, role);
+            }
+        }
+        Rotation::Pinned => {
+            let rr = quaternion::rotation(&reference);
+            let weights = Vector3::new(rr[(2, 0)], rr[(2, 1)], rr[(2, 2)]);
+            push(Moving::Orientation { reference, weights }, role);
+        }
+        Rotation::Free => {}
+    }
+}
