@@ -139,22 +139,20 @@ fn held(h: &RawHold, geometry: &Geometry, b1: f64, ck: &Checker) -> Result<Held,
     })
 }
 
-/// Refuses what the supports cannot carry: a radial pressure on a rod on the axis, and a
-/// tilted support that holds the tips' translations while its axial position is free
-/// (the tips' heights would then have no common centre to turn about).
-fn check_combination(
+/// What the supports cannot carry, as (key, message): a radial pressure on a rod on the
+/// axis, and a tilted support that holds the tips' translations while its axial position
+/// is free (the tips' heights would then have no common centre to turn about).
+pub(super) fn combination_error(
     parameter: Component,
     control: Control,
     hold: &Held,
     geometry: &Geometry,
     boundary: &BoundaryConditions,
-    ck: &Checker,
-) -> Result<(), CaseError> {
+) -> Option<(&'static str, &'static str)> {
     let pressed = parameter == Component::Pressure || hold.pressure != 0.0;
     if pressed && geometry.radius == 0.0 {
-        return Err(ck.invalid(
+        return Some((
             "loading.parameter",
-            0..0,
             "a radial pressure needs rods off the axis (geometry.radius > 0), found radius 0",
         ));
     }
@@ -164,11 +162,24 @@ fn check_combination(
         _ => matches!(hold.axial, AxialHeld::Load(_)),
     };
     if tilted && axial_free && boundary.tip.translation != Translation::Slide {
-        return Err(ck.invalid(
+        return Some((
             "loading.hold.axial_force",
-            0..0,
             "a tilted tip support with a free axial position needs boundary.tip.translation = \"slide\" (or hold.axial instead)",
         ));
     }
-    Ok(())
+    None
+}
+
+fn check_combination(
+    parameter: Component,
+    control: Control,
+    hold: &Held,
+    geometry: &Geometry,
+    boundary: &BoundaryConditions,
+    ck: &Checker,
+) -> Result<(), CaseError> {
+    match combination_error(parameter, control, hold, geometry, boundary) {
+        Some((key, message)) => Err(ck.invalid(key, 0..0, message)),
+        None => Ok(()),
+    }
 }

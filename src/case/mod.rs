@@ -32,7 +32,7 @@ use crate::discretisation::discrete_model::DiscreteModel;
 use crate::model::assembly::Assembly;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::elasticity::Elasticity;
-use crate::model::loading::{Branch, LoadParameter, Loads};
+use crate::model::loading::{pressure_unit, Branch, Component, Control, LoadParameter, Loads};
 use crate::model::stiffness::Stiffness;
 use crate::solver::continuation::ContinuationSettings;
 use raw::RawCase;
@@ -151,6 +151,49 @@ impl Case {
         c.discretisation.symmetric |= n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
         c.solver.lowest_eigenvalue = false;
         c
+    }
+
+    /// The same case with `component` stepped (the others held as the case holds them),
+    /// to the case's own target when it steps that component already, else to a default
+    /// one: ε = 0.5, twist 1 rad, tilt 0.5 rad, a pressure of one [`Case::parameter_unit`].
+    /// A tilt solves the full model. `Err` says why the supports cannot carry it.
+    pub fn with_stepped(&self, component: Component) -> Result<Case, String> {
+        let l = &self.loading;
+        if let Some((_, why)) = loads::combination_error(
+            component,
+            l.control,
+            &l.hold,
+            &self.geometry,
+            &self.boundary,
+        ) {
+            return Err(why.to_string());
+        }
+        let mut c = self.clone();
+        if component != l.parameter {
+            c.loading.parameter = component;
+            c.loading.control = Control::Displacement;
+            c.loading.target = match component {
+                Component::Axial => 0.5,
+                Component::Twist => 1.0,
+                Component::Tilt => 0.5,
+                Component::Pressure => c.parameter_unit(),
+            };
+        }
+        let n = c.geometry.helices;
+        let symmetric = c.loads().keeps_cyclic_symmetry() && n >= 4 && n % 2 == 0;
+        c.discretisation.symmetric = symmetric;
+        Ok(c)
+    }
+
+    /// The natural scale of the case's load parameter, in its own measure: 1 for `ε`,
+    /// `P/Pcrit` and the angles (rad), `B1 a/c⁴` (N/m) for the radial pressure.
+    pub fn parameter_unit(&self) -> f64 {
+        match self.loading.parameter {
+            Component::Pressure => {
+                pressure_unit(self.stiffness.b1, self.geometry.radius, self.geometry.pitch)
+            }
+            _ => 1.0,
+        }
     }
 
     /// The rigid motion that supports `bc` would leave free on the case's assembly, if any

@@ -354,6 +354,20 @@ impl LoadParameter {
     }
 }
 
+/// The natural scale of a radial line pressure on rods of bending stiffness `b1` (N m²)
+/// wound as helices of radius `a` and pitch parameter `b` (m): `B1 a/c⁴` (N/m), the
+/// pressure that changes their curvature `a/c²` by its own size (1 when it is not a
+/// positive number, for rods on the axis).
+pub fn pressure_unit(b1: f64, a: f64, b: f64) -> f64 {
+    let c2 = a * a + b * b;
+    let unit = b1 * a / (c2 * c2);
+    if unit.is_finite() && unit > 0.0 {
+        unit
+    } else {
+        1.0
+    }
+}
+
 /// A component of the loading of the whole tube: one is stepped by the load parameter, the
 /// others are held ([`Held`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -26,6 +26,7 @@ use super::export::{self, SessionEvent};
 use super::worker::{self, Job, Part, WorkerEvent};
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
+use crate::model::loading::Component;
 use crate::results::{LoadPoint, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -38,6 +39,9 @@ pub enum Action {
     Start {
         helices: usize,
         boundary: BoundaryConditions,
+        /// The load component stepped (axial when not given).
+        #[serde(default = "axial", skip_serializing_if = "is_axial")]
+        load: Component,
     },
     /// Continue the path to load parameter `parameter`; with `steps`, stop after that many
     /// accepted internal steps with the next one `step_length` long (a step the explorer's
@@ -65,6 +69,14 @@ pub enum Action {
     },
     /// Change the boundary conditions at the current `λ`.
     Boundary { boundary: BoundaryConditions },
+}
+
+fn axial() -> Component {
+    Component::Axial
+}
+
+fn is_axial(c: &Component) -> bool {
+    *c == Component::Axial
 }
 
 /// The version of the session format written: 2 names the load parameter `parameter`
@@ -127,6 +139,7 @@ impl Action {
             Job::Start(case) => Some(Action::Start {
                 helices: case.geometry.helices,
                 boundary: case.boundary,
+                load: case.loading.parameter,
             }),
             Job::Advance(parameter) => Some(Action::Advance {
                 parameter: *parameter,
@@ -167,9 +180,14 @@ impl Action {
             Action::Start {
                 helices,
                 ref boundary,
+                load,
             } => {
                 let mut c = case.with_helices(helices);
                 c.boundary = *boundary;
+                // a load the scene cannot carry is refused before the jobs run (`replay`)
+                if let Ok(stepped) = c.with_stepped(load) {
+                    c = stepped;
+                }
                 Job::Start(Box::new(c))
             }
             Action::Advance {
@@ -290,6 +308,17 @@ pub struct Replayed {
 pub fn replay(script: &Script, case: &Case) -> Result<Replayed, ScriptError> {
     if !matches!(script.actions.first(), Some(Action::Start { .. })) {
         return Err(ScriptError::NoStart);
+    }
+    for (k, action) in script.actions.iter().enumerate() {
+        if let Action::Start { load, helices, .. } = *action {
+            if let Err(why) = case.with_helices(helices).with_stepped(load) {
+                return Err(ScriptError::Failed(format!(
+                    "action {} (start stepping the {}): {why}",
+                    k + 1,
+                    load.name()
+                )));
+            }
+        }
     }
     let jobs: Vec<Job> = script.actions.iter().map(|a| a.job(case)).collect();
     let mut path = Vec::new();

@@ -17,7 +17,7 @@ use crate::discretisation::system::System;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::helix::Helix;
 use crate::model::loading::{
-    AxisLoad, Component, Control, Driven, LoadParameter, Loads, SupportAxis,
+    pressure_unit, AxisLoad, Component, Control, Driven, LoadParameter, Loads, SupportAxis,
 };
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, Stability};
 use crate::solver::continuation::Critical;
@@ -594,13 +594,7 @@ pub fn parameter_unit(model: &DiscreteModel, loads: &Loads) -> f64 {
     match loads.stepped() {
         Some(Component::Pressure) => {
             let helix = &model.rods[0].helix;
-            let c2 = helix.radius * helix.radius + helix.pitch * helix.pitch;
-            let unit = model.stiffness.b1 * helix.radius / (c2 * c2);
-            if unit.is_finite() && unit > 0.0 {
-                unit
-            } else {
-                1.0
-            }
+            pressure_unit(model.stiffness.b1, helix.radius, helix.pitch)
         }
         _ => 1.0,
     }

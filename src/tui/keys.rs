@@ -21,6 +21,7 @@ pub enum Action {
     PinJoints,
     MoreHelices,
     FewerHelices,
+    NextLoad,
     Reset,
     Export,
     Precision,
@@ -67,7 +68,7 @@ pub struct Binding {
 
 /// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
 /// help is shown any key closes it).
-pub const BINDINGS: [Binding; 21] = {
+pub const BINDINGS: [Binding; 22] = {
     use Action::*;
     [
         Binding {
@@ -134,6 +135,11 @@ pub const BINDINGS: [Binding; 21] = {
             label: "n N",
             keys: &[(Char('n'), MoreHelices), (Char('N'), FewerHelices)],
             help: "more / fewer helices (1 2 4 8 16), start over (asks first)",
+        },
+        Binding {
+            label: "L",
+            keys: &[(Char('L'), NextLoad)],
+            help: "load stepped: axial → twist → pressure → tilt, start over (asks first)",
         },
         Binding {
             label: "r",

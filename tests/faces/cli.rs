@@ -7,8 +7,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-const LOAD_COLUMNS: &str =
-    "step,eps,h,fx,fy,fz,energy,iterations,residual,stable,unstable_dirs,lowest_eig,parameter";
+const LOAD_COLUMNS: &str = "step,eps,h,fx,fy,fz,energy,iterations,residual,stable,unstable_dirs,lowest_eig,parameter,twist,torque,torque_norm,tilt,bending_moment,bending_moment_norm,pressure,radius,lateral_pressure";
 const REACTION_COLUMNS: &str = "step,eps,rod,chirality,fx,fy,fz,mx,my,mz";
 const STATE_COLUMNS: &str = "rod,s,s_over_l,x,y,z,q1,q2,q3,q4,k1,k2,omega,nx,ny,nz";
 const OUTPUTS: [&str; 3] = ["load.csv", "reactions.csv", "state.csv"];

@@ -1975,6 +1975,7 @@ fn every_action_session() -> Script {
             ScriptAction::Start {
                 helices: 2,
                 boundary: bc,
+                load: spira::model::loading::Component::Axial,
             },
             ScriptAction::Advance {
                 parameter: 0.05,

@@ -8,6 +8,7 @@ use spira::discretisation::discrete_model::DiscreteModel;
 use spira::discretisation::system::System;
 use spira::results::LoadPoint;
 use spira::simulation::Simulation;
+use std::f64::consts::PI;
 
 /// A case from TOML text.
 fn case(text: &str) -> Case {
@@ -310,4 +311,133 @@ fn pantograph_pressure(a: f64) -> f64 {
 #[test]
 fn the_pantographs_closed_form_gives_the_check_value() {
     assert!((pantograph_pressure(0.05) - 2790.21).abs() < 0.01);
+}
+
+/// The mean bulk helix `(a, b)` (m) of the rods at the case's path end, stepped to
+/// `target` in `steps` steps.
+fn bulk_helix(case: &Case, target: f64, steps: usize) -> (f64, LoadPoint) {
+    let mut sim = Simulation::from_case_on(case, 1).unwrap();
+    for k in 1..=steps {
+        sim.advance_to(target * k as f64 / steps as f64)
+            .unwrap_or_else(|e| panic!("{e}"));
+    }
+    let point = sim.load_point(steps);
+    let bulk = spira::discretisation::bulk::step_bulk(sim.model(), &sim.snapshot(), &point);
+    let a = bulk.rods.iter().map(|r| r.radius).sum::<f64>() / bulk.rods.len() as f64;
+    (a, point)
+}
+
+/// The closed form's radius at pressure `q`: the root of `pantograph_pressure(a) = q` in
+/// (0.03, 0.06) m, where the pressure rises as the radius falls.
+fn pantograph_radius(q: f64) -> f64 {
+    let (mut lo, mut hi) = (0.03, 0.06);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if pantograph_pressure(mid) > q {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The bulk of long pressurised tubes (n = 8, clamped ends free along the axis) tends to
+/// the pantograph's uniform helices as 1/L: at 14 and 28 turns, q = 1000 N/m, the error of
+/// the bulk radius halves with the length, and at 28 turns the pressure that the closed
+/// form gives for the bulk's radius is the applied one within 2 %.
+#[test]
+fn the_bulk_of_a_long_pressurised_tube_is_the_pantographs_helix() {
+    let q = 1000.0;
+    let exact = pantograph_radius(q);
+    let error = |turns: usize| {
+        let case = tube(
+            8,
+            turns as f64,
+            14 * turns,
+            &format!("parameter = \"pressure\"\ntarget = {q}\nhold = {{ axial_force = 0 }}"),
+        );
+        let (a, point) = bulk_helix(&case, q, 4);
+        assert!((point.support.pressure - q).abs() < 1e-9 * q);
+        (a - exact).abs() / exact
+    };
+    let (e14, e28) = (error(14), error(28));
+    assert!(e28 < 1e-3, "28 turns: bulk radius off by {e28:e}");
+    assert!(
+        e28 < 0.6 * e14,
+        "the error does not fall as 1/L: {e14:e} at 14 turns, {e28:e} at 28"
+    );
+    let tube28 = tube(
+        8,
+        28.0,
+        392,
+        &format!("parameter = \"pressure\"\ntarget = {q}\nhold = {{ axial_force = 0 }}"),
+    );
+    let (a, _) = bulk_helix(&tube28, q, 4);
+    let needed = pantograph_pressure(a);
+    assert!(
+        (needed - q).abs() < 0.02 * q,
+        "bulk radius {a} m needs q = {needed} N/m, applied {q}"
+    );
+}
+
+/// Love's helix of a spring (natural helix (0.06, 0.025), B = 1, C = 2, right-handed)
+/// twisted by `per_turn` rad per turn with no axial force: the turns' angle grows by the
+/// twist, so `c = c0 / (1 + per_turn/2π)`; `F(a, b) = 0` (DESIGN.md §6) fixes `a` on that
+/// `c`; the couple it carries is `M(a, b)`.
+fn love_twisted(per_turn: f64) -> f64 {
+    let (a0, b0): (f64, f64) = (0.06, 0.025);
+    let c0 = a0.hypot(b0);
+    let c = c0 / (1.0 + per_turn / (2.0 * PI));
+    let (k0, t0) = (a0 / (c0 * c0), b0 / (c0 * c0));
+    let wrench = |a: f64| {
+        let b = (c * c - a * a).sqrt();
+        let (k, t) = (a / (c * c), b / (c * c));
+        let f = (2.0 * (t - t0) * a - (k - k0) * b) / (a * c);
+        let m = ((k - k0) * a + 2.0 * (t - t0) * b) / c;
+        (f, m)
+    };
+    // F changes sign between a small radius and one close to c
+    let (mut lo, mut hi) = (0.5 * c, 0.999 * c);
+    let sign_lo = wrench(lo).0.signum();
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if wrench(mid).0.signum() == sign_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    wrench(0.5 * (lo + hi)).1
+}
+
+/// A single spring (n = 1; 14, 28 and 56 turns, 40 elements per turn) twisted by 0.05 rad
+/// per turn, free along its axis: the torque it carries tends to that of Love's helix, its
+/// error at least halving as the length doubles (measured: 7.7e-5, 1.4e-5, 8.4e-7 — the
+/// clamped ends' boundary layers are of fixed length and take a share of the twist that
+/// falls faster than 1/L).
+#[test]
+fn a_twisted_spring_tends_to_loves_helix_as_its_length_grows() {
+    let per_turn = 0.05;
+    let love = love_twisted(per_turn);
+    let error = |turns: usize| {
+        let twist = per_turn * turns as f64;
+        let case = tube(
+            1,
+            turns as f64,
+            40 * turns,
+            &format!("parameter = \"twist\"\ntarget = {twist}\nhold = {{ axial_force = 0 }}"),
+        );
+        let point = path(&case, &[0.5 * twist, twist]).pop().unwrap();
+        (point.support.torque - love) / love
+    };
+    let (e14, e28, e56) = (error(14), error(28), error(56));
+    assert!(e56.abs() < 1e-5, "56 turns: torque off Love's by {e56:e}");
+    for (short, long) in [(e14, e28), (e28, e56)] {
+        // at least as fast as 1/L (the layers' share of the twist falls faster)
+        assert!(
+            long.abs() < 0.5 * short.abs(),
+            "the error does not fall with the length: {e14:e}, {e28:e}, {e56:e}"
+        );
+    }
 }

@@ -6,6 +6,7 @@ use super::explorer::{
 };
 use super::state::CURSOR_STEPS;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
+use crate::model::loading::Component;
 use crate::session::export::SessionEvent;
 use crate::session::worker::Job;
 use crate::tui::keys::{self, Action};
@@ -63,7 +64,7 @@ impl App {
             )));
             return vec![];
         }
-        let next = self.screen.requested_parameter + gap.signum() * self.screen.step.min(gap.abs());
+        let next = self.screen.requested_parameter + gap.signum() * self.user_step().min(gap.abs());
         self.advance(next)
     }
 
@@ -115,7 +116,7 @@ impl App {
         let action = keys::action_for(key.code);
         let confirm = self.confirm.take();
         if confirm.is_some() && action != confirm {
-            self.message = Some(Message::Info("kept the path: n unchanged".into()));
+            self.message = Some(Message::Info("kept the path: nothing changed".into()));
             return vec![];
         }
         self.confirmed = confirm.is_some();
@@ -153,6 +154,7 @@ impl App {
             Action::TipTranslation => self.cycle_tip_translation(),
             Action::TipRotation => self.cycle_tip_rotation(),
             Action::PinJoints => self.toggle_joints(),
+            Action::NextLoad => self.change_load(action),
             Action::MoreHelices => self.change_helices(true, action),
             Action::FewerHelices => self.change_helices(false, action),
             Action::Cancel => self.cancel(),
@@ -253,7 +255,7 @@ impl App {
     fn step_by(&mut self, sign: f64) -> Vec<Effect> {
         self.requests.running = false;
         let (from, target) = (self.screen.requested_parameter, self.target());
-        let mut next = from + sign * self.screen.step;
+        let mut next = from + sign * self.user_step();
         // a step forward towards the target stops there; one beyond it is refused
         if target > 0.0 && sign > 0.0 {
             if from >= target - 1e-12 {
@@ -298,14 +300,16 @@ impl App {
             self.message = Some(Message::Info(format!(
                 "Δ{} = {} is the {} step ({})",
                 self.symbol(),
-                fmt_step(self.screen.step),
+                fmt_step(self.user_step()),
                 if factor > 1.0 { "largest" } else { "smallest" },
-                STEPS.map(fmt_step).join(" ")
+                STEPS
+                    .map(|s| fmt_step(s * self.case.parameter_unit()))
+                    .join(" ")
             )));
             return vec![];
         };
         self.screen.step = step;
-        let what = format!("step Δ{} = {}", self.symbol(), fmt_step(step));
+        let what = format!("step Δ{} = {}", self.symbol(), fmt_step(self.user_step()));
         self.message = Some(Message::Info(what.clone()));
         self.record(what);
         vec![]
@@ -331,7 +335,7 @@ impl App {
             "loading to {} = {} in steps of {}",
             self.symbol(),
             self.target(),
-            fmt_step(self.screen.step)
+            fmt_step(self.user_step())
         )));
         if self.busy() {
             // the answer to the request in flight sends the next one
@@ -405,6 +409,53 @@ impl App {
             self.symbol()
         )));
         self.record(format!("n = {n}, start over"));
+        self.restart_from(previous)
+    }
+
+    /// The next load component of [`Component::ALL`] that the supports can carry, stepped
+    /// from `λ = 0` (the others held as the case holds them).
+    fn change_load(&mut self, key: Action) -> Vec<Effect> {
+        let now = self.case.loading.parameter;
+        let at = Component::ALL.iter().position(|&c| c == now).unwrap_or(0);
+        let mut refused = Vec::new();
+        let mut next = None;
+        for k in 1..Component::ALL.len() {
+            let c = Component::ALL[(at + k) % Component::ALL.len()];
+            match self.case.with_stepped(c) {
+                Ok(case) => {
+                    next = Some(case);
+                    break;
+                }
+                Err(why) => refused.push(format!("{}: {why}", c.name())),
+            }
+        }
+        let Some(case) = next else {
+            self.message = Some(Message::Info(format!(
+                "no other load on this scene ({})",
+                refused.join("; ")
+            )));
+            return vec![];
+        };
+        let name = case.loading.parameter.name();
+        if self.screen.path.len() > CONFIRM_DISCARD && !std::mem::take(&mut self.confirmed) {
+            self.confirm = Some(key);
+            self.message = Some(Message::Info(format!(
+                "stepping the {name} starts over and discards the path of {} points: press L again to confirm, any other key keeps it",
+                self.screen.path.len()
+            )));
+            return vec![];
+        }
+        self.confirm = None;
+        let previous = self.keep();
+        self.case = case;
+        self.screen.step = default_step(&self.case);
+        self.message = Some(Message::Info(format!(
+            "stepping the {name} ({} = 0 → {} {}): starting over",
+            self.symbol(),
+            self.target(),
+            self.load_parameter().unit()
+        )));
+        self.record(format!("load {name}, start over"));
         self.restart_from(previous)
     }
 

@@ -156,6 +156,12 @@ impl App {
     }
 
     /// Target of continuous loading (the case's `loading.target`).
+    /// The user's step in the load parameter, in its own measure (the step chosen among
+    /// [`STEPS`] times the parameter's natural scale).
+    pub fn user_step(&self) -> f64 {
+        self.screen.step * self.case.parameter_unit()
+    }
+
     pub fn target(&self) -> f64 {
         self.case.loading.target
     }
@@ -328,7 +334,7 @@ impl App {
 
 /// The step of [`STEPS`] nearest the case's output spacing `target / steps`.
 pub(super) fn default_step(case: &Case) -> f64 {
-    let s = (case.loading.target / case.loading.steps as f64).abs();
+    let s = (case.loading.target / case.loading.steps as f64 / case.parameter_unit()).abs();
     if !(s.is_finite() && s > 0.0) {
         return 0.05;
     }

@@ -7,8 +7,8 @@ use super::chart::{
 };
 use super::colours::{DIM, FX_LINE, FY_LINE, FZ_LINE, SELECTED};
 use super::numbers::fmt_load;
-use crate::model::loading::Control;
-use crate::results::LoadPoint;
+use crate::model::loading::{Component, Control};
+use crate::results::{LoadPoint, SupportResponse};
 use crate::tui::app::App;
 use crate::tui::stability;
 use ratatui::layout::{Alignment, Rect};
@@ -32,23 +32,34 @@ struct Series {
 pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let path = &app.screen.path;
     let stretches = stability::stretches(path.len(), |k| stability::is_unstable(&path[k]));
-    let mut block = load_block(stretches.iter().any(|s| s.unstable), app.view.no_color);
+    let mut block = load_block(
+        app.case().loading.parameter,
+        stretches.iter().any(|s| s.unstable),
+        app.view.no_color,
+    );
     if !app.screen.critical.is_empty() {
         block = block.title_bottom(Line::from(vec![
             Span::styled(" ×", Style::new().fg(Color::Yellow)),
             Span::raw(format!("critical {} (x lists) ", app.screen.critical.len())),
         ]));
     }
+    let c = app.case().loading.parameter;
     if let Some(p) = app.view.path_cursor.and_then(|k| path.get(k)) {
-        block = block.title_bottom(
-            Line::from(format!(
-                " ◆ step {} {} {:.5}: fx {} fy {} fz {} ",
-                p.step,
-                app.load_parameter().motion_symbol(),
-                along(p),
+        let readout = match p.support.pair(c) {
+            None => format!(
+                "fx {} fy {} fz {}",
                 fmt_load(p.load[0], &p.load),
                 fmt_load(p.load[1], &p.load),
                 fmt_load(p.load[2], &p.load)
+            ),
+            Some([_, (force, name)]) => format!("{name} {force:.5e}"),
+        };
+        block = block.title_bottom(
+            Line::from(format!(
+                " ◆ step {} {} {:.5}: {readout} ",
+                p.step,
+                app.load_parameter().motion_symbol(),
+                along(c, p),
             ))
             .alignment(Alignment::Right),
         );
@@ -58,7 +69,7 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     }
     let x = parameter_bounds(app);
     let y = nice_bounds(padded_range(
-        path.iter().flat_map(|p| p.load).chain([0.0]),
+        path.iter().flat_map(|p| values(c, p)).chain([0.0]),
         0.2,
     ));
     let series = load_series(app, &stretches);
@@ -82,11 +93,37 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
-/// Where the chart places `p`: at the motion of what the load parameter drives, under
-/// either control (the compression ratio for the axial load), so that a dead load's curve is
-/// its load against the motion it causes.
-fn along(p: &LoadPoint) -> f64 {
-    p.compression_ratio
+/// Where the chart places `p` with component `c` stepped: at the motion of what the load
+/// parameter drives, under either control (the compression ratio for the axial load, the
+/// angle of a twist or tilt, the mean radius under pressure), so that a load's curve is the
+/// load against the motion it causes.
+fn along(c: Component, p: &LoadPoint) -> f64 {
+    p.support.pair(c).map_or(p.compression_ratio, |[m, _]| m.0)
+}
+
+/// The curves' values at `p` with component `c` stepped: the averaged normalised tip loads
+/// fx, fy, fz for the axial load, the conjugate force (torque, moment, pressure) for the
+/// others.
+fn values(c: Component, p: &LoadPoint) -> Vec<f64> {
+    p.support
+        .pair(c)
+        .map_or(p.load.to_vec(), |[_, f]| vec![f.0])
+}
+
+/// The point of the path at load parameter `lambda`, linearly between the points either
+/// side: `(along, the last value)`, for a critical point's mark.
+fn on_path(c: Component, path: &[LoadPoint], lambda: f64) -> Option<(f64, f64)> {
+    let at = |p: &LoadPoint| (along(c, p), *values(c, p).last().unwrap_or(&0.0));
+    path.windows(2).find_map(|w| {
+        let (a, b) = (w[0].parameter, w[1].parameter);
+        let inside = (a <= lambda && lambda <= b) || (b <= lambda && lambda <= a);
+        if !inside || a == b {
+            return None;
+        }
+        let t = (lambda - a) / (b - a);
+        let ((x0, y0), (x1, y1)) = (at(&w[0]), at(&w[1]));
+        Some((x0 + t * (x1 - x0), y0 + t * (y1 - y0)))
+    })
 }
 
 /// The points marked over the curves: the state on screen, the path cursor's loads, the
@@ -99,7 +136,8 @@ struct Marks {
 
 impl Marks {
     fn of(app: &App) -> Marks {
-        let loads = |p: &LoadPoint| (0..3).map(|c| (along(p), p.load[c])).collect();
+        let c = app.case().loading.parameter;
+        let loads = |p: &LoadPoint| values(c, p).into_iter().map(|v| (along(c, p), v)).collect();
         Marks {
             now: app
                 .screen
@@ -117,7 +155,10 @@ impl Marks {
                 .screen
                 .critical
                 .iter()
-                .map(|c| (c.compression_ratio, c.load[2]))
+                .filter_map(|k| match c {
+                    Component::Axial => Some((k.compression_ratio, k.load[2])),
+                    _ => on_path(c, &app.screen.path, k.parameter),
+                })
                 .collect(),
         }
     }
@@ -165,15 +206,26 @@ fn datasets<'a>(series: &'a [Series], marks: &'a Marks) -> Vec<Dataset<'a>> {
 }
 
 /// The load panel's frame: the legend of its lines (unstable stretches once there are).
-fn load_block(any_unstable: bool, no_color: bool) -> Block<'static> {
-    let mut title = vec![Span::styled(
-        " load Σf/(n Pcrit) ",
-        Style::new().add_modifier(Modifier::BOLD),
-    )];
+fn load_block(c: Component, any_unstable: bool, no_color: bool) -> Block<'static> {
     let marks = legend_marks(no_color);
-    title.extend(key_span(marks[0], "fx", FX_LINE));
-    title.extend(key_span(marks[1], "fy", FY_LINE));
-    title.extend(key_span(marks[2], "fz", FZ_LINE));
+    let mut title = Vec::new();
+    match SupportResponse::default().pair(c) {
+        None => {
+            title.push(Span::styled(
+                " load Σf/(n Pcrit) ",
+                Style::new().add_modifier(Modifier::BOLD),
+            ));
+            title.extend(key_span(marks[0], "fx", FX_LINE));
+            title.extend(key_span(marks[1], "fy", FY_LINE));
+            title.extend(key_span(marks[2], "fz", FZ_LINE));
+        }
+        Some([_, (_, name)]) => {
+            title.push(Span::styled(
+                format!(" {} {name} ", c.name()),
+                Style::new().add_modifier(Modifier::BOLD),
+            ));
+        }
+    }
     if any_unstable {
         title.extend(key_span("•", "unstable", DIM));
     }
@@ -184,6 +236,7 @@ fn load_block(any_unstable: bool, no_color: bool) -> Block<'static> {
 /// The abscissa's range: from 0 to as far as the path went, and under displacement control
 /// to the target and the request.
 fn parameter_bounds(app: &App) -> [f64; 2] {
+    let c = app.case().loading.parameter;
     // the target and the request are on the abscissa when the parameter is the motion itself
     let ahead = match app.load_parameter().control {
         Control::Displacement => vec![app.target(), app.screen.requested_parameter],
@@ -193,7 +246,7 @@ fn parameter_bounds(app: &App) -> [f64; 2] {
         .screen
         .path
         .iter()
-        .map(along)
+        .map(|p| along(c, p))
         .chain([0.0])
         .chain(ahead)
         .filter(|e| e.is_finite())
@@ -208,14 +261,19 @@ fn parameter_bounds(app: &App) -> [f64; 2] {
 /// fx, fy, fz along each stretch of stable or unstable states.
 fn load_series(app: &App, stretches: &[stability::Stretch]) -> Vec<Series> {
     let (path, no_color) = (&app.screen.path, app.view.no_color);
-    let colors = [FX_LINE, FY_LINE, FZ_LINE];
+    let stepped = app.case().loading.parameter;
+    let colors = match stepped {
+        Component::Axial => vec![FX_LINE, FY_LINE, FZ_LINE],
+        _ => vec![FZ_LINE],
+    };
     stretches
         .iter()
         .flat_map(|s| {
-            (0..3).map(move |c| Series {
+            let colors = colors.clone();
+            (0..colors.len()).map(move |c| Series {
                 points: path[s.points.clone()]
                     .iter()
-                    .map(|p: &LoadPoint| (along(p), p.load[c]))
+                    .map(|p: &LoadPoint| (along(stepped, p), values(stepped, p)[c]))
                     .collect(),
                 color: colors[c],
                 unstable: s.unstable,

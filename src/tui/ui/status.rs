@@ -62,7 +62,7 @@ fn case_line(app: &App) -> Line<'static> {
         bold(parameter),
         Span::raw(format!(" → {}", app.target())),
         sep(),
-        Span::raw(format!("Δ{} {}", app.symbol(), fmt_step(app.screen.step))),
+        Span::raw(format!("Δ{} {}", app.symbol(), fmt_step(app.user_step()))),
         sep(),
         activity(app),
     ])
@@ -170,9 +170,24 @@ fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)
     };
     let big = largest(&p.load);
     // (priority to keep: 0 always, higher given up first; the spans)
-    let mut fields: Vec<(u8, Vec<Span<'static>>)> = vec![
-        (4, vec![Span::raw(format!("h {} m", fmt_num(p.height)))]),
-        (
+    let mut fields: Vec<(u8, Vec<Span<'static>>)> =
+        vec![(4, vec![Span::raw(format!("h {} m", fmt_num(p.height)))])];
+    // the stepped load's displacement and force, then the axial loads
+    if let Some([(motion, m), (force, f)]) = p.support.pair(app.case().loading.parameter) {
+        fields.push((
+            0,
+            vec![
+                Span::raw(format!("{} {} ", short_name(m), fmt_num(motion))),
+                Span::raw(format!("{} ", short_name(f))),
+                bold(fmt_num(force)),
+            ],
+        ));
+        fields.push((
+            3,
+            vec![Span::raw(format!("fz/nPc {}", fmt_short(p.load[2], big)))],
+        ));
+    } else {
+        fields.push((
             0,
             vec![
                 Span::raw(format!(
@@ -182,8 +197,8 @@ fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)
                 )),
                 bold(fmt_short(p.load[2], big)),
             ],
-        ),
-    ];
+        ));
+    }
     if let Some(b) = s.bulk.rods.get(app.view.selected_rod) {
         fields.push((
             2,
@@ -314,5 +329,13 @@ fn message_line(app: &App) -> Line<'static> {
             ),
             Style::new().fg(DIM),
         )),
+    }
+}
+
+/// A column name such as `T (N m)` as the readout prints it: `T/N m`.
+fn short_name(name: &str) -> String {
+    match name.split_once(" (") {
+        Some((symbol, unit)) => format!("{symbol}/{}", unit.trim_end_matches(')')),
+        None => name.to_string(),
     }
 }
