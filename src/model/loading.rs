@@ -46,7 +46,7 @@ impl Branch {
     }
 }
 
-/// An axis of the tip support (docs/theory.md §8): its three translations and its three rotations
+/// An axis of the tip support (docs/theory.md §3): its three translations and its three rotations
 /// about axes through the tip's centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SupportAxis {
