@@ -220,7 +220,7 @@ impl Subject {
     }
 
     /// Coarsest mesh of a ladder for `order`: the smallest `joint_intervals · 2^j` with at
-    /// least [`elements_per_turn`] elements per turn.
+    /// least `elements_per_turn` elements per turn.
     /// The doubling stops at [`MAX_ELEMENTS`] (and cannot overflow): a
     /// case of more turns than that allows gets a coarsest mesh beyond it, which the
     /// caller refuses.
