@@ -281,9 +281,8 @@ pub const KEYS: &[KeyDoc] = &[
 
 /// The keys as a Markdown table: key, meaning, unit, default, range.
 pub fn keys_markdown() -> String {
-    let mut out = String::from(
-        "| key | meaning | unit | default | range |\n|---|---|---|---|---|\n",
-    );
+    let mut out =
+        String::from("| key | meaning | unit | default | range |\n|---|---|---|---|---|\n");
     for k in KEYS {
         let default = match k.default {
             DefaultDoc::Value(v) => format!("`{v}`"),

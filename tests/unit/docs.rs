@@ -217,7 +217,10 @@ fn docs_output_glossary_is_the_rendering_of_the_csv_headers() {
     let case = Case::parse(GLOSSARY_CASE, "glossary.toml", "glossary").expect("the case");
     let targets = case.output_parameters(case.loading.target, case.loading.steps);
     let outcome = run_path(&case, &targets, |_, _| {}).expect("the path");
-    assert!(!outcome.critical.is_empty(), "the path has a critical point");
+    assert!(
+        !outcome.critical.is_empty(),
+        "the path has a critical point"
+    );
     let states = [(0, outcome.snapshot.clone())];
     let run = RunFiles {
         states: &states,
@@ -254,9 +257,11 @@ fn glossary_of(name: &str, text: &str) -> String {
     let mut rows = Vec::new();
     for entry in split_top(glossary, "; ") {
         match split_top(&entry, ": ").split_first() {
-            Some((columns, rest)) if !rest.is_empty() => {
-                rows.push(format!("| `{}` | {} |", cell(columns), cell(&rest.join(": "))))
-            }
+            Some((columns, rest)) if !rest.is_empty() => rows.push(format!(
+                "| `{}` | {} |",
+                cell(columns),
+                cell(&rest.join(": "))
+            )),
             _ => prose.push(entry),
         }
     }
