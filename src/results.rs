@@ -135,7 +135,7 @@ pub struct Stability {
     /// arc length (J/m; negative when unstable), where computed.
     pub lowest_eigenvalue: Option<f64>,
     /// Circumferential wavenumber of the lowest eigenvalue's mode, for an assembly judged
-    /// by its Bloch blocks (DESIGN.md §7); `None` otherwise.
+    /// by its Bloch blocks (docs/theory.md §7); `None` otherwise.
     pub lowest_wavenumber: Option<usize>,
 }
 
@@ -182,7 +182,7 @@ pub struct CriticalPoint {
     pub unstable_before: usize,
     pub unstable_after: usize,
     /// Circumferential wavenumber `p` of the critical mode, for an assembly judged by its
-    /// Bloch blocks (DESIGN.md §7): the mode repeats with phase `2πp/m` from one sector to
+    /// Bloch blocks (docs/theory.md §7): the mode repeats with phase `2πp/m` from one sector to
     /// the next (`p = 0`: the mode keeps the symmetry). `None` for the full model.
     pub wavenumber: Option<usize>,
     /// How many independent modes cross zero together: 2 for `0 < p < m/2` (the modes of
@@ -207,7 +207,7 @@ pub struct CriticalPoint {
 /// The bulk of one rod in a state: the longest stretch of arc length where its curvatures
 /// stay within a tolerance of one uniform helix (thesis §4, "bulk" and boundary layers),
 /// the helix fitted there, the axial force and couple Love's closed form gives for that
-/// helix (DESIGN.md §6), and the rod's actual tip reactions beside them.
+/// helix (docs/theory.md §6), and the rod's actual tip reactions beside them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RodBulk {
     pub rod: RodId,
@@ -255,7 +255,7 @@ pub struct StepBulk {
     pub compression_ratio: f64,
     pub rods: Vec<RodBulk>,
     /// Axial force per rod of the infinite tube at this `ε` (N): Love's on the helix of the
-    /// same arc length per turn, `c = c0`, `b = b0 (1 − ε)` (DESIGN.md §7); `None` for
+    /// same arc length per turn, `c = c0`, `b = b0 (1 − ε)` (docs/theory.md §7); `None` for
     /// naturally straight rods.
     pub tube_force: Option<f64>,
     /// The finite assembly's mean tip `Fz` over its rods divided by `tube_force`; `None` at

@@ -1,4 +1,4 @@
-//! The ranges a case's values and derived quantities must lie in (issue 12), and the
+//! The ranges a case's values and derived quantities must lie in, and the
 //! helpers that say them in messages.
 
 use super::settings::Geometry;

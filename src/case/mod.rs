@@ -9,6 +9,7 @@
 //! physical and numerical ranges and fills in the defaults.
 
 mod error;
+mod keys;
 mod limits;
 mod loads;
 mod motion;
@@ -19,6 +20,7 @@ mod tables;
 mod target;
 
 pub use error::CaseError;
+pub use keys::{keys_markdown, DefaultDoc, KeyDoc, RangeDoc, KEYS};
 pub use limits::{
     LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS, MIN_ELEMENTS_PER_TURN,
     PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
@@ -141,8 +143,8 @@ impl Case {
         c
     }
 
-    /// The case as the explorer solves it interactively (issue 5, "a model no bigger than
-    /// the scene"): one symmetric pair standing for the assembly when it has the symmetry,
+    /// The case as the explorer solves it interactively (a model no bigger than
+    /// the scene): one symmetric pair standing for the assembly when it has the symmetry,
     /// and stability as the count of unstable directions only (by the pair's Bloch blocks),
     /// without the lowest eigenvalue. Everything shown is still of the whole assembly.
     pub fn for_explorer(&self) -> Case {

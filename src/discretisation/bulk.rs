@@ -1,6 +1,6 @@
-//! The bulk of a rod (thesis §4, DESIGN.md §7): the longest stretch of arc length where its
+//! The bulk of a rod (thesis §4, docs/theory.md §7): the longest stretch of arc length where its
 //! curvatures stay within a tolerance of one uniform helix, the helix fitted there, and
-//! Love's closed-form axial force and couple for it (DESIGN.md §6) beside the rod's
+//! Love's closed-form axial force and couple for it (docs/theory.md §6) beside the rod's
 //! reactions; and the infinitely long tube's force beside the finite assembly's.
 //!
 //! The curvatures read are those of a reported shape: the nodal values recovered from the
@@ -162,7 +162,7 @@ pub fn helix_of(curvature: [f64; 3], chirality: f64) -> (f64, f64) {
 }
 
 /// The bulk of every rod of `snapshot` (the state of load point `point` of `model`), and the
-/// infinite tube at its `ε` beside the finite assembly (DESIGN.md §7): Love's axial force on
+/// infinite tube at its `ε` beside the finite assembly (docs/theory.md §7): Love's axial force on
 /// the helix of the same arc length per turn `c = c0` and pitch `b0 (1 − ε)`, and the ratio
 /// of the finite assembly's mean tip `Fz` to it.
 pub fn step_bulk(model: &DiscreteModel, snapshot: &Snapshot, point: &LoadPoint) -> StepBulk {
@@ -199,7 +199,7 @@ pub fn step_bulk(model: &DiscreteModel, snapshot: &Snapshot, point: &LoadPoint) 
 
 /// Love's axial force per rod (N, tension positive) of the infinitely long tube of rods
 /// naturally `natural`, compressed by `ε`: the helix `c = c0`, `b = b0 (1 − ε)`, which pin
-/// joints at fixed material points impose far from the ends (DESIGN.md §7), under the
+/// joints at fixed material points impose far from the ends (docs/theory.md §7), under the
 /// model's elastic hypotheses.
 pub fn tube_force(natural: &Helix, model: &DiscreteModel, length: f64, eps: f64) -> f64 {
     LoveHelix {

@@ -1,5 +1,5 @@
-//! The linear constraints of the KKT system: supports at the rod ends (DESIGN.md §3), the
-//! prescribed tip height, and the pin joints at the crossings (DESIGN.md §2).
+//! The linear constraints of the KKT system: supports at the rod ends (docs/theory.md §3), the
+//! prescribed tip height, and the pin joints at the crossings (docs/theory.md §2).
 
 use super::discrete_model::{DiscreteModel, End};
 use super::support::{turning_tip_constraints, Moving, SupportPose};

@@ -1,8 +1,8 @@
 //! Quaternion rod elements: Lagrange interpolation of the nodal quaternions, the bending
-//! and twisting energy of the rod's elastic hypotheses (Kirchhoff's, DESIGN.md §1, or
-//! Sadowsky's ribbon, DESIGN.md §7 and [`crate::model::elasticity`]) with reference
+//! and twisting energy of the rod's elastic hypotheses (Kirchhoff's, docs/theory.md §1, or
+//! Sadowsky's ribbon, docs/theory.md §7 and [`crate::model::elasticity`]) with reference
 //! curvatures given at each quadrature point, and the element's inextensibility integral
-//! `∫ d3 ds` (DESIGN.md §5), with exact first and second derivatives.
+//! `∫ d3 ds` (docs/theory.md §5), with exact first and second derivatives.
 //!
 //! The interpolated quaternion need not be unit between nodes; curvatures and directors
 //! are evaluated for the normalised rotation (`u = 2 Im(q̄ q')/|q|²`, `d3 = R(q) e3/|q|²`),

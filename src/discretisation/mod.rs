@@ -1,4 +1,4 @@
-//! The discretisation (DESIGN.md §5): shape functions and quadrature, quaternion rod
+//! The discretisation (docs/theory.md §5): shape functions and quadrature, quaternion rod
 //! elements, meshes, the discrete model and its unknowns, the constraints, the global KKT
 //! system, what a discrete state says (reactions, shapes), and the symmetric pair.
 

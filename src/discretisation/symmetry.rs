@@ -1,4 +1,4 @@
-//! The symmetric pair and the full assembly it stands for (DESIGN.md §7): a state of the
+//! The symmetric pair and the full assembly it stands for (docs/theory.md §7): a state of the
 //! pair expanded to the state of every rod, and the Bloch blocks of its KKT matrix.
 
 use super::constraints::Role;
@@ -57,7 +57,7 @@ pub fn expand_state(
     }
 }
 
-/// The Bloch (Fourier) blocks of the KKT matrix of a symmetric assembly (DESIGN.md §7).
+/// The Bloch (Fourier) blocks of the KKT matrix of a symmetric assembly (docs/theory.md §7).
 ///
 /// With every sector's unknowns in its own rotated frame, the full KKT matrix at a
 /// symmetric state is block-circulant, and the discrete Fourier transform over the `m`

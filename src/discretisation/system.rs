@@ -1,4 +1,4 @@
-//! The discrete model and its global KKT system (DESIGN.md §5).
+//! The discrete model and its global KKT system (docs/theory.md §5).
 //!
 //! Unknowns: nodal quaternions (4 per quaternion node) and vertex positions (3 per
 //! element vertex) of every rod, then Lagrange multipliers:

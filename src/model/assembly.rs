@@ -1,4 +1,4 @@
-//! Tubular assemblies of helices and their pin joints (DESIGN.md §2).
+//! Tubular assemblies of helices and their pin joints (docs/theory.md §2).
 
 use super::helix::{Chirality, Helix};
 use super::symmetry::{Symmetry, SymmetryError};

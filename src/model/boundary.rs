@@ -1,4 +1,4 @@
-//! Boundary conditions at the rod ends (DESIGN.md §3).
+//! Boundary conditions at the rod ends (docs/theory.md §3).
 //!
 //! The axial coordinate of both ends is always prescribed: z = 0 at the base and
 //! z = h at the tip (displacement control). What else is held is chosen per end.

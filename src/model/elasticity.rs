@@ -1,4 +1,4 @@
-//! The elastic hypotheses of a rod (DESIGN.md §1, §7): the configuration it is stress-free
+//! The elastic hypotheses of a rod (docs/theory.md §1, §7): the configuration it is stress-free
 //! in, and its energy per unit length as a function of its curvatures `u = (κ1, κ2, Ω)`
 //! (1/m, body components of the Darboux vector).
 //!
@@ -100,7 +100,7 @@ pub enum Reference {
     /// and the natural state's vertices where its chords `∫ d3 ds` put them (from the
     /// base of the helix), so that it is an exact, unloaded equilibrium. The default.
     Discrete,
-    /// The helix's own constant curvatures (DESIGN.md §2) and its vertices on the analytic
+    /// The helix's own constant curvatures (docs/theory.md §2) and its vertices on the analytic
     /// helix, as in the thesis.
     Continuum,
 }

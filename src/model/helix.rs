@@ -1,4 +1,4 @@
-//! Naturally free circular helices (DESIGN.md §2).
+//! Naturally free circular helices (docs/theory.md §2).
 
 use super::quaternion::{self, Quat};
 use nalgebra::{Matrix3, Vector3};

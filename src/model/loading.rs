@@ -1,4 +1,4 @@
-//! How an assembly is loaded (DESIGN.md §3): the control of the load parameter, what a path
+//! How an assembly is loaded (docs/theory.md §3): the control of the load parameter, what a path
 //! does at a bifurcation, and the axial loading of the tips it sets.
 
 use crate::model::quaternion::{self, Quat};
@@ -47,7 +47,7 @@ impl Branch {
     }
 }
 
-/// An axis of the tip support (DESIGN.md §8): its three translations and its three rotations
+/// An axis of the tip support (docs/theory.md §3): its three translations and its three rotations
 /// about axes through the tip's centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SupportAxis {
@@ -465,7 +465,7 @@ pub struct Loads {
 }
 
 impl Loads {
-    /// The tips pushed along the axis under `control` (the thesis's loading, DESIGN.md §3):
+    /// The tips pushed along the axis under `control` (the thesis's loading, docs/theory.md §3):
     /// the tip support's z driven by `λ = ε` or carrying the dead load `λ Pcrit` on every
     /// tip, every other axis held.
     pub fn axial(control: Control) -> Loads {

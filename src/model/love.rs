@@ -1,9 +1,9 @@
-//! Love's helical equilibria (DESIGN.md §6): a rod held on a uniform helix of another radius
+//! Love's helical equilibria (docs/theory.md §6): a rod held on a uniform helix of another radius
 //! and pitch than its natural one stays that helix, loaded by an axial force and an axial
 //! couple only, both in closed form — for Kirchhoff rods stress-free when helical (Love's
 //! formula), when straight (the same with `K0 = τ0 = 0`), and for any energy density
 //! `W(κ1, κ2, Ω)` whose couple `m = ∂W/∂u` has no `d2` component on the helix
-//! (Sadowsky's ribbon, DESIGN.md §7), from the balance laws.
+//! (Sadowsky's ribbon, docs/theory.md §7), from the balance laws.
 
 use super::elasticity::{Elasticity, Reference, StressFree};
 use super::helix::Chirality;
@@ -119,7 +119,7 @@ impl LoveHelix {
 
 /// Love's axial force on the tip (N, tension positive) and axial couple (N m) of a rod
 /// naturally the helix `(a0, b0)` held on the uniform helix `(a, b)` of any arc length per
-/// turn (DESIGN.md §6): `F = [C (τ − τ0) a − B (K − K0) b] / (a c)`,
+/// turn (docs/theory.md §6): `F = [C (τ − τ0) a − B (K − K0) b] / (a c)`,
 /// `M = χ [B (K − K0) a + C (τ − τ0) b] / c`, with `K = a/c²`, `τ = b/c²`, `B = B1`, `C = B3`.
 /// `None` when `a ≤ 0` (a straight rod is no helix).
 pub fn axial_wrench(

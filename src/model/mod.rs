@@ -1,4 +1,4 @@
-//! The continuum model (DESIGN.md §1–§3, §6–§7): rotations, helices, assemblies and their
+//! The continuum model (docs/theory.md §1–§3, §6–§7): rotations, helices, assemblies and their
 //! symmetry, boundary conditions, loading, stiffness and Love's closed-form helices.
 
 pub mod assembly;

@@ -1,4 +1,4 @@
-//! Unit quaternions as rotations (DESIGN.md §1).
+//! Unit quaternions as rotations (docs/theory.md §1).
 //!
 //! Convention of the thesis: `q = (q1, q2, q3, q4)` with vector part `(q1, q2, q3)`
 //! and scalar part `q4`. Hamilton product, active rotation `v ↦ q v q̄`, so that
@@ -102,7 +102,7 @@ pub fn about_z(theta: f64) -> Quat {
     Quat::new(0.0, 0.0, (0.5 * theta).sin(), (0.5 * theta).cos())
 }
 
-/// Body Darboux vector `(κ1, κ2, Ω) = 2 Im(q̄ ∘ q') / |q|²` (DESIGN.md §1), valid for
+/// Body Darboux vector `(κ1, κ2, Ω) = 2 Im(q̄ ∘ q') / |q|²` (docs/theory.md §1), valid for
 /// any non-zero `q` (the division removes the norm).
 pub fn darboux(q: &Quat, dq: &Quat) -> Vector3<f64> {
     let p = mul(&conj(q), dq);

@@ -1,4 +1,4 @@
-//! Elastic stiffnesses of a rod and the Euler load that is the unit of force (DESIGN.md §1, §4).
+//! Elastic stiffnesses of a rod and the Euler load that is the unit of force (docs/theory.md §1, §4).
 
 use std::f64::consts::PI;
 

@@ -1,4 +1,4 @@
-//! The rotational symmetry of an assembly of `n = 2m` helices (DESIGN.md §7): rotation by
+//! The rotational symmetry of an assembly of `n = 2m` helices (docs/theory.md §7): rotation by
 //! `2π/m` about the axis maps right rod `k` to right rod `k + 1` and left rod `k` to left rod
 //! `k − 1`, so one right/left pair stands for the whole assembly.
 

@@ -3,7 +3,7 @@
 //! Every table starts with `#` comment lines giving the case and the units, then the header
 //! line and one row per record. The rows are [`Serialize`] structs written by the `csv`
 //! crate, so the column names are the field names; numbers are written in scientific
-//! notation with a fixed number of digits (the `e*` helpers of [`format`]) and a missing
+//! notation with a fixed number of digits (the `e*` helpers of [`mod@format`]) and a missing
 //! value is an empty cell.
 
 use crate::discretisation::bulk::BULK_TOLERANCE;

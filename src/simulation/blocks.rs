@@ -1,5 +1,5 @@
 //! The stability of a cyclic pair judged on the whole assembly by the Bloch blocks of its
-//! KKT matrix, one per wavenumber (DESIGN.md §7): a symmetric state can lose stability to
+//! KKT matrix, one per wavenumber (docs/theory.md §7): a symmetric state can lose stability to
 //! modes that break the symmetry, and they live in the blocks `p ≠ 0`. The blocks are
 //! independent, and are judged on a number of threads given by the caller.
 

@@ -1,6 +1,6 @@
 //! How the stability of a state of the model solved is judged on the whole assembly it
 //! stands for: negative eigenvalues of the Hessian of the Lagrangian on the tangent space
-//! of the constraints (DESIGN.md §5), counted on the model's own KKT matrix
+//! of the constraints (docs/theory.md §5), counted on the model's own KKT matrix
 //! ([`JudgeOnItself`]) or on independent blocks of the whole assembly's
 //! ([`super::blocks::JudgeByBlocks`] for a cyclic pair).
 

@@ -176,7 +176,7 @@ impl Simulation {
         })
     }
 
-    /// The perfect-helix equilibria of DESIGN.md §6 (Love): every rod held at both ends
+    /// The perfect-helix equilibria of docs/theory.md §6 (Love): every rod held at both ends
     /// (clamped, no joints) on the helix of the given radius and pitch parameter (m) with
     /// its own arc length, chirality and base angle, and solved there.
     pub fn held_on_helices(

@@ -1,5 +1,5 @@
 //! The discrete assembly as a continuation problem: the KKT system of a discrete model under
-//! boundary conditions, loaded through its tips by the load parameter (DESIGN.md §3, §5).
+//! boundary conditions, loaded through its tips by the load parameter (docs/theory.md §3, §5).
 //!
 //! Under displacement control `λ = ε`, the compression ratio, and the tips are held at
 //! `h = h0 (1 − ε)`; under load control `λ = P / Pcrit`, a dead compressive load on every

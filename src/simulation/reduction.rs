@@ -2,7 +2,7 @@
 //! assembly. The whole assembly is modelled as it is ([`WholeAssembly`]); an assembly of
 //! `n = 2m` helices under boundary conditions shared by all rods is modelled by one
 //! right/left pair, each of whose rods stands for `m` rods turned about the axis
-//! ([`CyclicPair`], DESIGN.md §7). Each reduction owns what differs between them: the
+//! ([`CyclicPair`], docs/theory.md §7). Each reduction owns what differs between them: the
 //! images of a modelled rod, the expansion of a state and of a critical mode to the whole
 //! assembly, how stability is judged there ([`StabilityJudge`]), and its label on the faces.
 

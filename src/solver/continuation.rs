@@ -1,4 +1,4 @@
-//! Continuation of the solutions of `R(x, λ) = 0` in the load parameter `λ` (DESIGN.md §5):
+//! Continuation of the solutions of `R(x, λ) = 0` in the load parameter `λ` (docs/theory.md §5):
 //! tangent predictor, modified-Newton corrector, adaptive step length with cut-backs,
 //! pseudo-arclength steps where natural ones fail (folds), the stability of every converged
 //! state, critical points where the count of unstable directions changes

@@ -1,4 +1,4 @@
-//! Critical points of a path (DESIGN.md §5): located where the count of unstable directions
+//! Critical points of a path (docs/theory.md §5): located where the count of unstable directions
 //! changes across an accepted step — bracketed by the counts, then placed by a secant on the
 //! eigenvalue nearest zero —, and classified as folds or bifurcations (they are left along
 //! their mode by branch switching, [`super::switching`]).

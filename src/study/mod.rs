@@ -1,4 +1,4 @@
-//! Speed against accuracy (issue 5): work-precision studies and meshes chosen for a target
+//! Speed against accuracy: work-precision studies and meshes chosen for a target
 //! accuracy.
 //!
 //! A **study** ([`ladder`]) solves one [`Subject`] on a ladder of meshes (elements per rod,
@@ -14,7 +14,7 @@
 //!   the largest reference curvature;
 //! - the **critical load** parameter of the first critical point, when there is one.
 //!
-//! The reference is a closed form where the subject has one (Love's helix, DESIGN.md §6),
+//! The reference is a closed form where the subject has one (Love's helix, docs/theory.md §6),
 //! otherwise Richardson's extrapolation of the two finest quadratic solutions with the
 //! theoretical order of each measure ([`Measure::theoretical_order`]).
 //!

@@ -97,7 +97,7 @@ impl Measure {
 
 // ---------------------------------------------------------------- subjects
 
-/// The discrete model of Love's problem (DESIGN.md §6): one right-handed rod, naturally the
+/// The discrete model of Love's problem (docs/theory.md §6): one right-handed rod, naturally the
 /// helix `(a0, b0)`. One rod has no joints, so its meshes are uniform and a doubling ladder
 /// nests.
 fn love_model(love: &LoveHelix, order: Order, elements: usize) -> DiscreteModel {
@@ -220,7 +220,7 @@ impl Subject {
     }
 
     /// Coarsest mesh of a ladder for `order`: the smallest `joint_intervals · 2^j` with at
-    /// least [`elements_per_turn`] elements per turn.
+    /// least `elements_per_turn` elements per turn.
     /// The doubling stops at [`MAX_ELEMENTS`] (and cannot overflow): a
     /// case of more turns than that allows gets a coarsest mesh beyond it, which the
     /// caller refuses.
@@ -251,9 +251,9 @@ impl Subject {
         };
         let k = love.curvature(Chirality::Right);
         let source = match love.elasticity.energy {
-            crate::model::elasticity::Energy::Kirchhoff => "Love's helix, DESIGN.md §6",
+            crate::model::elasticity::Energy::Kirchhoff => "Love's helix, docs/theory.md §6",
             crate::model::elasticity::Energy::Sadowsky(_) => {
-                "a uniform ribbon helix, DESIGN.md §7 (balance laws, m = ∂W/∂u)"
+                "a uniform ribbon helix, docs/theory.md §7 (balance laws, m = ∂W/∂u)"
             }
         };
         Some(format!(

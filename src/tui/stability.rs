@@ -1,5 +1,5 @@
 //! Stability of the states on the load path, as the explorer shows it. The one place to wire
-//! the core's stability analysis (DESIGN.md §5) into the screen: the status line and the
+//! the core's stability analysis (docs/theory.md §5) into the screen: the status line and the
 //! marking of unstable stretches of the load path both go through [`is_unstable`].
 
 use crate::results::LoadPoint;

@@ -469,7 +469,7 @@ fn solver_failure_writes_what_was_reached_and_says_where_and_why() {
     assert!(err.contains("were written"), "{err}");
 }
 
-/// Issue 9: Ctrl-C (SIGINT) stops `spira run` at its last converged state and the files
+/// Ctrl-C (SIGINT) stops `spira run` at its last converged state and the files
 /// are written as after a failure. The case (8 helices in steps of 0.001) takes tens of
 /// seconds, so the signal arrives mid-path.
 #[cfg(unix)]
@@ -512,7 +512,7 @@ fn ctrl_c_stops_run_keeping_what_was_reached() {
     }
 }
 
-// ---- bad input, bounded work (issue 12) ----
+// ---- bad input, bounded work ----
 
 #[test]
 fn steps_on_the_command_line_are_bounded_like_the_case_files() {
@@ -963,7 +963,7 @@ fn a_signal_during_the_write_phase_leaves_the_old_files_or_the_whole_new_set() {
     eprintln!("outcomes (set kept, exit status): {tally:?}");
 }
 
-/// Issue 12: a `kill -9` during the write phase leaves the run's staging folder beside the
+/// A `kill -9` during the write phase leaves the run's staging folder beside the
 /// output folder; the next run into the same parent removes it (its owner, named in
 /// `.spira-owner`, is gone), and keeps a staging folder of a live process (this test's),
 /// one without an owner file, and folders and files that are not spira's.

@@ -1,4 +1,4 @@
-//! Figures of runs (issue 10, point 1): the SVG that `spira plot` and `spira run --figures`
+//! Figures of runs: the SVG that `spira plot` and `spira run --figures`
 //! write parses as XML and holds the curves, marks, labels and units asked for; bad run
 //! folders give an error naming the file, line and column, and leave nothing behind.
 //!

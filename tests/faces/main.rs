@@ -1,6 +1,6 @@
 //! What a user meets: the `spira` commands run as processes, the explorer (in memory and in
 //! a pseudo-terminal), figures, ParaView files, sweeps and the command-line fuzz
-//! (`cargo test --release --test faces`).
+//! (`cargo test --release --test faces`), and the tour of the README.
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -9,6 +9,7 @@ mod cli;
 mod figures;
 mod fuzz_cli;
 mod sweep;
+mod tour;
 mod tui;
 mod tui_e2e;
 mod vtk;

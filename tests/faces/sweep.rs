@@ -1,4 +1,4 @@
-//! Sweeps (issue 13): shards, restarts, Slurm, validation before anything runs, failing
+//! Sweeps: shards, restarts, Slurm, validation before anything runs, failing
 //! cases. Tiny cases (n = 1 and 2, 8 elements, 2 output steps) so that it runs in seconds.
 //! No physics here, and no wall-clock assertions.
 
@@ -371,7 +371,7 @@ fn whole_folder(out: &Path, sweep: &Sweep) -> (Vec<String>, usize) {
     (names, complete)
 }
 
-/// SIGTERM during a sweep (issue 12): the cases under way stop and are not written, no case
+/// SIGTERM during a sweep: the cases under way stop and are not written, no case
 /// starts, the table of the finished ones is written, the exit status is not 0 and the
 /// message says what was done. Nothing temporary is left, after one signal or two (the
 /// second ends the process, between writes), and a case folder a killed sweep left half

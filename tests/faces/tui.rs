@@ -176,7 +176,7 @@ fn arrows_and_vim_keys_step_compression_by_the_user_step() {
 
 #[test]
 fn plus_and_minus_choose_the_step_from_the_list_and_stop_at_its_ends() {
-    // issue 9: Δε from a fixed list, so that 0.05 can always be returned to
+    // Δε from a fixed list, so that 0.05 can always be returned to
     let (mut app, _sim) = started(small_case(1));
     assert!(app.handle_key(ch('+')).is_empty());
     assert_eq!(app.screen.step, 0.1);
@@ -281,7 +281,7 @@ fn condition_keys_toggle_each_condition_and_ask_for_a_resolve() {
     let b5 = bc(only_request(&app.handle_key(ch('t'))));
     assert_eq!(b5.tip.translation, Translation::Slide);
     // a base hinge with a sliding, hinged tip: the rods may turn about a horizontal axis
-    // through the base (a free rigid motion, issue 12): refused, nothing asked
+    // through the base (a free rigid motion): refused, nothing asked
     assert!(app.handle_key(ch('T')).is_empty());
     assert!(
         matches!(&app.message, Some(Message::Error(m)) if m.contains("free to turn about a horizontal axis") && m.contains("undone")),
@@ -316,7 +316,7 @@ fn n_changes_the_helices_and_starts_over_ignoring_old_answers() {
         .is_empty());
     assert!(app.screen.path.is_empty(), "stale answer ignored");
     assert!(app.busy());
-    // issue 9: no wrap-around, n stops at 16 (and N at 1)
+    // no wrap-around, n stops at 16 (and N at 1)
     assert!(app.handle_key(ch('n')).is_empty(), "no wrap 16 -> 1");
     assert_eq!(app.screen.helices, 16);
     assert!(matches!(&app.message, Some(Message::Info(m)) if m.contains("largest")));
@@ -518,7 +518,7 @@ fn e_exports_state_load_path_and_reactions_in_the_run_formats() {
         read("small-step1-eps0.0500-state.csv"),
         output::state_csv("small", &state.snapshot)
     );
-    // issue 9: the load table of `spira run` with the conditions of each row
+    // the load table of `spira run` with the conditions of each row
     let load = read("small-step1-eps0.0500-load.csv");
     assert_eq!(
         load,
@@ -955,7 +955,7 @@ fn screen_uses_the_room_of_a_large_terminal() {
     assert!(large > 3 * small, "{large} vs {small} braille cells");
 }
 
-// ---- work-precision chart and accuracy-driven meshes (issue 5) ----
+// ---- work-precision chart and accuracy-driven meshes ----
 
 /// The one work-precision request in `effects`.
 fn precision_request(effects: &[Effect]) -> Request {
@@ -1247,7 +1247,7 @@ fn the_mesh_chosen_for_an_accuracy_is_on_the_status_line() {
     worker.join();
 }
 
-// ---- issue 9: long solves, numbers on screen, recorded what-ifs, terminals ----
+// ---- long solves, numbers on screen, recorded what-ifs, terminals ----
 
 #[test]
 fn c_cancels_the_solve_and_the_answer_keeps_the_last_state() {
@@ -1544,7 +1544,7 @@ fn starting_over_during_a_solve_cancels_it() {
     assert!(matches!(&only_request(&effects).job, Job::Start(_)));
 }
 
-// ---- issue 9, the rest: branch switching, free motions, cancellable starts, partial steps ----
+// ---- branch switching, free motions, cancellable starts, partial steps ----
 
 /// Sends `effects` to the solver thread, cancels included (what the event loop does).
 fn send_all(worker: &Worker, effects: Vec<Effect>) {

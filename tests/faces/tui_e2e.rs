@@ -307,7 +307,7 @@ fn close(a: f64, b: f64, abs: f64) -> bool {
 
 fn compare(what: &str, ours: &str, theirs: &str, ours_rows: &[Vec<f64>], columns: &[(&str, f64)]) {
     let h = header(ours);
-    // the explorer's load table adds the conditions of each row (issue 9)
+    // the explorer's load table adds the conditions of each row
     let mut theirs_h = header(theirs);
     if h.last().is_some_and(|c| c == "conditions") {
         theirs_h.push("conditions".into());
@@ -461,8 +461,8 @@ fn assert_restored(screen: &str) {
     );
 }
 
-/// A long solve (issue 9): on the n = 8 case with tiny internal steps, a step of Δε
-/// takes thousands of internal steps. (Issue 9's hanging scene, both ends sliding, is
+/// A long solve: on the n = 8 case with tiny internal steps, a step of Δε
+/// takes thousands of internal steps. (The hanging scene, both ends sliding, is
 /// refused now as a free rigid motion.) The `c` key must stop it within 1 s and leave the
 /// last converged state on screen.
 #[test]

@@ -1,4 +1,4 @@
-//! The ParaView series of `spira run --vtk` (issue 10), read back: the `.pvd` collection's
+//! The ParaView series of `spira run --vtk`, read back: the `.pvd` collection's
 //! timesteps are the load parameters of load.csv, a `.vtp` gives the node positions and
 //! curvatures of the state (exactly, and as state.csv prints them), its cells are the rods
 //! and the joints, and a mode file carries the mode's displacement of mode-<k>.csv.

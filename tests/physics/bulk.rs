@@ -1,6 +1,6 @@
-//! The bulk of the rods (issue 10) and the curvature profiles it reads (recovered from the
+//! The bulk of the rods and the curvature profiles it reads (recovered from the
 //! Barlow points of the elements): against closed forms only — Love's helical equilibria
-//! (DESIGN.md §6) and the infinite tube of DESIGN.md §7 — never against the program itself.
+//! (docs/theory.md §6) and the infinite tube of docs/theory.md §7 — never against the program itself.
 
 use spira::case::Case;
 use spira::discretisation::bulk;
@@ -45,7 +45,7 @@ fn held_pair(b: f64, elements: usize, order: Order) -> (Simulation, f64) {
 
 /// A rod held on a perfect helix is bulk from end to end, and the helix fitted to its
 /// curvatures is the one it is held on, with Love's wrench, which the rod's tip reaction
-/// is too (DESIGN.md §6: b = 0.0125 gives a = 0.0637868 m, F = −93.73536 N).
+/// is too (docs/theory.md §6: b = 0.0125 gives a = 0.0637868 m, F = −93.73536 N).
 #[test]
 fn the_bulk_of_a_rod_held_on_a_perfect_helix_is_the_whole_rod_and_that_helix() {
     for b in [0.0125, 0.04] {
@@ -178,7 +178,7 @@ fn curvature_at_the_barlow_points_converges_at_order_p_plus_one_against_love() {
 /// The thesis n = 8 tube (clamped ends, pin joints; solved as its symmetric pair) of 3.5, 7
 /// and 14 turns, the mesh refined with the length, compressed to ε = 0.25: with more turns
 /// the bulk curvatures approach Love's family for the infinite tube (c = c0,
-/// b = b0 (1 − ε), DESIGN.md §7), and the finite tube's force approaches the infinite one's.
+/// b = b0 (1 − ε), docs/theory.md §7), and the finite tube's force approaches the infinite one's.
 #[test]
 fn longer_tubes_approach_the_infinite_tube_of_loves_family() {
     let eps = 0.25;

@@ -1,4 +1,4 @@
-//! The free-motion check of the case reader is exact (issue 12): for every combination of
+//! The free-motion check of the case reader is exact: for every combination of
 //! the supports (base and tip translation × rotation), with and without joints, under
 //! displacement and load control, on 1, 2 and 8 helices, `free_motion_of` names a motion
 //! exactly when the natural state has a zero-energy mode (its lowest stability eigenvalue

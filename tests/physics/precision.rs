@@ -1,5 +1,5 @@
-//! Speed against accuracy (issue 5): observed convergence orders against each element's
-//! theory on Love's helix (closed form, DESIGN.md §6) and on the thesis n = 1 case
+//! Speed against accuracy: observed convergence orders against each element's
+//! theory on Love's helix (closed form, docs/theory.md §6) and on the thesis n = 1 case
 //! (Richardson reference), the critical load of Euler's column against its closed form,
 //! meshes chosen for an accuracy meeting it against a reference, and the chart and the
 //! command that make the study.
@@ -21,7 +21,7 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Observed orders may differ from the theory by this much (issue 5).
+/// Observed orders may differ from the theory by this much.
 const SLOPE_TOLERANCE: f64 = 0.3;
 
 fn thesis(n: usize) -> Case {
@@ -57,10 +57,10 @@ fn assert_orders(study: &Study, order: Order, m: Measure, theory: f64) -> usize 
 
 // ---------------------------------------------------------------- Love's helix
 
-/// The closed form of the library against the check value of DESIGN.md §6: a0 = 0.06,
+/// The closed form of the library against the check value of docs/theory.md §6: a0 = 0.06,
 /// b0 = 0.025, B = 1, C = 2, 3.5 turns at c = c0, b = 0.0125: a = 0.0637868, F = −93.73536 N.
 #[test]
-fn loves_closed_form_reproduces_the_check_value_of_design_md() {
+fn loves_closed_form_reproduces_the_check_value() {
     let love = LoveHelix::thesis(0.0125);
     assert!(
         (love.radius() - 0.0637868).abs() < 5e-8,
@@ -87,7 +87,7 @@ fn orders_on_loves_helix_match_the_theory_of_each_element() {
     check_orders_on_loves_helix(LoveHelix::thesis(0.0125));
 }
 
-/// The hypotheses of issue 11 besides the default: Kirchhoff rods stress-free when helical
+/// The hypotheses besides the default: Kirchhoff rods stress-free when helical
 /// with the continuum's reference curvatures (the thesis's), stress-free when straight, and
 /// Sadowsky ribbons (20 mm × 0.2 mm).
 fn other_hypotheses() -> [(Elasticity, Curvatures); 3] {
@@ -108,7 +108,7 @@ fn other_hypotheses() -> [(Elasticity, Curvatures); 3] {
     ]
 }
 
-/// Issue 11: the orders of the study hold for every elastic hypothesis and for either
+/// The orders of the study hold for every elastic hypothesis and for either
 /// reference curvature (the closed forms: Love's with the natural curvatures, or zero for
 /// straight rods; the ribbon's from the balance laws with `m = ∂W/∂u`).
 #[test]
@@ -169,7 +169,7 @@ fn orders_on_the_thesis_helix_match_the_theory_of_each_element() {
     assert!(!s.has(Measure::Critical));
 }
 
-/// Issue 11: the same orders on the thesis path with the continuum's reference curvatures.
+/// The same orders on the thesis path with the continuum's reference curvatures.
 /// (Rods stress-free when straight are checked on Love's helix only: a single prestressed
 /// thesis rod starts unstable at ε = 0 and its path meets more than 16 critical points
 /// before ε = 0.5, so the thesis n = 1 path has no solution to converge to; see the
@@ -258,7 +258,7 @@ fn check_orders_on_the_thesis_helix(mut case: Case) -> Study {
 
 // ---------------------------------------------------------------- critical load
 
-/// Euler's clamped column under load control buckles at P = 4π²B/L² = Pcrit (DESIGN.md §6),
+/// Euler's clamped column under load control buckles at P = 4π²B/L² = Pcrit (docs/theory.md §6),
 /// load parameter 1 exactly. The critical load is an eigenvalue: error O(h^{2p}), order 2
 /// for linear and 4 for quadratic elements.
 #[test]

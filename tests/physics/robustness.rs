@@ -1,4 +1,4 @@
-//! Bad input, bounded work (issue 12): results that do not depend on the units of the
+//! Bad input, bounded work: results that do not depend on the units of the
 //! stiffness or of length, and no non-finite number written.
 
 use spira::case::Case;

@@ -1,6 +1,6 @@
 //! Physics checks of the core against numbers that do not come from spira: the analytic
-//! helix of DESIGN.md §2, the joint list of thesis §3.2, finite differences, Love's
-//! helical equilibria (DESIGN.md §6), the thesis's qualitative findings, and invariance.
+//! helix of docs/theory.md §2, the joint list of thesis §3.2, finite differences, Love's
+//! helical equilibria (docs/theory.md §6), the thesis's qualitative findings, and invariance.
 
 #![allow(clippy::needless_range_loop)] // the checks index components as the equations do
 
@@ -56,7 +56,7 @@ fn thesis_helices() -> Vec<Helix> {
     v
 }
 
-/// Directors of DESIGN.md §2 written out component by component (right-handed) and
+/// Directors of docs/theory.md §2 written out component by component (right-handed) and
 /// their mirror (left-handed).
 fn analytic_directors(h: &Helix, s: f64) -> [Vector3<f64>; 3] {
     let (a, b, c) = (A, B, c());
@@ -324,7 +324,7 @@ fn energy_density_and_tangent_derivatives_match_finite_differences() {
     assert!((Vector3::from(t) - r.column(2)).norm() < 1e-14);
 }
 
-/// The three elastic hypotheses of issue 11: Kirchhoff rods stress-free when helical
+/// The three elastic hypotheses: Kirchhoff rods stress-free when helical
 /// and when straight, and Sadowsky ribbons (20 mm wide, 0.2 mm thick: η = 3.9 1/m, a
 /// quarter of the thesis helix's curvature).
 fn hypotheses() -> [Elasticity; 3] {
@@ -449,7 +449,7 @@ fn kkt_matrix_is_the_jacobian_of_the_residual() {
 // ---------------------------------------------------------------- Love's helices
 
 /// Axial force F (tension positive) and axial couple M on the tip of a rod held as a
-/// perfect helix (a, b) whose natural helix is (a0, b0): DESIGN.md §6, derived there from
+/// perfect helix (a, b) whose natural helix is (a0, b0): docs/theory.md §6, derived there from
 /// the balance laws n' = 0, m' + d3 × n = 0 with n = F e_z.
 fn love(a0: f64, b0: f64, a: f64, b: f64, bend: f64, twist: f64, chi: f64) -> (f64, f64) {
     let (c0, c) = (a0.hypot(b0), a.hypot(b));
@@ -461,14 +461,14 @@ fn love(a0: f64, b0: f64, a: f64, b: f64, bend: f64, twist: f64, chi: f64) -> (f
 }
 
 #[test]
-fn love_check_value_of_design_md() {
+fn love_check_value() {
     let a = (0.065f64.powi(2) - 0.0125f64.powi(2)).sqrt();
     assert!((a - 0.0637868).abs() < 5e-8);
     let (f, _) = love(0.06, 0.025, a, 0.0125, 1.0, 2.0, 1.0);
     assert!((f - -93.73536).abs() < 1e-4, "F = {f}");
 }
 
-/// Love's F and M for a rod stress-free when straight (`K0 = τ0 = 0`), DESIGN.md §7.
+/// Love's F and M for a rod stress-free when straight (`K0 = τ0 = 0`), docs/theory.md §7.
 fn love_straight(a: f64, b: f64, bend: f64, twist: f64, chi: f64) -> (f64, f64) {
     let c = a.hypot(b);
     let (k, t) = (a / (c * c), b / (c * c));
@@ -478,7 +478,7 @@ fn love_straight(a: f64, b: f64, bend: f64, twist: f64, chi: f64) -> (f64, f64) 
     )
 }
 
-/// DESIGN.md §7: a uniform helix of arc length `length` (m), height `h` and Frenet frame
+/// docs/theory.md §7: a uniform helix of arc length `length` (m), height `h` and Frenet frame
 /// turned by `phi` about its axis has `c = L/φ`, `b = h/φ`, `a = √(c² − b²)` and energy
 /// `E(h, φ) = L W(a/c², b/c²)`; the axial force on the tip is `∂E/∂h` (tension positive)
 /// and the axial couple `χ ∂E/∂φ` (a left-handed helix turns the other way). Derivatives by
@@ -512,7 +512,7 @@ type Density<'a> = dyn Fn(f64, f64) -> f64 + 'a;
 
 #[test]
 fn differentiating_the_energy_of_a_uniform_helix_gives_loves_formula() {
-    // DESIGN.md §7: "for Kirchhoff's W this reproduces Love's formula of §6 (check it)"
+    // docs/theory.md §7: "for Kirchhoff's W this reproduces Love's formula of §6 (check it)"
     let length = 7.0 * PI * c();
     let (k0, t0) = (A / (c() * c()), B / (c() * c()));
     let natural = move |k: f64, t: f64| 0.5 * (k - k0).powi(2) + 0.5 * 2.0 * (t - t0).powi(2);
@@ -756,7 +756,7 @@ fn with_the_continuums_curvature_the_natural_state_carries_a_force_that_falls_at
     }
 }
 
-/// Issue 11: with the reference curvatures of the discrete natural configuration (the
+/// With the reference curvatures of the discrete natural configuration (the
 /// default), the natural state is an exact equilibrium: every rod's reactions below
 /// 1e-10 Pcrit (moments below 1e-10 Pcrit L) and the energy below 1e-12 J, at every mesh
 /// and order, for every support the supports table offers, and for the symmetric pair.
@@ -840,14 +840,14 @@ fn energy_and_work(case: &Case, steps: usize) -> Vec<(f64, f64)> {
     out
 }
 
-/// Issue 11: energy stored = work done by the supports, to the accuracy of the quadrature
+/// Energy stored = work done by the supports, to the accuracy of the quadrature
 /// of the work. n = 8, thesis mesh, clamped, compressed to ε = 0.5 in 100 equal steps (the
 /// symmetric pair: the same equilibria as the full model, tests/physics/symmetry.rs).
 ///
 /// The trapezoid rule's own error is `O(Δε²)` times the change of the stiffness: at the
 /// first step (ε = 0.005) it is 2.7e-4 of the energy, because Fz(ε) stiffens from the
 /// start (it is the same with the continuum's reference curvatures, prestress and all:
-/// the 2.7e-4 of issue 11 is this quadrature error, not the prestress). So the test checks
+/// the 2.7e-4 is this quadrature error, not the prestress). So the test checks
 /// that the difference is that error — it falls as `Δε²` when the steps are halved — and
 /// that the work with it removed (Richardson's extrapolation of the trapezoid rule on 100
 /// and 200 steps) equals the energy to 1e-6 relative at every one of the 100 steps.

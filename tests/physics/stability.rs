@@ -37,7 +37,7 @@ fn elliptic_ke(m: f64) -> (f64, f64) {
     (k, k * (1.0 - c2_sum))
 }
 
-/// Clamped–clamped elastica (DESIGN.md §6): `P/Pcr = (2K(m)/π)²` at end-shortening
+/// Clamped–clamped elastica (docs/theory.md §6): `P/Pcr = (2K(m)/π)²` at end-shortening
 /// `δ/L = 2 (1 − E(m)/K(m))`; solved for `m` by bisection.
 fn elastica_load(shortening: f64) -> f64 {
     let (mut lo, mut hi) = (0.0, 0.9999);

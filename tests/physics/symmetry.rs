@@ -29,7 +29,7 @@ fn symmetric_pair_reproduces_the_full_assembly() {
     }
 }
 
-/// The element kernels of the other hypotheses (issue 11) in the pair and its Bloch blocks:
+/// The element kernels of the other hypotheses in the pair and its Bloch blocks:
 /// rods stress-free when straight and Sadowsky ribbons, n = 4 and 8 (straight rods start
 /// unstable at ε = 0: the counts are compared where they are not zero).
 #[test]

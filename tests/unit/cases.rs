@@ -141,7 +141,7 @@ fn every_invalid_fixture_is_listed_and_rejected() {
     }
 }
 
-// ---- ranges of derived quantities, bounded work, messages in the user's terms (issue 12) ----
+// ---- ranges of derived quantities, bounded work, messages in the user's terms ----
 
 #[test]
 fn a_radius_that_makes_the_length_infinite_is_refused() {
@@ -321,7 +321,7 @@ fn free_rigid_motions_are_refused_naming_them() {
     // tips apart (1.3 turns): the body is held at three points, nothing is free
     let text = format!("[geometry]\nhelices = 2\nturns = 1.3\n{hinged}");
     Case::parse(&text, "hinged.toml", "hinged").unwrap_or_else(|e| panic!("{e}"));
-    // the report of issue 12: one end sliding, the other sliding radially, n = 1
+    // the report: one end sliding, the other sliding radially, n = 1
     let e = Case::parse(
         "[boundary]\nbase = { translation = \"slide\" }\ntip = { translation = \"radial\" }\n",
         "radial.toml",
@@ -1001,7 +1001,7 @@ fn an_unknown_hypothesis_lists_the_names() {
 }
 
 /// A symmetric pair of n = 2m rods judges stability by ⌊m/2⌋ + 1 Bloch blocks (p = 0 ..=
-/// m/2, DESIGN.md §7), of which p = 0 and, for even m, p = m/2 are real and the others
+/// m/2, docs/theory.md §7), of which p = 0 and, for even m, p = m/2 are real and the others
 /// complex (the pair's pattern with complex entries: four times a real block's work): the
 /// size estimate counts that work, so that a pair of many helices is long (its estimate
 /// printed) and one whose block factorisations exceed the memory is refused naming the key.

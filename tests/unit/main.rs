@@ -7,4 +7,5 @@ mod common;
 mod architecture;
 mod cases;
 mod continuation;
+mod docs;
 mod fuzz_cases;

@@ -13,10 +13,10 @@
 //! holds up the user's steps; there the last request wins too, and a newer request stops the
 //! study in progress after its current mesh.
 //!
-//! One file per job: the handle the explorer holds ([`handle`]), the requests and their
-//! scheduling ([`job`]), the answers ([`event`]), the cancels shared with the thread
-//! ([`cancel`]), the thread's loop ([`serve`]), the solves it runs ([`solver`]), the
-//! failures in the user's terms ([`failure`]) and the studies ([`precision`]).
+//! One file per job: the handle the explorer holds (`handle`), the requests and their
+//! scheduling (`job`), the answers (`event`), the cancels shared with the thread
+//! (`cancel`), the thread's loop (`serve`), the solves it runs (`solver`), the
+//! failures in the user's terms (`failure`) and the studies (`precision`).
 
 mod cancel;
 mod event;

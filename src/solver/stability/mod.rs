@@ -1,5 +1,5 @@
 //! Stability of an equilibrium from the inertia of its KKT matrix, by a sparse `LDLᵀ`
-//! (DESIGN.md §5, "Stability"), and the eigenvalues that place its critical points.
+//! (docs/theory.md §5, "Stability"), and the eigenvalues that place its critical points.
 //!
 //! An equilibrium is stable when the Hessian `H` of the Lagrangian is positive definite on
 //! the tangent space `J v = 0` of the constraints. The KKT matrix `K = [[H, Jᵀ], [J, 0]]`

@@ -23,7 +23,7 @@ pub enum InertiaError {
     OutOfMemory,
 }
 
-/// The augmented KKT pattern of one [`System`], its symbolic `LDLᵀ` and value maps: what
+/// The augmented KKT pattern of one `System`, its symbolic `LDLᵀ` and value maps: what
 /// every matrix of that pattern shares (the Bloch blocks of one sector, real and complex,
 /// on every thread), built once.
 pub struct KktStructure {

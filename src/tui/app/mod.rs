@@ -4,7 +4,7 @@
 //!
 //! The state is a few small values, one per concern ([`state`]): what is on screen, the
 //! view, the requests in flight and the replay log. The transitions are the user's
-//! ([`actions`]) and the solver's answers ([`answers`]); [`files`] writes exports and saved
+//! (`actions`) and the solver's answers (`answers`); `files` writes exports and saved
 //! sessions.
 
 mod actions;

@@ -1,8 +1,8 @@
 //! Drawing the explorer: [`draw`] lays out the screen and each panel has a file of its
 //! own, drawn by one function taking the [`App`] read-only: the three projections of the
-//! assembly ([`shapes`]), the curvature of the selected rod ([`curvature`]), the load path
-//! ([`load`]), the work-precision chart ([`precision`]), the status lines ([`status`]), and
-//! the overlays of the critical points ([`critical`]) and the keys ([`help`]). Only the 16
+//! assembly ([`shapes`]), the curvature of the selected rod (`curvature`), the load path
+//! (`load`), the work-precision chart (`precision`), the status lines (`status`), and
+//! the overlays of the critical points (`critical`) and the keys (`help`). Only the 16
 //! ANSI colours are used ([`colours`]), so the screen reads the same on any terminal and
 //! over SSH.
 
