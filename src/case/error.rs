@@ -250,6 +250,7 @@ fn allowed_names(key: &str) -> Option<&'static str> {
     let last = key.rsplit('.').next().unwrap_or(key);
     Some(match last {
         "control" => "\"displacement\", \"force\"",
+        "parameter" => "\"axial\", \"twist\", \"tilt\", \"pressure\"",
         "branch" => "\"fundamental\", \"switch\", \"switch-negative\"",
         "order" => "\"quadratic\", \"linear\"",
         "translation" => "\"fixed\", \"slide\", \"radial\"",

@@ -180,11 +180,25 @@ pub const KEYS: &[KeyDoc] = &[
         range: RangeDoc::Phrase("true or false"),
     },
     KeyDoc {
+        key: "loading.parameter",
+        meaning: "the component of the loading the load parameter steps: along the axis, or one of the loads of [loads.md](loads.md)",
+        unit: "",
+        default: DefaultDoc::Value("\"axial\""),
+        range: RangeDoc::Names(&["axial", "twist", "tilt", "pressure"]),
+    },
+    KeyDoc {
         key: "loading.control",
         meaning: "what the load parameter drives: the tip height (ε) or a dead axial load on every tip (P/Pcrit)",
         unit: "",
         default: DefaultDoc::Value("\"displacement\""),
         range: RangeDoc::Names(&["displacement", "force"]),
+    },
+    KeyDoc {
+        key: "loading.hold",
+        meaning: "the values the components not stepped are held at, `{ axial = …, axial_force = …, twist = …, tilt = …, pressure = … }`: see [loads.md](loads.md)",
+        unit: "",
+        default: DefaultDoc::Value("{}"),
+        range: RangeDoc::Phrase("see [loads.md](loads.md)"),
     },
     KeyDoc {
         key: "loading.target",

@@ -7,7 +7,7 @@ use super::error::CaseError;
 use super::limits::{num, MAX_STEPS};
 use super::raw::{RawHold, RawLoading};
 use super::settings::{Geometry, Loading};
-use super::tables::{span, Checker};
+use super::tables::Checker;
 use super::target::{check_component_target, MAX_PRESSURE, MAX_TILT, MAX_TWIST};
 use crate::model::boundary::{BoundaryConditions, Translation};
 use crate::model::loading::{AxialHeld, Branch, Component, Control, Held};
@@ -21,11 +21,14 @@ pub(super) fn loading(
     boundary: &BoundaryConditions,
     ck: &Checker,
 ) -> Result<Loading, CaseError> {
-    let parameter = l
-        .parameter
-        .as_ref()
-        .map_or(Component::Axial, |p| *p.get_ref());
-    let parameter_at = span(&l.parameter);
+    let parameter = l.parameter.unwrap_or(Component::Axial);
+    // an error about the parameter is reported on its line
+    let at_parameter = |key: &str, message: String| CaseError::Invalid {
+        file: ck.file.to_string(),
+        line: ck.line_of_key("parameter"),
+        key: key.to_string(),
+        message,
+    };
     let control = l.control.unwrap_or(Control::Displacement);
     if parameter != Component::Axial && control == Control::Force {
         let what = match parameter {
@@ -33,9 +36,8 @@ pub(super) fn loading(
             Component::Tilt => "a bending moment",
             _ => "a force",
         };
-        return Err(ck.invalid(
+        return Err(at_parameter(
             "loading.control",
-            parameter_at,
             format!(
                 "expected control = \"displacement\" with parameter = \"{}\": the {} is stepped by the support's motion ({what} on the support is not modelled)",
                 parameter.name(),
@@ -46,9 +48,8 @@ pub(super) fn loading(
     let target = match &l.target {
         None if parameter == Component::Axial => 0.5,
         None => {
-            return Err(ck.invalid(
+            return Err(at_parameter(
                 "loading.target",
-                parameter_at,
                 format!(
                     "expected a target for parameter = \"{}\" ({})",
                     parameter.name(),
@@ -179,7 +180,12 @@ fn check_combination(
     ck: &Checker,
 ) -> Result<(), CaseError> {
     match combination_error(parameter, control, hold, geometry, boundary) {
-        Some((key, message)) => Err(ck.invalid(key, 0..0, message)),
+        Some((key, message)) => Err(CaseError::Invalid {
+            file: ck.file.to_string(),
+            line: ck.line_of_key(key.rsplit('.').next().unwrap_or(key)),
+            key: key.to_string(),
+            message: message.to_string(),
+        }),
         None => Ok(()),
     }
 }

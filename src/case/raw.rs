@@ -123,7 +123,7 @@ pub(super) struct RawEnd {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawLoading {
     /// The component stepped: `"axial"` (the default), `"twist"`, `"tilt"`, `"pressure"`.
-    pub parameter: Option<Spanned<Component>>,
+    pub parameter: Option<Component>,
     pub control: Option<Control>,
     /// The values the other components are held at.
     pub hold: Option<RawHold>,

@@ -1,5 +1,5 @@
 //! A tip support that turns: its pose at a load parameter (the twist and tilt of the loads,
-//! DESIGN.md §3's support carried rigidly), and the constraints by which it holds the rods'
+//! docs/theory.md §3: the support carried rigidly), and the constraints by which it holds the rods'
 //! tips in its own frame, whose coefficients move with the load parameter.
 //!
 //! A support at rotation `q_s` (matrix `R_s`) and centre `c` holds a tip translation `d`

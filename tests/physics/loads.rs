@@ -383,7 +383,7 @@ fn the_bulk_of_a_long_pressurised_tube_is_the_pantographs_helix() {
 
 /// Love's helix of a spring (natural helix (0.06, 0.025), B = 1, C = 2, right-handed)
 /// twisted by `per_turn` rad per turn with no axial force: the turns' angle grows by the
-/// twist, so `c = c0 / (1 + per_turn/2π)`; `F(a, b) = 0` (DESIGN.md §6) fixes `a` on that
+/// twist, so `c = c0 / (1 + per_turn/2π)`; `F(a, b) = 0` (docs/theory.md §6) fixes `a` on that
 /// `c`; the couple it carries is `M(a, b)`.
 fn love_twisted(per_turn: f64) -> f64 {
     let (a0, b0): (f64, f64) = (0.06, 0.025);
