@@ -2,7 +2,7 @@
 //! prescribed tip height, and the pin joints at the crossings (docs/theory.md §2).
 
 use super::discrete_model::{DiscreteModel, End};
-use super::support::{turning_tip_constraints, Moving, SupportPose};
+use super::support::{Moving, SupportPose};
 use crate::model::assembly::{Joint, RodId};
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
 use crate::model::quaternion::{self, Quat};
@@ -220,5 +220,89 @@ pub(super) fn joint_constraints(
             role: Role::Joint(index),
             moving: None,
         });
+    }
+}
+
+/// The constraints by which a turning support at `pose` holds rod `id`'s tip under the
+/// conditions `cond`, holding what it holds where the state `x` has it (`x` at `pose`); the
+/// height along the support's axis is held when `height_held` (the axial motion prescribed).
+fn turning_tip_constraints(
+    model: &DiscreteModel,
+    x: &[f64],
+    id: RodId,
+    cond: EndCondition,
+    pose: &SupportPose,
+    height_held: bool,
+    out: &mut Vec<LinearConstraint>,
+) {
+    let rod = &model.rods[id];
+    let v = rod.end_vertex(End::Tip);
+    let r = model.vertex(x, id, v);
+    let rot = quaternion::rotation(&pose.rotation);
+    // the tip's position in the support's frame, in its plane
+    let mut p = rot.transpose() * (r - pose.centre);
+    p[2] = 0.0;
+    let role = Role::Support {
+        rod: id,
+        end: End::Tip,
+    };
+    let positions: Vec<(usize, f64)> = (0..3).map(|k| (rod.r_dof(v, k), 0.0)).collect();
+    let mut push = |moving: Moving, role: Role| {
+        let dofs: Vec<usize> = match moving {
+            Moving::Position { .. } => positions.iter().map(|t| t.0).collect(),
+            Moving::Orientation { .. } => (0..4)
+                .map(|k| rod.q_dof(rod.end_node(End::Tip), k))
+                .collect(),
+        };
+        let (coeffs, value) = moving.coefficients(pose, false);
+        out.push(LinearConstraint {
+            terms: dofs.into_iter().zip(coeffs).collect(),
+            value,
+            role,
+            moving: Some(moving),
+        });
+    };
+    if height_held {
+        push(
+            Moving::Position {
+                direction: Vector3::z(),
+                offset: 0.0,
+            },
+            Role::TipHeight { rod: id },
+        );
+    }
+    let held: Vec<Vector3<f64>> = match cond.translation {
+        Translation::Fixed => vec![Vector3::x(), Vector3::y()],
+        Translation::Slide => vec![],
+        Translation::Radial if p.norm() > 0.0 => {
+            let er = p / p.norm();
+            vec![Vector3::new(-er[1], er[0], 0.0)]
+        }
+        Translation::Radial => vec![Vector3::x(), Vector3::y()],
+    };
+    for d in held {
+        push(
+            Moving::Position {
+                direction: d,
+                offset: d.dot(&p),
+            },
+            role,
+        );
+    }
+    let node = rod.end_node(End::Tip);
+    let q = model.quaternion(x, id, node);
+    let reference = quaternion::mul(&quaternion::conj(&pose.rotation), &(q / q.norm()));
+    match cond.rotation {
+        Rotation::Clamped => {
+            for weights in [Vector3::x(), Vector3::y(), Vector3::z()] {
+                push(Moving::Orientation { reference, weights }, role);
+            }
+        }
+        Rotation::Pinned => {
+            let rr = quaternion::rotation(&reference);
+            let weights = Vector3::new(rr[(2, 0)], rr[(2, 1)], rr[(2, 2)]);
+            push(Moving::Orientation { reference, weights }, role);
+        }
+        Rotation::Free => {}
     }
 }

@@ -9,10 +9,6 @@
 //! coefficients that depend on `λ` only, so the KKT matrix keeps its form and `∂R/∂λ` has
 //! the terms `(∂a/∂λ)·x − ∂b/∂λ` on the constraint's row and `ν ∂a/∂λ` on its unknowns.
 
-use super::constraints::{LinearConstraint, Role};
-use super::discrete_model::{DiscreteModel, End};
-use crate::model::assembly::RodId;
-use crate::model::boundary::{EndCondition, Rotation, Translation};
 use crate::model::loading::{AxisLoad, Loads, SupportAxis};
 use crate::model::quaternion::{self, Quat};
 use nalgebra::Vector3;
@@ -47,7 +43,7 @@ impl SupportPose {
     }
 
     /// `R_s v`.
-    fn turn(&self, v: &Vector3<f64>) -> Vector3<f64> {
+    pub fn turn(&self, v: &Vector3<f64>) -> Vector3<f64> {
         quaternion::rotation(&self.rotation) * v
     }
 
@@ -110,89 +106,5 @@ impl Moving {
                 (coeffs, 0.0)
             }
         }
-    }
-}
-
-/// The constraints by which a turning support at `pose` holds rod `id`'s tip under the
-/// conditions `cond`, holding what it holds where the state `x` has it (`x` at `pose`); the
-/// height along the support's axis is held when `height_held` (the axial motion prescribed).
-pub(super) fn turning_tip_constraints(
-    model: &DiscreteModel,
-    x: &[f64],
-    id: RodId,
-    cond: EndCondition,
-    pose: &SupportPose,
-    height_held: bool,
-    out: &mut Vec<LinearConstraint>,
-) {
-    let rod = &model.rods[id];
-    let v = rod.end_vertex(End::Tip);
-    let r = model.vertex(x, id, v);
-    let rot = quaternion::rotation(&pose.rotation);
-    // the tip's position in the support's frame, in its plane
-    let mut p = rot.transpose() * (r - pose.centre);
-    p[2] = 0.0;
-    let role = Role::Support {
-        rod: id,
-        end: End::Tip,
-    };
-    let positions: Vec<(usize, f64)> = (0..3).map(|k| (rod.r_dof(v, k), 0.0)).collect();
-    let mut push = |moving: Moving, role: Role| {
-        let dofs: Vec<usize> = match moving {
-            Moving::Position { .. } => positions.iter().map(|t| t.0).collect(),
-            Moving::Orientation { .. } => (0..4)
-                .map(|k| rod.q_dof(rod.end_node(End::Tip), k))
-                .collect(),
-        };
-        let (coeffs, value) = moving.coefficients(pose, false);
-        out.push(LinearConstraint {
-            terms: dofs.into_iter().zip(coeffs).collect(),
-            value,
-            role,
-            moving: Some(moving),
-        });
-    };
-    if height_held {
-        push(
-            Moving::Position {
-                direction: Vector3::z(),
-                offset: 0.0,
-            },
-            Role::TipHeight { rod: id },
-        );
-    }
-    let held: Vec<Vector3<f64>> = match cond.translation {
-        Translation::Fixed => vec![Vector3::x(), Vector3::y()],
-        Translation::Slide => vec![],
-        Translation::Radial if p.norm() > 0.0 => {
-            let er = p / p.norm();
-            vec![Vector3::new(-er[1], er[0], 0.0)]
-        }
-        Translation::Radial => vec![Vector3::x(), Vector3::y()],
-    };
-    for d in held {
-        push(
-            Moving::Position {
-                direction: d,
-                offset: d.dot(&p),
-            },
-            role,
-        );
-    }
-    let node = rod.end_node(End::Tip);
-    let q = model.quaternion(x, id, node);
-    let reference = quaternion::mul(&quaternion::conj(&pose.rotation), &(q / q.norm()));
-    match cond.rotation {
-        Rotation::Clamped => {
-            for weights in [Vector3::x(), Vector3::y(), Vector3::z()] {
-                push(Moving::Orientation { reference, weights }, role);
-            }
-        }
-        Rotation::Pinned => {
-            let rr = quaternion::rotation(&reference);
-            let weights = Vector3::new(rr[(2, 0)], rr[(2, 1)], rr[(2, 2)]);
-            push(Moving::Orientation { reference, weights }, role);
-        }
-        Rotation::Free => {}
     }
 }

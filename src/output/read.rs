@@ -156,6 +156,22 @@ pub struct PathPoint {
     pub load: [f64; 3],
     /// Whether the state is stable, where it was judged.
     pub stable: Option<bool>,
+    /// The other load components' displacements and forces (when the table has them).
+    pub support: Option<SupportColumns>,
+}
+
+/// The columns of `load.csv` on twist, tilt and pressure, with the tip height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SupportColumns {
+    /// Mean tip height (m).
+    pub height: f64,
+    pub twist: f64,
+    pub torque: f64,
+    pub tilt: f64,
+    pub bending_moment: f64,
+    pub pressure: f64,
+    pub radius: f64,
+    pub lateral_pressure: f64,
 }
 
 /// A critical point of a path (a row of `critical.csv`).
@@ -196,15 +212,44 @@ pub fn load_path(file: &Path, text: &str) -> Result<Vec<PathPoint>, TableError> 
     let t = Table::parse(file, text)?.non_empty()?;
     let cols = ["step", "eps", "parameter", "fx", "fy", "fz", "stable"].map(|c| t.column(c));
     let [step, eps, parameter, fx, fy, fz, stable] = transpose(cols)?;
+    // the other components' columns, read when the table has every one of them
+    let names = [
+        "h",
+        "twist",
+        "torque",
+        "tilt",
+        "bending_moment",
+        "pressure",
+        "radius",
+        "lateral_pressure",
+    ];
+    let support: Option<Vec<usize>> = names.iter().map(|c| t.column(c).ok()).collect();
     t.rows
         .iter()
         .map(|r| {
+            let support = match &support {
+                Some(c) => {
+                    let v = |k: usize| t.number(r, c[k]);
+                    Some(SupportColumns {
+                        height: v(0)?,
+                        twist: v(1)?,
+                        torque: v(2)?,
+                        tilt: v(3)?,
+                        bending_moment: v(4)?,
+                        pressure: v(5)?,
+                        radius: v(6)?,
+                        lateral_pressure: v(7)?,
+                    })
+                }
+                None => None,
+            };
             Ok(PathPoint {
                 step: t.count(r, step)?,
                 eps: t.number(r, eps)?,
                 parameter: t.number(r, parameter)?,
                 load: [t.number(r, fx)?, t.number(r, fy)?, t.number(r, fz)?],
                 stable: t.flag(r, stable)?,
+                support,
             })
         })
         .collect()

@@ -118,7 +118,8 @@ pub fn load_figure(runs: &[&RunTables], caption: &Caption) -> Result<String, Dra
                     .chain(r.critical.iter().map(move |c| c.load[k]))
             });
             let y = range(values, 0.2);
-            load_panel(area, runs, &curves, k, (eps.0.min(0.0), eps.1), y)?;
+            let labels = (EPS_LABEL, load_label(k));
+            load_panel(area, runs, &curves, k, (eps.0.min(0.0), eps.1), y, labels)?;
         }
         Ok(())
     })
@@ -129,14 +130,15 @@ type LoadChart<'a, 'b> =
     ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// The panel of load component `k` (x, y, z): every run's curve and critical points, and
-/// the legend; `x` and `y` the ranges of `ε` and of the load.
-fn load_panel(
+/// the legend; `x` and `y` the ranges of `ε` and of the load, `labels` the axes'.
+pub(super) fn load_panel(
     area: &DrawingArea<SVGBackend, Shift>,
     runs: &[&RunTables],
     curves: &[Vec<Stretch>],
     k: usize,
     x: (f64, f64),
     y: (f64, f64),
+    labels: (&str, String),
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
     let mut chart = ChartBuilder::on(area)
@@ -147,8 +149,8 @@ fn load_panel(
         .map_err(e)?;
     chart
         .configure_mesh()
-        .x_desc(EPS_LABEL)
-        .y_desc(load_label(k))
+        .x_desc(labels.0)
+        .y_desc(labels.1)
         .axis_desc_style((FONT, 13))
         .label_style((FONT, 11))
         .bold_line_style(GRID_BOLD)

@@ -15,11 +15,13 @@
 
 mod curvature;
 mod load;
+mod pairs;
 mod style;
 mod views;
 
 pub use curvature::{curvature_figure, Rods, Shade};
 pub use load::{load_figure, stretches, Stretch, Vertex};
+pub use pairs::pair_figures;
 pub use style::Caption;
 pub use views::{views_figure, K1_LEVELS};
 
@@ -87,6 +89,7 @@ pub fn run_figures(
     let mut files = Vec::new();
     if kinds.load {
         files.push(("load.svg".to_string(), load_figure(&all, &load_caption)?));
+        files.extend(pair_figures(&all, &load_caption)?);
     }
     for (run, case) in runs.iter().zip(&cases) {
         let prefix = if runs.len() > 1 {
