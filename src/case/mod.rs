@@ -9,6 +9,7 @@
 //! physical and numerical ranges and fills in the defaults.
 
 mod error;
+mod helices;
 mod limits;
 mod motion;
 mod raw;
@@ -18,9 +19,11 @@ mod tables;
 mod target;
 
 pub use error::CaseError;
+pub use helices::{Refused, HELICES_RANGE};
 pub use limits::{
-    LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS, MIN_ELEMENTS_PER_TURN,
-    PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
+    num, LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS,
+    MIN_ELEMENTS_PER_TURN, PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO,
+    TOLERANCE_RANGE, TURNS_RANGE,
 };
 pub use motion::{free_motion_of, FreeMotion};
 pub use settings::{AccuracyTarget, Discretisation, Geometry, Loading};

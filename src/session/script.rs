@@ -22,17 +22,17 @@
 //!
 //! Version 1 (no `version` key) called it `eps`; it is still read.
 
-use super::export::{self, SessionEvent};
-use super::worker::{self, Job, Part, WorkerEvent};
-use crate::case::Case;
+pub use super::error::ScriptError;
+use super::export::SessionEvent;
+pub use super::replay::{replay, replay_into, Replayed, Session};
+use super::worker::Job;
 use crate::model::boundary::BoundaryConditions;
-use crate::results::{LoadPoint, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// One job of a session, as a script says it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "do", rename_all = "kebab-case")]
+#[serde(tag = "do", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Action {
     /// A new simulation with `helices` helices under `boundary`, at `λ = 0`.
     Start {
@@ -73,6 +73,7 @@ pub const VERSION: u32 = 2;
 
 /// A saved session.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Script {
     /// The version of the format the file was written in (1 when it has no `version` key).
     #[serde(default = "first_version")]
@@ -91,33 +92,6 @@ pub struct Script {
 /// The version of a file without a `version` key.
 fn first_version() -> u32 {
     1
-}
-
-/// Why a session could not be saved, read or replayed.
-#[derive(Debug, thiserror::Error)]
-pub enum ScriptError {
-    #[error("reading or writing {path}")]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    #[error("session file {path}: {source}")]
-    Parse {
-        path: PathBuf,
-        #[source]
-        source: toml::de::Error,
-    },
-    #[error("writing the session: {0}")]
-    Serialise(#[from] toml::ser::Error),
-    #[error(
-        "session file {path} is of version {version}; this spira reads versions 1 to {VERSION}"
-    )]
-    Version { path: PathBuf, version: u32 },
-    #[error("the session has no start action")]
-    NoStart,
-    #[error("replaying the session: {0}")]
-    Failed(String),
 }
 
 impl Action {
@@ -155,45 +129,22 @@ impl Action {
         }
     }
 
-    /// The job that replays the action.
-    fn job(&self, case: &Case) -> Job {
-        let part = |steps: Option<usize>, step_length: Option<f64>| {
-            steps.map(|steps| Part {
-                steps,
-                step_length: step_length.unwrap_or(0.0),
-            })
-        };
-        match *self {
-            Action::Start {
-                helices,
-                ref boundary,
-            } => {
-                let mut c = case.with_helices(helices);
-                c.boundary = *boundary;
-                Job::Start(Box::new(c))
-            }
-            Action::Advance {
-                parameter,
-                steps,
-                step_length,
-            } => match part(steps, step_length) {
-                Some(part) => Job::AdvancePart { parameter, part },
-                None => Job::Advance(parameter),
-            },
-            Action::Switch {
-                index,
-                sign,
-                parameter,
-                steps,
-                step_length,
-            } => Job::Switch {
-                index,
-                sign,
-                parameter,
-                part: part(steps, step_length),
-            },
-            Action::Boundary { boundary } => Job::SetBoundary(boundary),
+    /// The action's `do`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Action::Start { .. } => "start",
+            Action::Advance { .. } => "advance",
+            Action::Switch { .. } => "switch",
+            Action::Boundary { .. } => "boundary",
         }
+    }
+
+    /// Whether the action is a part of the way (stopped after its `steps`).
+    pub(super) fn is_part(&self) -> bool {
+        matches!(
+            self,
+            Action::Advance { steps: Some(_), .. } | Action::Switch { steps: Some(_), .. }
+        )
     }
 
     /// The action stopped from outside after `steps` accepted internal steps with the
@@ -244,27 +195,13 @@ impl Script {
 
     /// Reads a session file of any version up to [`VERSION`].
     pub fn read(path: &Path) -> Result<Script, ScriptError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScriptError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Script::parse(&text, path)
+        Session::read(path).map(|s| s.script)
     }
 
     /// A session from the text of a session file (`path` names it in errors), of any
     /// version up to [`VERSION`].
     pub fn parse(text: &str, path: &Path) -> Result<Script, ScriptError> {
-        let script: Script = toml::from_str(text).map_err(|source| ScriptError::Parse {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        if !(1..=VERSION).contains(&script.version) {
-            return Err(ScriptError::Version {
-                path: path.to_path_buf(),
-                version: script.version,
-            });
-        }
-        Ok(script)
+        Session::parse(text, path).map(|s| s.script)
     }
 
     pub fn write(&self, path: &Path) -> Result<(), ScriptError> {
@@ -274,62 +211,4 @@ impl Script {
             source,
         })
     }
-}
-
-/// What a replay reached: the path, the conditions of each point and the last state.
-#[derive(Clone, Debug)]
-pub struct Replayed {
-    pub path: Vec<LoadPoint>,
-    pub conditions: Vec<BoundaryConditions>,
-    pub snapshot: Snapshot,
-    /// The failures on the way (as the explorer showed them).
-    pub failures: Vec<String>,
-}
-
-/// Runs `script` on `case` (the case its `case` names) through the solver's code.
-pub fn replay(script: &Script, case: &Case) -> Result<Replayed, ScriptError> {
-    if !matches!(script.actions.first(), Some(Action::Start { .. })) {
-        return Err(ScriptError::NoStart);
-    }
-    let jobs: Vec<Job> = script.actions.iter().map(|a| a.job(case)).collect();
-    let mut path = Vec::new();
-    let mut conditions = Vec::new();
-    let mut snapshot = None;
-    let mut failures = Vec::new();
-    for event in worker::run_jobs(jobs) {
-        match event {
-            WorkerEvent::Solved { state, .. } => {
-                path.push(state.point);
-                conditions.push(state.boundary);
-                snapshot = Some(state.snapshot);
-            }
-            WorkerEvent::Failed { reason, .. } => failures.push(reason),
-            _ => {}
-        }
-    }
-    let snapshot = snapshot.ok_or_else(|| ScriptError::Failed(failures.join("; ")))?;
-    Ok(Replayed {
-        path,
-        conditions,
-        snapshot,
-        failures,
-    })
-}
-
-/// Replays `script` on `case` and writes the explorer's export of its last state into
-/// `dir`.
-pub fn replay_into(script: &Script, case: &Case, dir: &Path) -> Result<Vec<PathBuf>, ScriptError> {
-    let r = replay(script, case)?;
-    export::write(
-        dir,
-        &script.label,
-        &r.snapshot,
-        &r.path,
-        &r.conditions,
-        &script.events,
-    )
-    .map_err(|source| ScriptError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })
 }

@@ -8,6 +8,7 @@ mod common;
 mod cli;
 mod figures;
 mod fuzz_cli;
+mod replay;
 mod sweep;
 mod tui;
 mod tui_e2e;
