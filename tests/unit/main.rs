@@ -8,3 +8,4 @@ mod architecture;
 mod cases;
 mod continuation;
 mod fuzz_cases;
+mod fuzz_sessions;
