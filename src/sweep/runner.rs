@@ -105,13 +105,17 @@ pub fn table_name(shard: Shard) -> String {
     }
 }
 
-/// The number of workers `jobs` asks for (default: the cores).
-pub fn workers(jobs: Option<usize>) -> usize {
-    jobs.filter(|&j| j > 0).unwrap_or_else(|| {
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1)
-    })
+/// The number of workers `jobs` asks for (default: the cores), at most the cores and the
+/// `cases` to run (and at least one): more threads would only wait.
+pub fn workers(jobs: Option<usize>, cases: usize) -> usize {
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    jobs.filter(|&j| j > 0)
+        .unwrap_or(cores)
+        .min(cores)
+        .min(cases)
+        .max(1)
 }
 
 /// Runs the cases of `opts.shard` not yet complete in `opts.out`, `on_case` told after each
@@ -136,7 +140,6 @@ pub fn run_sweep(
         .filter(|c| opts.shard.contains(c.index))
         .collect();
     let total = selected.len();
-    let jobs = workers(opts.jobs);
     let tally = Tally::new(on_case, total, t0);
     // finished cases first, in order
     let mut rows = Vec::new();
@@ -152,6 +155,7 @@ pub fn run_sweep(
         }
     }
     let skipped = rows.len();
+    let jobs = workers(opts.jobs, todo.len());
     let results = run_cases(&todo, jobs, out, &empty, interrupt, &tally)?;
     let pending = results.iter().filter(|r| r.is_none()).count();
     rows.extend(results.into_iter().flatten());

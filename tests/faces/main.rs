@@ -10,6 +10,7 @@ mod figures;
 mod fuzz_cli;
 mod replay;
 mod sweep;
+mod sweep_input;
 mod tui;
 mod tui_e2e;
 mod vtk;
