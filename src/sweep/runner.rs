@@ -11,7 +11,7 @@ use crate::model::loading::Control;
 use crate::output::precision::ChoiceReport as _;
 use crate::run::{run_path_steps, PathOutcome};
 use crate::solver::interrupt::Interrupt;
-use crate::study::resolve_accuracy;
+use crate::study::resolve_accuracy_with;
 use rayon::prelude::*;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -372,7 +372,8 @@ struct Solved {
 }
 
 fn solve(case: &Case, interrupt: Option<&Interrupt>) -> Result<Solved, String> {
-    let (case, choice) = resolve_accuracy(case).map_err(|e| format!("choosing the mesh: {e}"))?;
+    let (case, choice) =
+        resolve_accuracy_with(case, interrupt).map_err(|e| format!("choosing the mesh: {e}"))?;
     let eps = case.output_parameters(case.loading.target, case.loading.steps);
     let outcome = run_path_steps(&case, &eps, interrupt.cloned(), None, |_| {})
         .map_err(|e| format!("no equilibrium at eps = 0: {e}"))?;

@@ -8,6 +8,7 @@ mod common;
 mod cli;
 mod figures;
 mod fuzz_cli;
+mod interrupts;
 mod replay;
 mod sweep;
 mod sweep_input;

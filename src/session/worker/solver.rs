@@ -12,7 +12,7 @@ use crate::run::BRANCH_STEP;
 use crate::simulation::{Simulation, SolveError};
 use crate::solver::continuation::Observer;
 use crate::solver::interrupt::Interrupt;
-use crate::study::resolve_accuracy;
+use crate::study::{resolve_accuracy_with, AccuracyError};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::Arc;
@@ -247,8 +247,18 @@ impl Solver {
     /// A new simulation of `case` (of generation `generation`) at its natural state.
     fn start(&mut self, case: &Case, generation: u64, seq: u64, t0: Instant) -> Vec<WorkerEvent> {
         // an accuracy target becomes a mesh here, before the natural state
-        let (case, choice) = match resolve_accuracy(case) {
+        let (case, choice) = match resolve_accuracy_with(case, self.interrupt.as_ref()) {
             Ok(resolved) => resolved,
+            // stopped from outside: the previous simulation stays, as it was
+            Err(e @ AccuracyError::Interrupted { why, .. }) => {
+                return vec![WorkerEvent::Failed {
+                    generation,
+                    seq,
+                    reason: format!("{e}; the previous simulation is kept"),
+                    boundary: self.sim.as_ref().map(Simulation::boundary_conditions),
+                    interrupted: Some(why),
+                }]
+            }
             Err(e) => {
                 return vec![WorkerEvent::Failed {
                     generation,
