@@ -135,10 +135,11 @@ impl Table {
     }
 
     /// Every cell of the columns `numeric` the table has (the columns `spira run` writes
-    /// numbers in, read or not) empty or a finite number.
-    fn numbers_in(self, numeric: &[&str]) -> Result<Table, TableError> {
+    /// numbers in) empty or a finite number, but those of the columns `read`, whose reader
+    /// says what it expects of them.
+    fn numbers_in(self, numeric: &[&str], read: &[&str]) -> Result<Table, TableError> {
         for (col, name) in self.header.iter().enumerate() {
-            if !numeric.contains(&name.as_str()) {
+            if !numeric.contains(&name.as_str()) || read.contains(&name.as_str()) {
                 continue;
             }
             for row in &self.rows {
@@ -256,10 +257,11 @@ pub struct StateTable {
 
 /// Reads `load.csv` (text `text` of the file `file`).
 pub fn load_path(file: &Path, text: &str) -> Result<Vec<PathPoint>, TableError> {
+    let read = ["step", "eps", "parameter", "fx", "fy", "fz", "stable"];
     let t = Table::parse(file, text)?
-        .numbers_in(&LOAD_NUMBERS)?
+        .numbers_in(&LOAD_NUMBERS, &read)?
         .non_empty()?;
-    let cols = ["step", "eps", "parameter", "fx", "fy", "fz", "stable"].map(|c| t.column(c));
+    let cols = read.map(|c| t.column(c));
     let [step, eps, parameter, fx, fy, fz, stable] = transpose(cols)?;
     t.rows
         .iter()
@@ -277,8 +279,9 @@ pub fn load_path(file: &Path, text: &str) -> Result<Vec<PathPoint>, TableError> 
 
 /// Reads `critical.csv`.
 pub fn critical_points(file: &Path, text: &str) -> Result<Vec<CriticalMark>, TableError> {
-    let t = Table::parse(file, text)?.numbers_in(&CRITICAL_NUMBERS)?;
-    let cols = ["kind", "parameter", "eps", "fx", "fy", "fz"].map(|c| t.column(c));
+    let read = ["kind", "parameter", "eps", "fx", "fy", "fz"];
+    let t = Table::parse(file, text)?.numbers_in(&CRITICAL_NUMBERS, &read)?;
+    let cols = read.map(|c| t.column(c));
     let [kind, parameter, eps, fx, fy, fz] = transpose(cols)?;
     t.rows
         .iter()
@@ -296,10 +299,11 @@ pub fn critical_points(file: &Path, text: &str) -> Result<Vec<CriticalMark>, Tab
 /// Reads a state table (`state.csv` or `state-<step>.csv`) of output step `step`; its ε
 /// is the one its first `#` line states (`eps = …`), else `eps`.
 pub fn state(file: &Path, text: &str, step: usize, eps: f64) -> Result<StateTable, TableError> {
+    let read = ["rod", "s_over_l", "x", "y", "z", "k1", "k2", "omega"];
     let t = Table::parse(file, text)?
-        .numbers_in(&STATE_NUMBERS)?
+        .numbers_in(&STATE_NUMBERS, &read)?
         .non_empty()?;
-    let cols = ["rod", "s_over_l", "x", "y", "z", "k1", "k2", "omega"].map(|c| t.column(c));
+    let cols = read.map(|c| t.column(c));
     let [rod, s, x, y, z, k1, k2, omega] = transpose(cols)?;
     let mut rods: Vec<(usize, Vec<StateNode>)> = Vec::new();
     for r in &t.rows {
@@ -329,8 +333,9 @@ pub fn state(file: &Path, text: &str, step: usize, eps: f64) -> Result<StateTabl
 
 /// Reads `joints.csv`: the arc lengths `s/L` of the joints of each rod.
 pub fn joints(file: &Path, text: &str) -> Result<BTreeMap<usize, Vec<f64>>, TableError> {
-    let t = Table::parse(file, text)?.numbers_in(&["rod", "s", "s_over_l"])?;
-    let [rod, s] = transpose(["rod", "s_over_l"].map(|c| t.column(c)))?;
+    let read = ["rod", "s_over_l"];
+    let t = Table::parse(file, text)?.numbers_in(&["rod", "s", "s_over_l"], &read)?;
+    let [rod, s] = transpose(read.map(|c| t.column(c)))?;
     let mut out: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
     for r in &t.rows {
         out.entry(t.count(r, rod)?)
