@@ -7,7 +7,6 @@ use super::limits::{
     estimated_joints, num, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MIN_ELEMENTS_PER_TURN,
 };
 use super::settings::Geometry;
-use super::Case;
 
 /// The numbers of helices a case may have: 1, or an even number in this range.
 pub const HELICES_RANGE: (i64, i64) = (1, 1024);
@@ -76,31 +75,4 @@ pub(super) fn elements_message(geometry: &Geometry, elements: usize) -> Option<S
             num(geometry.turns())
         )
     })
-}
-
-impl Case {
-    /// The same case with `n` helices ([`Case::with_helices`]), refused by the limits the
-    /// case reader puts on a file's `geometry.helices`: the number, the straight rod, the
-    /// pin joints and the elements per turn.
-    pub fn with_helices_checked(&self, n: usize) -> Result<Case, Refused> {
-        let refuse = |key, message| Err(Refused { key, message });
-        let count = i64::try_from(n).unwrap_or(i64::MAX);
-        if let Some(m) = helices_message(count) {
-            return refuse("geometry.helices", m);
-        }
-        let case = self.with_helices(n);
-        let g = &case.geometry;
-        if let Some(m) = straight_rod_message(g) {
-            return refuse("geometry.helices", m);
-        }
-        if let Some(m) = joints_message(g) {
-            return refuse("geometry.helices", m);
-        }
-        if case.discretisation.accuracy.is_none() {
-            if let Some(m) = elements_message(g, case.discretisation.elements) {
-                return refuse("discretisation.elements", m);
-            }
-        }
-        Ok(case)
-    }
 }

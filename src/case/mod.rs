@@ -131,6 +131,31 @@ impl Case {
         c
     }
 
+    /// The same case with `n` helices ([`Case::with_helices`]), refused by the limits the
+    /// case reader puts on a file's `geometry.helices`: the number, the straight rod, the
+    /// pin joints and the elements per turn.
+    pub fn with_helices_checked(&self, n: usize) -> Result<Case, Refused> {
+        let refuse = |key, message| Err(Refused { key, message });
+        let count = i64::try_from(n).unwrap_or(i64::MAX);
+        if let Some(m) = helices::helices_message(count) {
+            return refuse("geometry.helices", m);
+        }
+        let case = self.with_helices(n);
+        let g = &case.geometry;
+        if let Some(m) = helices::straight_rod_message(g) {
+            return refuse("geometry.helices", m);
+        }
+        if let Some(m) = helices::joints_message(g) {
+            return refuse("geometry.helices", m);
+        }
+        if case.discretisation.accuracy.is_none() {
+            if let Some(m) = helices::elements_message(g, case.discretisation.elements) {
+                return refuse("discretisation.elements", m);
+            }
+        }
+        Ok(case)
+    }
+
     /// The case as the explorer solves it interactively (issue 5, "a model no bigger than
     /// the scene"): one symmetric pair standing for the assembly when it has the symmetry,
     /// and stability as the count of unstable directions only (by the pair's Bloch blocks),

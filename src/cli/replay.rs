@@ -3,7 +3,8 @@
 use super::load_case;
 use super::signals::end_on_signal_between_writes;
 use anyhow::Result;
-use spira::session::script::{replay_into, Session};
+use spira::session::replay::replay_into;
+use spira::session::script::Session;
 use std::path::Path;
 
 /// `spira replay`: the actions of the session file `session` checked, replayed on its

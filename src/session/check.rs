@@ -1,71 +1,12 @@
 //! A session's actions checked before anything runs, by the case reader's limits and the
 //! explorer's rules: a start goes through the case reader's checks of a number of helices
 //! and of supports, a load parameter must be one the case admits, a branch is taken on the
-//! side +1 or −1, new supports may leave no rigid motion free. Also where each action is in
-//! its file, for the messages.
+//! side +1 or −1, new supports may leave no rigid motion free.
 
 use super::error::ScriptError;
 use super::script::{Action, Session};
 use super::worker::{Job, Part};
 use crate::case::{available_memory, num, Case, STEP_RANGE};
-use serde::Deserialize;
-use std::ops::Range;
-use toml::Spanned;
-
-/// The actions of a session file as TOML values with their places, read leniently (any
-/// other key is ignored) to say where an action is.
-#[derive(Deserialize)]
-struct Layout {
-    #[serde(default)]
-    actions: Vec<Spanned<toml::Value>>,
-}
-
-/// Where the actions of `text` start (byte ranges: the `[[actions]]` header, or the inline
-/// table); none when the text is not TOML or its `actions` not an array.
-pub(super) fn action_spans(text: &str) -> Vec<Range<usize>> {
-    toml::from_str::<Layout>(text)
-        .map(|l| l.actions.iter().map(Spanned::span).collect())
-        .unwrap_or_default()
-}
-
-/// The first action of `text` (from 0) that is not an action on its own, and why: the
-/// place of an error the `toml` crate gives for an array of tables is the array's.
-pub(super) fn first_bad_action(text: &str) -> Option<(usize, String)> {
-    let layout = toml::from_str::<Layout>(text).ok()?;
-    layout.actions.into_iter().enumerate().find_map(|(k, a)| {
-        a.into_inner()
-            .try_into::<Action>()
-            .err()
-            .map(|e| (k, e.message().trim().to_string()))
-    })
-}
-
-/// The line (from 1) of byte `at` of `text`.
-pub(super) fn line_of(text: &str, at: usize) -> usize {
-    let at = at.min(text.len());
-    text.as_bytes()[..at]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-        + 1
-}
-
-/// The action (from 0) whose text holds byte `at`: the last one starting before it, unless
-/// it is an inline table that ends before `at` or a table of another name comes between.
-pub(super) fn action_at(text: &str, spans: &[Range<usize>], at: usize) -> Option<usize> {
-    let k = spans.iter().rposition(|s| s.start <= at)?;
-    let span = &spans[k];
-    let own = text.get(span.clone())?;
-    if own.starts_with('{') {
-        return (at < span.end).then_some(k);
-    }
-    let between = text.get(span.start..at.min(text.len()))?;
-    let foreign = between.lines().skip(1).any(|l| {
-        let t = l.trim_start();
-        t.starts_with('[') && !t.starts_with("[actions") && !t.starts_with("[[actions")
-    });
-    (!foreign).then_some(k)
-}
 
 /// The jobs of `session`'s actions on `case`, every action checked first: the first one a
 /// start, each start's number of helices and supports through the case reader's checks and

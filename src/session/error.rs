@@ -1,7 +1,6 @@
 //! Why a session could not be saved, read or replayed: every refusal of a session file is
 //! one paragraph that names the file and the line, and the action when it is about one.
 
-use super::script::VERSION;
 use std::path::PathBuf;
 
 /// Why a session could not be saved, read or replayed.
@@ -24,13 +23,15 @@ pub enum ScriptError {
     },
     #[error("writing the session: {0}")]
     Serialise(#[from] toml::ser::Error),
+    /// A version this spira does not read (`newest`: the newest it reads).
     #[error(
-        "{file}:{line}: the session is of version {version}; this spira reads versions 1 to {VERSION}"
+        "{file}:{line}: the session is of version {version}; this spira reads versions 1 to {newest}"
     )]
     Version {
         file: String,
         line: usize,
         version: u32,
+        newest: u32,
     },
     /// The first action is not a start (or there is none).
     #[error("{file}:{line}: action 1: the session has no start action (its first action must be do = \"start\")")]

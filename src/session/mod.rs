@@ -7,6 +7,6 @@ mod check;
 mod error;
 pub mod export;
 pub mod latest;
-mod replay;
+pub mod replay;
 pub mod script;
 pub mod worker;

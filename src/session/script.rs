@@ -24,11 +24,13 @@
 
 pub use super::error::ScriptError;
 use super::export::SessionEvent;
-pub use super::replay::{replay, replay_into, Replayed, Session};
 use super::worker::Job;
 use crate::model::boundary::BoundaryConditions;
+use crate::output::csv::comment_safe;
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
+use toml::Spanned;
 
 /// One job of a session, as a script says it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -211,4 +213,180 @@ impl Script {
             source,
         })
     }
+}
+
+/// A session file as read: its script, the file's name for messages and the line of each
+/// action.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Session {
+    pub script: Script,
+    /// The file, as messages name it.
+    pub file: String,
+    /// The line (from 1) where each action starts.
+    pub lines: Vec<usize>,
+}
+
+impl Session {
+    /// Reads a session file of any version up to [`VERSION`].
+    pub fn read(path: &Path) -> Result<Session, ScriptError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ScriptError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Session::parse(&text, path)
+    }
+
+    /// A session from the text of a session file (`path` names it in errors), of any
+    /// version up to [`VERSION`].
+    pub fn parse(text: &str, path: &Path) -> Result<Session, ScriptError> {
+        let file = path.display().to_string();
+        let spans = action_spans(text);
+        let script: Script = toml::from_str(text).map_err(|e| {
+            let at = e.span().map_or(0, |s| s.start);
+            // the place the `toml` crate gives for an error in an array of tables is the
+            // array's: the action at fault is found by reading each on its own
+            let (line, action, message) = match first_bad_action(text) {
+                Some((k, message)) => (session_line(text, &spans, k), Some(k + 1), message),
+                None => (
+                    line_of(text, at),
+                    action_at(text, &spans, at).map(|k| k + 1),
+                    e.message().trim().to_string(),
+                ),
+            };
+            ScriptError::Parse {
+                file: file.clone(),
+                line,
+                action,
+                message: comment_safe(&message),
+            }
+        })?;
+        if !(1..=VERSION).contains(&script.version) {
+            let line = text
+                .lines()
+                .position(|l| {
+                    l.trim_start()
+                        .strip_prefix("version")
+                        .is_some_and(|r| r.trim_start().starts_with('='))
+                })
+                .map_or(1, |i| i + 1);
+            return Err(ScriptError::Version {
+                file,
+                line,
+                version: script.version,
+                newest: VERSION,
+            });
+        }
+        let lines = spans.iter().map(|s| line_of(text, s.start)).collect();
+        Ok(Session {
+            script,
+            file,
+            lines,
+        })
+    }
+
+    /// `script` as the file `file` would hold it once saved (the lines of its actions are
+    /// those of [`Script::to_toml`]).
+    pub fn of(script: Script, file: &Path) -> Session {
+        let lines = script
+            .to_toml()
+            .map(|text| {
+                action_spans(&text)
+                    .iter()
+                    .map(|s| line_of(&text, s.start))
+                    .collect()
+            })
+            .unwrap_or_default();
+        Session {
+            script,
+            file: file.display().to_string(),
+            lines,
+        }
+    }
+
+    /// The line of action `k` (from 0; the first line when it is not known).
+    pub fn line(&self, k: usize) -> usize {
+        self.lines.get(k).copied().unwrap_or(1)
+    }
+
+    /// Action `k` (from 0) refused before it ran, for `message`.
+    pub(super) fn refused(&self, k: usize, message: String) -> ScriptError {
+        ScriptError::Refused {
+            file: self.file.clone(),
+            line: self.line(k),
+            number: k + 1,
+            kind: self.script.actions.get(k).map_or("start", Action::kind),
+            message: comment_safe(&message),
+        }
+    }
+
+    /// Action `k` (from 0) that the solver could not do, for `reason`.
+    pub(super) fn failed(&self, k: usize, reason: String) -> ScriptError {
+        ScriptError::Failed {
+            file: self.file.clone(),
+            line: self.line(k),
+            number: k + 1,
+            kind: self.script.actions.get(k).map_or("start", Action::kind),
+            reason: comment_safe(&reason),
+        }
+    }
+}
+
+/// The line of action `k` (from 0) of `text` whose actions start at `spans`.
+fn session_line(text: &str, spans: &[std::ops::Range<usize>], k: usize) -> usize {
+    spans.get(k).map_or(1, |s| line_of(text, s.start))
+}
+
+/// The actions of a session file as TOML values with their places, read leniently (any
+/// other key is ignored) to say where an action is.
+#[derive(Deserialize)]
+struct Layout {
+    #[serde(default)]
+    actions: Vec<Spanned<toml::Value>>,
+}
+
+/// Where the actions of `text` start (byte ranges: the `[[actions]]` header, or the inline
+/// table); none when the text is not TOML or its `actions` not an array.
+pub(super) fn action_spans(text: &str) -> Vec<Range<usize>> {
+    toml::from_str::<Layout>(text)
+        .map(|l| l.actions.iter().map(Spanned::span).collect())
+        .unwrap_or_default()
+}
+
+/// The first action of `text` (from 0) that is not an action on its own, and why: the
+/// place of an error the `toml` crate gives for an array of tables is the array's.
+pub(super) fn first_bad_action(text: &str) -> Option<(usize, String)> {
+    let layout = toml::from_str::<Layout>(text).ok()?;
+    layout.actions.into_iter().enumerate().find_map(|(k, a)| {
+        a.into_inner()
+            .try_into::<Action>()
+            .err()
+            .map(|e| (k, e.message().trim().to_string()))
+    })
+}
+
+/// The line (from 1) of byte `at` of `text`.
+pub(super) fn line_of(text: &str, at: usize) -> usize {
+    let at = at.min(text.len());
+    text.as_bytes()[..at]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+/// The action (from 0) whose text holds byte `at`: the last one starting before it, unless
+/// it is an inline table that ends before `at` or a table of another name comes between.
+pub(super) fn action_at(text: &str, spans: &[Range<usize>], at: usize) -> Option<usize> {
+    let k = spans.iter().rposition(|s| s.start <= at)?;
+    let span = &spans[k];
+    let own = text.get(span.clone())?;
+    if own.starts_with('{') {
+        return (at < span.end).then_some(k);
+    }
+    let between = text.get(span.start..at.min(text.len()))?;
+    let foreign = between.lines().skip(1).any(|l| {
+        let t = l.trim_start();
+        t.starts_with('[') && !t.starts_with("[actions") && !t.starts_with("[[actions")
+    });
+    (!foreign).then_some(k)
 }

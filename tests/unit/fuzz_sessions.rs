@@ -18,7 +18,8 @@ use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use spira::case::Case;
 use spira::session::export;
-use spira::session::script::{replay, Action, ScriptError, Session};
+use spira::session::replay::{replay, Replayed};
+use spira::session::script::{Action, ScriptError, Session};
 use std::path::Path;
 
 const FILE: &str = "fuzz-session.toml";
@@ -252,10 +253,7 @@ fn check_refusal(e: &ScriptError, file: &File) -> Result<(), TestCaseError> {
 /// A replay that succeeded: it ends where the last action asked (unless that one was
 /// stopped part of the way or changed the supports), and its tables hold finite numbers
 /// under their header.
-fn check_replayed(
-    session: &Session,
-    r: &spira::session::script::Replayed,
-) -> Result<(), TestCaseError> {
+fn check_replayed(session: &Session, r: &Replayed) -> Result<(), TestCaseError> {
     let last = r.path.last().expect("a point");
     let asked = match session.script.actions.last() {
         Some(Action::Advance {
