@@ -168,8 +168,11 @@ enum Command {
         /// Only validate the sweep and list its cases.
         #[arg(long)]
         check: bool,
+        /// Read, check and run even a sweep of more than 10000 cases.
+        #[arg(long)]
+        force: bool,
         /// Merge the sweep tables in these folders (or files) into OUT/sweep.csv.
-        #[arg(long, num_args = 1.., conflicts_with_all = ["sweep", "jobs", "shard", "check"])]
+        #[arg(long, num_args = 1.., conflicts_with_all = ["sweep", "jobs", "shard", "check", "force"])]
         merge: Vec<PathBuf>,
     },
 }
@@ -254,11 +257,19 @@ fn dispatch(command: Option<Command>) -> Result<()> {
             jobs,
             shard,
             check,
+            force,
             merge,
         } => {
             if merge.is_empty() {
                 let file = sweep.expect("clap requires the sweep file without --merge");
-                cli::sweep::sweep(&file, out, jobs, shard.as_deref(), check)
+                let flags = cli::sweep::SweepFlags {
+                    out,
+                    jobs,
+                    shard: shard.as_deref(),
+                    check,
+                    force,
+                };
+                cli::sweep::sweep(&file, flags)
             } else {
                 cli::sweep::merge(&merge, out)
             }

@@ -9,6 +9,7 @@
 //! physical and numerical ranges and fills in the defaults.
 
 mod error;
+mod helices;
 mod keys;
 mod limits;
 mod loads;
@@ -20,10 +21,12 @@ mod tables;
 mod target;
 
 pub use error::CaseError;
+pub use helices::{Refused, HELICES_RANGE};
 pub use keys::{keys_markdown, DefaultDoc, KeyDoc, RangeDoc, KEYS};
 pub use limits::{
-    LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS, MIN_ELEMENTS_PER_TURN,
-    PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO, TOLERANCE_RANGE, TURNS_RANGE,
+    num, LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS,
+    MIN_ELEMENTS_PER_TURN, PITCH_RATIO, STEP_RANGE, STIFFNESS_RANGE, STIFFNESS_RATIO,
+    TOLERANCE_RANGE, TURNS_RANGE,
 };
 pub use motion::{free_motion_of, FreeMotion};
 pub use settings::{AccuracyTarget, Discretisation, Geometry, Loading};
@@ -141,6 +144,31 @@ impl Case {
             c.discretisation.symmetric && has
         };
         c
+    }
+
+    /// The same case with `n` helices ([`Case::with_helices`]), refused by the limits the
+    /// case reader puts on a file's `geometry.helices`: the number, the straight rod, the
+    /// pin joints and the elements per turn.
+    pub fn with_helices_checked(&self, n: usize) -> Result<Case, Refused> {
+        let refuse = |key, message| Err(Refused { key, message });
+        let count = i64::try_from(n).unwrap_or(i64::MAX);
+        if let Some(m) = helices::helices_message(count) {
+            return refuse("geometry.helices", m);
+        }
+        let case = self.with_helices(n);
+        let g = &case.geometry;
+        if let Some(m) = helices::straight_rod_message(g) {
+            return refuse("geometry.helices", m);
+        }
+        if let Some(m) = helices::joints_message(g) {
+            return refuse("geometry.helices", m);
+        }
+        if case.discretisation.accuracy.is_none() {
+            if let Some(m) = helices::elements_message(g, case.discretisation.elements) {
+                return refuse("discretisation.elements", m);
+            }
+        }
+        Ok(case)
     }
 
     /// The case as the explorer solves it interactively (a model no bigger than

@@ -2,6 +2,7 @@
 //! case (§4.1) filling in what is not given. One function per table.
 
 use super::error::{line_of, CaseError};
+use super::helices::{elements_message, helices_message, joints_message, straight_rod_message};
 use super::limits::*;
 use super::motion::free_motion_of;
 use super::raw::{
@@ -34,12 +35,14 @@ pub(super) fn geometry(g: &RawGeometry, ck: &Checker) -> Result<Geometry, CaseEr
             range(LENGTH_RANGE)
         ),
     )?;
-    if radius == 0.0 && helices > 1 {
-        return Err(ck.invalid(
-            "geometry.radius",
-            span(&g.radius),
-            format!("a straight rod (radius 0) needs helices = 1, found {helices}"),
-        ));
+    let straight = Geometry {
+        helices,
+        radius,
+        pitch: 1.0,
+        length: 1.0,
+    };
+    if let Some(m) = straight_rod_message(&straight) {
+        return Err(ck.invalid("geometry.radius", span(&g.radius), m));
     }
     let pitch = ck.number(
         "geometry.pitch",
@@ -128,44 +131,27 @@ fn derived_geometry(g: &RawGeometry, geometry: &Geometry, ck: &Checker) -> Resul
             format!("the initial height h0 = b L / c would be {}", num(h0)),
         ));
     }
-    let joints = estimated_joints(geometry);
-    if joints > MAX_JOINTS as f64 {
+    if let Some(m) = joints_message(geometry) {
         let (key, at) = if g.helices.is_some() {
             ("geometry.helices", span(&g.helices))
         } else {
             (key, at)
         };
-        return Err(ck.invalid(
-            key,
-            at,
-            format!(
-                "{} helices of {} turns would have about {} pin joints; expected at most {MAX_JOINTS} (fewer helices or turns)",
-                geometry.helices,
-                num(geometry.turns()),
-                num(joints.round())
-            ),
-        ));
+        return Err(ck.invalid(key, at, m));
     }
     Ok(())
 }
 
 /// `geometry.helices`: 1, or an even number (as many right- as left-handed helices).
 fn helices(g: &RawGeometry, ck: &Checker) -> Result<usize, CaseError> {
-    let helices = ck.integer(
-        "geometry.helices",
-        &g.helices,
-        1,
-        (1, 1024),
-        "a number of helices",
-    )?;
-    if helices > 1 && helices % 2 == 1 {
-        return Err(ck.invalid(
-            "geometry.helices",
-            span(&g.helices),
-            format!("expected 1 or an even number (pairs of right- and left-handed helices), found {helices}"),
-        ));
+    let Some(v) = &g.helices else {
+        return Ok(1);
+    };
+    match helices_message(*v.get_ref()) {
+        Some(m) => Err(ck.invalid("geometry.helices", v.span(), m)),
+        // in HELICES_RANGE: positive and small
+        None => Ok(*v.get_ref() as usize),
     }
-    Ok(helices)
 }
 
 /// The rod length `L` (m) from `geometry.length`, or from `geometry.turns` (3.5 by default)
@@ -400,20 +386,10 @@ pub(super) fn discretisation(
         (1, 100_000),
         "a number of elements per rod",
     )?;
-    if geometry.radius > 0.0 && accuracy.is_none() {
+    if accuracy.is_none() {
         // the mesh a rod gets: at least `elements`, and a vertex at every joint
-        let per_rod = elements as f64 + estimated_joints(geometry) / (helices / 2).max(1) as f64;
-        let per_turn = per_rod / geometry.turns();
-        if !(MIN_ELEMENTS_PER_TURN..=MAX_ELEMENTS_PER_TURN).contains(&per_turn) {
-            return Err(ck.invalid(
-                "discretisation.elements",
-                span(&d.elements),
-                format!(
-                    "expected from {MIN_ELEMENTS_PER_TURN} to {MAX_ELEMENTS_PER_TURN} elements per turn of helix, found {} ({elements} elements per rod over {} turns)",
-                    num(per_turn),
-                    num(geometry.turns())
-                ),
-            ));
+        if let Some(m) = elements_message(geometry, elements) {
+            return Err(ck.invalid("discretisation.elements", span(&d.elements), m));
         }
     }
     let (symmetric, symmetric_auto) = symmetric(d, helices, ck)?;

@@ -1,16 +1,17 @@
 //! The mesh of a case that gives an accuracy target instead of one: chosen from coarse
 //! pilot solves, said on the way.
 
-use anyhow::Result;
+use anyhow::{anyhow, Result};
 use spira::case::Case;
 use spira::model::loading::Control;
 use spira::output::precision::ChoiceReport as _;
 use spira::results::LoadPoint;
-use spira::study::{resolve_accuracy, MeshChoice, Subject};
+use spira::solver::interrupt::Interrupt;
+use spira::study::{resolve_accuracy_with, AccuracyError, MeshChoice, Subject};
 
 /// The case with its mesh: when it gives an accuracy instead, the mesh chosen for it, said
-/// on the way.
-pub fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
+/// on the way; `interrupt` stops the choice (nothing chosen, the error says so).
+pub fn resolve(case: Case, interrupt: &Interrupt) -> Result<(Case, Option<MeshChoice>)> {
     let Some(acc) = case.discretisation.accuracy else {
         return Ok((case, None));
     };
@@ -19,7 +20,11 @@ pub fn resolve(case: Case) -> Result<(Case, Option<MeshChoice>)> {
         acc.target,
         Subject::Path(Box::new(case.clone())).response_label()
     );
-    let (resolved, choice) = resolve_accuracy(&case)?;
+    let (resolved, choice) =
+        resolve_accuracy_with(&case, Some(interrupt)).map_err(|e| match e {
+            AccuracyError::Interrupted { .. } => anyhow!("{e}; nothing was solved or written"),
+            e => e.into(),
+        })?;
     if let Some(c) = &choice {
         for line in c.pilot_lines() {
             println!("  {line}");

@@ -1,11 +1,11 @@
 //! `spira precision`: the work-precision study of a case's path on a ladder of meshes.
 
-use super::signals::end_on_signal_between_writes;
+use super::signals::stop_on_signal;
 use super::{check_size, command_line};
-use anyhow::{Context, Result};
+use anyhow::{anyhow, Context, Result};
 use spira::case::Case;
 use spira::output::precision::StudyReport as _;
-use spira::study::{run_study, Ladder, Subject};
+use spira::study::{run_study_with, Ladder, StudyError, Subject};
 use std::path::Path;
 use std::time::Instant;
 
@@ -13,7 +13,8 @@ use std::time::Instant;
 /// `repeats` runs after a warm-up, its table printed and precision.csv and precision.svg
 /// written into `out`.
 pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result<()> {
-    end_on_signal_between_writes();
+    // a signal stops the study after the Newton iteration under way; nothing is written
+    let interrupt = stop_on_signal("spira precision: interrupted; stopping");
     let case = Case::from_file(path)?;
     check_size(&case, force)?;
     let problem = Subject::Path(Box::new(case.clone()));
@@ -30,7 +31,7 @@ pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result
         }
     );
     let t0 = Instant::now();
-    let study = run_study(&problem, &ladder, repeats, |p| {
+    let study = run_study_with(&problem, &ladder, repeats, Some(&interrupt), |p| {
         let r = p.last;
         match &r.values {
             Ok(v) => println!(
@@ -50,6 +51,13 @@ pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result
             ),
         }
         std::ops::ControlFlow::Continue(())
+    })
+    .map_err(|e| match e {
+        StudyError::Interrupted { .. } => anyhow!(
+            "{e}, in {:.1} s; nothing was written",
+            t0.elapsed().as_secs_f64()
+        ),
+        e => e.into(),
     })?;
     println!();
     for line in study.header() {

@@ -14,6 +14,7 @@ use spira::output::read::RunTables;
 use spira::results::{RodBulk, Snapshot, StepBulk, SupportResponse};
 use spira::run::{run_path_steps, PathOutcome, Step};
 use spira::solver::continuation::Observer;
+use spira::solver::interrupt::Interrupt;
 use spira::study::MeshChoice;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -44,14 +45,14 @@ pub fn run(
     force: bool,
     extras: Extras,
 ) -> Result<()> {
-    let (case, target, steps, choice) = prepare(path, to, steps, force)?;
+    // Ctrl-C (or SIGTERM, SIGHUP) stops the mesh choice (nothing is written) or the path at
+    // its last converged state (the files are written as after a failure). A second signal
+    // ends the process, but never while the files are being written
+    let interrupt = stop_on_signal("spira run: interrupted; stopping");
+    let (case, target, steps, choice) = prepare(path, to, steps, force, &interrupt)?;
     print_heading(&case, target, steps);
     let parameters = case.output_parameters(target, steps);
     let t0 = Instant::now();
-    // Ctrl-C (or SIGTERM, SIGHUP) stops the path at its last converged state; the files
-    // are written as after a failure. A second signal ends the process, but never while
-    // the files are being written
-    let interrupt = stop_on_signal("spira run: interrupted; stopping at the last converged state");
     let (last_line, observer) = still_solving(t0);
     let mut shapes = Vec::new();
     let outcome = run_path_steps(
@@ -113,6 +114,7 @@ fn prepare(
     to: Option<f64>,
     steps: Option<u64>,
     force: bool,
+    interrupt: &Interrupt,
 ) -> Result<(Case, f64, usize, Option<MeshChoice>)> {
     let case = Case::from_file(path)?;
     let target = to.unwrap_or(case.loading.target);
@@ -123,7 +125,7 @@ fn prepare(
     }
     let steps = steps_flag(steps, &case)?;
     check_size(&case, force)?;
-    let (case, choice) = resolve(case)?;
+    let (case, choice) = resolve(case, interrupt)?;
     if choice.is_some() {
         check_size(&case, force)?;
     }
@@ -155,11 +157,12 @@ fn print_heading(case: &Case, target: f64, steps: usize) {
     };
     let unit = case.load_parameter().unit();
     println!(
-        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), {stepped} 0 -> {target}{}{unit} in {steps} steps",
+        "spira run: case {} (n = {n}, L = {:.5} m, h0 = {:.5} m, Pcrit = {:.4} N), {stepped} 0 -> {}{}{unit} in {steps} steps",
         case.name,
         case.geometry.length,
         case.geometry.height0(),
         euler_load(case.stiffness.b1, case.geometry.length),
+        spira::case::num(target),
         if unit.is_empty() { "" } else { " " },
     );
     if !case.loading.hold.is_natural() || parameter != Component::Axial {

@@ -5,22 +5,35 @@ use super::signals::stop_on_signal;
 use anyhow::{bail, Result};
 use spira::sweep::{
     merge_dirs, run_sweep, workers, CaseFinished, CaseStatus, Combine, RunOptions, Shard, Sweep,
-    SweepReport,
+    SweepReport, MAX_CASES,
 };
 use std::io::{IsTerminal as _, Write as _};
 use std::path::{Path, PathBuf};
 
-/// `spira sweep`: the cases of the sweep file at `path` of the shard `shard` (default: the
-/// Slurm array task's, or all), `jobs` at once (default: the cores), into `out` (default:
-/// out/<sweep name>); with `check`, only the cases listed.
-pub fn sweep(
-    path: &Path,
-    out: Option<PathBuf>,
-    jobs: Option<usize>,
-    shard: Option<&str>,
-    check: bool,
-) -> Result<()> {
-    let sweep = Sweep::from_file(path)?;
+/// What `spira sweep` is asked for besides its file: the output folder (default:
+/// out/<sweep name>), the cases at once (default: the cores), the shard (default: the Slurm
+/// array task's, or all), only a check, and whether a sweep of more than
+/// [`MAX_CASES`] cases is read.
+pub struct SweepFlags<'a> {
+    pub out: Option<PathBuf>,
+    pub jobs: Option<usize>,
+    pub shard: Option<&'a str>,
+    pub check: bool,
+    pub force: bool,
+}
+
+/// `spira sweep`: the cases of the sweep file at `path` of the shard asked for, on the
+/// workers asked for (at most the cores and the cases), into the output folder; with
+/// `check`, only the cases listed.
+pub fn sweep(path: &Path, flags: SweepFlags) -> Result<()> {
+    let SweepFlags {
+        out,
+        jobs,
+        shard,
+        check,
+        force,
+    } = flags;
+    let sweep = Sweep::from_file_with(path, if force { usize::MAX } else { MAX_CASES })?;
     let shard = match shard {
         Some(s) => Shard::parse(s)?,
         None => Shard::from_slurm(|v| std::env::var(v).ok())?.unwrap_or(Shard::ALL),
@@ -31,7 +44,11 @@ pub fn sweep(
         .iter()
         .filter(|c| shard.contains(c.index))
         .collect();
-    let jobs = workers(jobs);
+    let capped = workers(jobs, mine.len());
+    if let Some(asked) = jobs.filter(|&j| j > capped) {
+        println!("--jobs {asked}: {capped} worker(s), as many as there are cores and cases to run");
+    }
+    let jobs = capped;
     print_heading(&sweep, path, shard, mine.len(), &out, jobs);
     if check {
         for c in &mine {

@@ -15,12 +15,16 @@ use std::path::{Path, PathBuf};
 pub enum TableError {
     #[error("{file}: missing: not a `spira run` output folder?")]
     Missing { file: PathBuf },
-    #[error("{file}: {source}")]
+    /// The OS's reason, said once (kept out of the error chain, which a report walks).
+    #[error("{file}: {reason}")]
     Io {
         file: PathBuf,
-        #[source]
-        source: std::io::Error,
+        reason: std::io::Error,
     },
+    /// A table's name on something that is not a regular file (a FIFO, a socket, a
+    /// device), which reading could wait on for ever.
+    #[error("{file}: not a regular file ({what}); expected a table written by `spira run`")]
+    NotAFile { file: PathBuf, what: &'static str },
     #[error("{file}: no column `{column}` in the header line")]
     MissingColumn { file: PathBuf, column: String },
     #[error("{file}:{line}: column `{column}`: expected {expected}, found `{found}`")]
@@ -40,6 +44,43 @@ pub enum TableError {
     #[error("{file}: no data rows")]
     Empty { file: PathBuf },
 }
+
+/// The columns of `load.csv` that hold numbers.
+const LOAD_NUMBERS: [&str; 13] = [
+    "step",
+    "eps",
+    "h",
+    "fx",
+    "fy",
+    "fz",
+    "energy",
+    "iterations",
+    "residual",
+    "stable",
+    "unstable_dirs",
+    "lowest_eig",
+    "parameter",
+];
+
+/// The columns of `critical.csv` that hold numbers.
+const CRITICAL_NUMBERS: [&str; 10] = [
+    "index",
+    "parameter",
+    "eps",
+    "fx",
+    "fy",
+    "fz",
+    "unstable_before",
+    "unstable_after",
+    "wavenumber",
+    "multiplicity",
+];
+
+/// The columns of a state table that hold numbers.
+const STATE_NUMBERS: [&str; 16] = [
+    "rod", "s", "s_over_l", "x", "y", "z", "q1", "q2", "q3", "q4", "k1", "k2", "omega", "nx", "ny",
+    "nz",
+];
 
 /// A table's rows with its columns found by name; `line` is the row's line in the file.
 struct Table {
@@ -93,6 +134,24 @@ impl Table {
             })
     }
 
+    /// Every cell of the columns `numeric` the table has (the columns `spira run` writes
+    /// numbers in) empty or a finite number, but those of the columns `read`, whose reader
+    /// says what it expects of them.
+    fn numbers_in(self, numeric: &[&str], read: &[&str]) -> Result<Table, TableError> {
+        for (col, name) in self.header.iter().enumerate() {
+            if !numeric.contains(&name.as_str()) || read.contains(&name.as_str()) {
+                continue;
+            }
+            for row in &self.rows {
+                let cell = row.1[col].trim();
+                if !cell.is_empty() && !cell.parse::<f64>().is_ok_and(f64::is_finite) {
+                    return Err(self.bad(row.0, col, "a finite number or an empty cell", cell));
+                }
+            }
+        }
+        Ok(self)
+    }
+
     fn non_empty(self) -> Result<Table, TableError> {
         if self.rows.is_empty() {
             return Err(TableError::Empty { file: self.file });
@@ -101,12 +160,17 @@ impl Table {
     }
 
     fn bad(&self, line: u64, col: usize, expected: &'static str, found: &str) -> TableError {
+        // a cell as the message quotes it: on one line, and not a page long
+        let mut found: String = crate::output::csv::comment_safe(found);
+        if found.chars().count() > 40 {
+            found = found.chars().take(40).collect::<String>() + "…";
+        }
         TableError::BadCell {
             file: self.file.clone(),
             line,
             column: self.header[col].clone(),
             expected,
-            found: found.to_string(),
+            found,
         }
     }
 
@@ -209,8 +273,11 @@ pub struct StateTable {
 
 /// Reads `load.csv` (text `text` of the file `file`).
 pub fn load_path(file: &Path, text: &str) -> Result<Vec<PathPoint>, TableError> {
-    let t = Table::parse(file, text)?.non_empty()?;
-    let cols = ["step", "eps", "parameter", "fx", "fy", "fz", "stable"].map(|c| t.column(c));
+    let read = ["step", "eps", "parameter", "fx", "fy", "fz", "stable"];
+    let t = Table::parse(file, text)?
+        .numbers_in(&LOAD_NUMBERS, &read)?
+        .non_empty()?;
+    let cols = read.map(|c| t.column(c));
     let [step, eps, parameter, fx, fy, fz, stable] = transpose(cols)?;
     // the other components' columns, read when the table has every one of them
     let names = [
@@ -257,8 +324,9 @@ pub fn load_path(file: &Path, text: &str) -> Result<Vec<PathPoint>, TableError> 
 
 /// Reads `critical.csv`.
 pub fn critical_points(file: &Path, text: &str) -> Result<Vec<CriticalMark>, TableError> {
-    let t = Table::parse(file, text)?;
-    let cols = ["kind", "parameter", "eps", "fx", "fy", "fz"].map(|c| t.column(c));
+    let read = ["kind", "parameter", "eps", "fx", "fy", "fz"];
+    let t = Table::parse(file, text)?.numbers_in(&CRITICAL_NUMBERS, &read)?;
+    let cols = read.map(|c| t.column(c));
     let [kind, parameter, eps, fx, fy, fz] = transpose(cols)?;
     t.rows
         .iter()
@@ -276,8 +344,11 @@ pub fn critical_points(file: &Path, text: &str) -> Result<Vec<CriticalMark>, Tab
 /// Reads a state table (`state.csv` or `state-<step>.csv`) of output step `step`; its ε
 /// is the one its first `#` line states (`eps = …`), else `eps`.
 pub fn state(file: &Path, text: &str, step: usize, eps: f64) -> Result<StateTable, TableError> {
-    let t = Table::parse(file, text)?.non_empty()?;
-    let cols = ["rod", "s_over_l", "x", "y", "z", "k1", "k2", "omega"].map(|c| t.column(c));
+    let read = ["rod", "s_over_l", "x", "y", "z", "k1", "k2", "omega"];
+    let t = Table::parse(file, text)?
+        .numbers_in(&STATE_NUMBERS, &read)?
+        .non_empty()?;
+    let cols = read.map(|c| t.column(c));
     let [rod, s, x, y, z, k1, k2, omega] = transpose(cols)?;
     let mut rods: Vec<(usize, Vec<StateNode>)> = Vec::new();
     for r in &t.rows {
@@ -307,8 +378,9 @@ pub fn state(file: &Path, text: &str, step: usize, eps: f64) -> Result<StateTabl
 
 /// Reads `joints.csv`: the arc lengths `s/L` of the joints of each rod.
 pub fn joints(file: &Path, text: &str) -> Result<BTreeMap<usize, Vec<f64>>, TableError> {
-    let t = Table::parse(file, text)?;
-    let [rod, s] = transpose(["rod", "s_over_l"].map(|c| t.column(c)))?;
+    let read = ["rod", "s_over_l"];
+    let t = Table::parse(file, text)?.numbers_in(&["rod", "s", "s_over_l"], &read)?;
+    let [rod, s] = transpose(read.map(|c| t.column(c)))?;
     let mut out: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
     for r in &t.rows {
         out.entry(t.count(r, rod)?)
@@ -401,7 +473,7 @@ impl RunTables {
 
     /// Reads the tables of the run folder `dir`, labelled by the folder's name.
     pub fn read(dir: &Path) -> Result<RunTables, TableError> {
-        let io = |file: PathBuf| move |source| TableError::Io { file, source };
+        let io = |file: PathBuf| move |reason| TableError::Io { file, reason };
         let entries = std::fs::read_dir(dir).map_err(io(dir.to_path_buf()))?;
         let mut files = BTreeMap::new();
         for entry in entries {
@@ -411,10 +483,22 @@ impl RunTables {
                 name.as_str(),
                 "load.csv" | "critical.csv" | "joints.csv" | "state.csv"
             ) || state_step(&name).is_some();
-            if wanted && entry.file_type().is_ok_and(|t| t.is_file()) {
-                let text = std::fs::read_to_string(entry.path()).map_err(io(entry.path()))?;
-                files.insert(name, text);
+            if !wanted {
+                continue;
             }
+            // what the name leads to (a link is followed)
+            let kind = std::fs::metadata(entry.path()).map_err(io(entry.path()))?;
+            if kind.is_dir() {
+                continue;
+            }
+            if !kind.is_file() {
+                return Err(TableError::NotAFile {
+                    file: entry.path(),
+                    what: special_file(&kind),
+                });
+            }
+            let text = std::fs::read_to_string(entry.path()).map_err(io(entry.path()))?;
+            files.insert(name, text);
         }
         let label = dir
             .canonicalize()
@@ -435,4 +519,24 @@ impl RunTables {
             .iter()
             .min_by(|a, b| (a.eps - eps).abs().total_cmp(&(b.eps - eps).abs()))
     }
+}
+
+/// What a file that is not a regular file or a folder is, for messages.
+fn special_file(meta: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        let t = meta.file_type();
+        if t.is_fifo() {
+            return "a FIFO";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+        if t.is_block_device() || t.is_char_device() {
+            return "a device";
+        }
+    }
+    let _ = meta;
+    "a special file"
 }

@@ -74,8 +74,10 @@ pub fn load_csv(
             out.push_str("# conditions: the boundary conditions the point was solved under\n");
             for e in events {
                 out.push_str(&format!(
-                    "# event: from point {} (eps asked {:.6}): {}\n",
-                    e.from_point, e.parameter, e.what
+                    "# event: from point {} (eps asked {}): {}\n",
+                    e.from_point,
+                    asked(e.parameter),
+                    output::csv::comment_safe(&e.what)
                 ));
             }
             out.push_str(line);
@@ -94,6 +96,15 @@ pub fn load_csv(
     out
 }
 
+/// The load parameter an event asked for, to 6 decimals (short where that would be long).
+fn asked(parameter: f64) -> String {
+    if parameter.is_finite() && parameter.abs() < 1e6 {
+        format!("{parameter:.6}")
+    } else {
+        crate::case::num(parameter)
+    }
+}
+
 /// Writes the three tables of the state on screen and the path into `dir`; returns the
 /// files written.
 pub fn write(
@@ -107,12 +118,16 @@ pub fn write(
     let last = path
         .last()
         .ok_or_else(|| std::io::Error::other("no converged state yet"))?;
-    std::fs::create_dir_all(dir)?;
     let texts = [
         output::state_csv(label, snapshot),
         load_csv(label, path, conditions, events),
         output::reactions_csv(label, path),
     ];
+    // no table with a cell that holds no number, as `spira run` writes none
+    for text in &texts {
+        output::check_finite(text).map_err(std::io::Error::other)?;
+    }
+    std::fs::create_dir_all(dir)?;
     let mut files = Vec::new();
     for (name, text) in names(label, last.step, last.compression_ratio)
         .iter()

@@ -22,18 +22,20 @@
 //!
 //! Version 1 (no `version` key) called it `eps`; it is still read.
 
-use super::export::{self, SessionEvent};
-use super::worker::{self, Job, Part, WorkerEvent};
-use crate::case::Case;
+pub use super::error::ScriptError;
+use super::export::SessionEvent;
+use super::worker::Job;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::loading::Component;
-use crate::results::{LoadPoint, Snapshot};
+use crate::output::csv::comment_safe;
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
+use toml::Spanned;
 
 /// One job of a session, as a script says it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "do", rename_all = "kebab-case")]
+#[serde(tag = "do", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Action {
     /// A new simulation with `helices` helices under `boundary`, at `λ = 0`.
     Start {
@@ -85,6 +87,7 @@ pub const VERSION: u32 = 2;
 
 /// A saved session.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Script {
     /// The version of the format the file was written in (1 when it has no `version` key).
     #[serde(default = "first_version")]
@@ -103,33 +106,6 @@ pub struct Script {
 /// The version of a file without a `version` key.
 fn first_version() -> u32 {
     1
-}
-
-/// Why a session could not be saved, read or replayed.
-#[derive(Debug, thiserror::Error)]
-pub enum ScriptError {
-    #[error("reading or writing {path}")]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    #[error("session file {path}: {source}")]
-    Parse {
-        path: PathBuf,
-        #[source]
-        source: toml::de::Error,
-    },
-    #[error("writing the session: {0}")]
-    Serialise(#[from] toml::ser::Error),
-    #[error(
-        "session file {path} is of version {version}; this spira reads versions 1 to {VERSION}"
-    )]
-    Version { path: PathBuf, version: u32 },
-    #[error("the session has no start action")]
-    NoStart,
-    #[error("replaying the session: {0}")]
-    Failed(String),
 }
 
 impl Action {
@@ -168,50 +144,22 @@ impl Action {
         }
     }
 
-    /// The job that replays the action.
-    fn job(&self, case: &Case) -> Job {
-        let part = |steps: Option<usize>, step_length: Option<f64>| {
-            steps.map(|steps| Part {
-                steps,
-                step_length: step_length.unwrap_or(0.0),
-            })
-        };
-        match *self {
-            Action::Start {
-                helices,
-                ref boundary,
-                load,
-            } => {
-                let mut c = case.with_helices(helices);
-                c.boundary = *boundary;
-                // a load the scene cannot carry is refused before the jobs run (`replay`)
-                if let Ok(stepped) = c.with_stepped(load) {
-                    c = stepped;
-                }
-                Job::Start(Box::new(c))
-            }
-            Action::Advance {
-                parameter,
-                steps,
-                step_length,
-            } => match part(steps, step_length) {
-                Some(part) => Job::AdvancePart { parameter, part },
-                None => Job::Advance(parameter),
-            },
-            Action::Switch {
-                index,
-                sign,
-                parameter,
-                steps,
-                step_length,
-            } => Job::Switch {
-                index,
-                sign,
-                parameter,
-                part: part(steps, step_length),
-            },
-            Action::Boundary { boundary } => Job::SetBoundary(boundary),
+    /// The action's `do`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Action::Start { .. } => "start",
+            Action::Advance { .. } => "advance",
+            Action::Switch { .. } => "switch",
+            Action::Boundary { .. } => "boundary",
         }
+    }
+
+    /// Whether the action is a part of the way (stopped after its `steps`).
+    pub(super) fn is_part(&self) -> bool {
+        matches!(
+            self,
+            Action::Advance { steps: Some(_), .. } | Action::Switch { steps: Some(_), .. }
+        )
     }
 
     /// The action stopped from outside after `steps` accepted internal steps with the
@@ -262,27 +210,13 @@ impl Script {
 
     /// Reads a session file of any version up to [`VERSION`].
     pub fn read(path: &Path) -> Result<Script, ScriptError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScriptError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Script::parse(&text, path)
+        Session::read(path).map(|s| s.script)
     }
 
     /// A session from the text of a session file (`path` names it in errors), of any
     /// version up to [`VERSION`].
     pub fn parse(text: &str, path: &Path) -> Result<Script, ScriptError> {
-        let script: Script = toml::from_str(text).map_err(|source| ScriptError::Parse {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        if !(1..=VERSION).contains(&script.version) {
-            return Err(ScriptError::Version {
-                path: path.to_path_buf(),
-                version: script.version,
-            });
-        }
-        Ok(script)
+        Session::parse(text, path).map(|s| s.script)
     }
 
     pub fn write(&self, path: &Path) -> Result<(), ScriptError> {
@@ -294,71 +228,178 @@ impl Script {
     }
 }
 
-/// What a replay reached: the path, the conditions of each point and the last state.
-#[derive(Clone, Debug)]
-pub struct Replayed {
-    pub path: Vec<LoadPoint>,
-    pub conditions: Vec<BoundaryConditions>,
-    pub snapshot: Snapshot,
-    /// The failures on the way (as the explorer showed them).
-    pub failures: Vec<String>,
+/// A session file as read: its script, the file's name for messages and the line of each
+/// action.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Session {
+    pub script: Script,
+    /// The file, as messages name it.
+    pub file: String,
+    /// The line (from 1) where each action starts.
+    pub lines: Vec<usize>,
 }
 
-/// Runs `script` on `case` (the case its `case` names) through the solver's code.
-pub fn replay(script: &Script, case: &Case) -> Result<Replayed, ScriptError> {
-    if !matches!(script.actions.first(), Some(Action::Start { .. })) {
-        return Err(ScriptError::NoStart);
+impl Session {
+    /// Reads a session file of any version up to [`VERSION`].
+    pub fn read(path: &Path) -> Result<Session, ScriptError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ScriptError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Session::parse(&text, path)
     }
-    for (k, action) in script.actions.iter().enumerate() {
-        if let Action::Start { load, helices, .. } = *action {
-            if let Err(why) = case.with_helices(helices).with_stepped(load) {
-                return Err(ScriptError::Failed(format!(
-                    "action {} (start stepping the {}): {why}",
-                    k + 1,
-                    load.name()
-                )));
+
+    /// A session from the text of a session file (`path` names it in errors), of any
+    /// version up to [`VERSION`].
+    pub fn parse(text: &str, path: &Path) -> Result<Session, ScriptError> {
+        let file = path.display().to_string();
+        let spans = action_spans(text);
+        let script: Script = toml::from_str(text).map_err(|e| {
+            let at = e.span().map_or(0, |s| s.start);
+            // the place the `toml` crate gives for an error in an array of tables is the
+            // array's: the action at fault is found by reading each on its own
+            let (line, action, message) = match first_bad_action(text) {
+                Some((k, message)) => (session_line(text, &spans, k), Some(k + 1), message),
+                None => (
+                    line_of(text, at),
+                    action_at(text, &spans, at).map(|k| k + 1),
+                    e.message().trim().to_string(),
+                ),
+            };
+            ScriptError::Parse {
+                file: file.clone(),
+                line,
+                action,
+                message: comment_safe(&message),
             }
+        })?;
+        if !(1..=VERSION).contains(&script.version) {
+            let line = text
+                .lines()
+                .position(|l| {
+                    l.trim_start()
+                        .strip_prefix("version")
+                        .is_some_and(|r| r.trim_start().starts_with('='))
+                })
+                .map_or(1, |i| i + 1);
+            return Err(ScriptError::Version {
+                file,
+                line,
+                version: script.version,
+                newest: VERSION,
+            });
+        }
+        let lines = spans.iter().map(|s| line_of(text, s.start)).collect();
+        Ok(Session {
+            script,
+            file,
+            lines,
+        })
+    }
+
+    /// `script` as the file `file` would hold it once saved (the lines of its actions are
+    /// those of [`Script::to_toml`]).
+    pub fn of(script: Script, file: &Path) -> Session {
+        let lines = script
+            .to_toml()
+            .map(|text| {
+                action_spans(&text)
+                    .iter()
+                    .map(|s| line_of(&text, s.start))
+                    .collect()
+            })
+            .unwrap_or_default();
+        Session {
+            script,
+            file: file.display().to_string(),
+            lines,
         }
     }
-    let jobs: Vec<Job> = script.actions.iter().map(|a| a.job(case)).collect();
-    let mut path = Vec::new();
-    let mut conditions = Vec::new();
-    let mut snapshot = None;
-    let mut failures = Vec::new();
-    for event in worker::run_jobs(jobs) {
-        match event {
-            WorkerEvent::Solved { state, .. } => {
-                path.push(state.point);
-                conditions.push(state.boundary);
-                snapshot = Some(state.snapshot);
-            }
-            WorkerEvent::Failed { reason, .. } => failures.push(reason),
-            _ => {}
+
+    /// The line of action `k` (from 0; the first line when it is not known).
+    pub fn line(&self, k: usize) -> usize {
+        self.lines.get(k).copied().unwrap_or(1)
+    }
+
+    /// Action `k` (from 0) refused before it ran, for `message`.
+    pub(super) fn refused(&self, k: usize, message: String) -> ScriptError {
+        ScriptError::Refused {
+            file: self.file.clone(),
+            line: self.line(k),
+            number: k + 1,
+            kind: self.script.actions.get(k).map_or("start", Action::kind),
+            message: comment_safe(&message),
         }
     }
-    let snapshot = snapshot.ok_or_else(|| ScriptError::Failed(failures.join("; ")))?;
-    Ok(Replayed {
-        path,
-        conditions,
-        snapshot,
-        failures,
+
+    /// Action `k` (from 0) that the solver could not do, for `reason`.
+    pub(super) fn failed(&self, k: usize, reason: String) -> ScriptError {
+        ScriptError::Failed {
+            file: self.file.clone(),
+            line: self.line(k),
+            number: k + 1,
+            kind: self.script.actions.get(k).map_or("start", Action::kind),
+            reason: comment_safe(&reason),
+        }
+    }
+}
+
+/// The line of action `k` (from 0) of `text` whose actions start at `spans`.
+fn session_line(text: &str, spans: &[std::ops::Range<usize>], k: usize) -> usize {
+    spans.get(k).map_or(1, |s| line_of(text, s.start))
+}
+
+/// The actions of a session file as TOML values with their places, read leniently (any
+/// other key is ignored) to say where an action is.
+#[derive(Deserialize)]
+struct Layout {
+    #[serde(default)]
+    actions: Vec<Spanned<toml::Value>>,
+}
+
+/// Where the actions of `text` start (byte ranges: the `[[actions]]` header, or the inline
+/// table); none when the text is not TOML or its `actions` not an array.
+pub(super) fn action_spans(text: &str) -> Vec<Range<usize>> {
+    toml::from_str::<Layout>(text)
+        .map(|l| l.actions.iter().map(Spanned::span).collect())
+        .unwrap_or_default()
+}
+
+/// The first action of `text` (from 0) that is not an action on its own, and why: the
+/// place of an error the `toml` crate gives for an array of tables is the array's.
+pub(super) fn first_bad_action(text: &str) -> Option<(usize, String)> {
+    let layout = toml::from_str::<Layout>(text).ok()?;
+    layout.actions.into_iter().enumerate().find_map(|(k, a)| {
+        a.into_inner()
+            .try_into::<Action>()
+            .err()
+            .map(|e| (k, e.message().trim().to_string()))
     })
 }
 
-/// Replays `script` on `case` and writes the explorer's export of its last state into
-/// `dir`.
-pub fn replay_into(script: &Script, case: &Case, dir: &Path) -> Result<Vec<PathBuf>, ScriptError> {
-    let r = replay(script, case)?;
-    export::write(
-        dir,
-        &script.label,
-        &r.snapshot,
-        &r.path,
-        &r.conditions,
-        &script.events,
-    )
-    .map_err(|source| ScriptError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })
+/// The line (from 1) of byte `at` of `text`.
+pub(super) fn line_of(text: &str, at: usize) -> usize {
+    let at = at.min(text.len());
+    text.as_bytes()[..at]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+/// The action (from 0) whose text holds byte `at`: the last one starting before it, unless
+/// it is an inline table that ends before `at` or a table of another name comes between.
+pub(super) fn action_at(text: &str, spans: &[Range<usize>], at: usize) -> Option<usize> {
+    let k = spans.iter().rposition(|s| s.start <= at)?;
+    let span = &spans[k];
+    let own = text.get(span.clone())?;
+    if own.starts_with('{') {
+        return (at < span.end).then_some(k);
+    }
+    let between = text.get(span.start..at.min(text.len()))?;
+    let foreign = between.lines().skip(1).any(|l| {
+        let t = l.trim_start();
+        t.starts_with('[') && !t.starts_with("[actions") && !t.starts_with("[[actions")
+    });
+    (!foreign).then_some(k)
 }

@@ -5,6 +5,7 @@
 use super::subject::{with_mesh, Measure, Subject, ORDERS};
 use crate::case::{AccuracyTarget, Case};
 use crate::discretisation::shape::Order;
+use crate::solver::interrupt::{Interrupt, Interruption};
 use std::time::{Duration, Instant};
 
 /// The mesh is chosen for this fraction of the target: the error estimate holds only
@@ -88,6 +89,16 @@ impl MeshChoice {
 /// Why no mesh was chosen.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum AccuracyError {
+    /// Stopped from outside (a signal, the explorer's cancel) after the pilot solves of
+    /// `orders_done` element orders.
+    #[error("the mesh choice for accuracy {target:e} was {why} after {:.1} s, with the pilot solves of {orders_done} of {orders} element order(s) done; no mesh was chosen", elapsed.as_secs_f64())]
+    Interrupted {
+        target: f64,
+        why: Interruption,
+        orders_done: usize,
+        orders: usize,
+        elapsed: Duration,
+    },
     #[error("accuracy {target:e}: the pilot solves failed ({reasons})")]
     PilotFailed { target: f64, reasons: String },
     #[error("accuracy {target:e} is out of reach: {reasons}")]
@@ -108,6 +119,17 @@ pub fn choose_mesh(
     target: f64,
     orders: &[Order],
 ) -> Result<MeshChoice, AccuracyError> {
+    choose_mesh_with(subject, target, orders, None)
+}
+
+/// [`choose_mesh`], stopped when `interrupt` is raised (the pilot solves check it between
+/// Newton iterations).
+pub fn choose_mesh_with(
+    subject: &Subject,
+    target: f64,
+    orders: &[Order],
+    interrupt: Option<&Interrupt>,
+) -> Result<MeshChoice, AccuracyError> {
     if target.is_nan() || target < ACCURACY_FLOOR {
         return Err(AccuracyError::Unreachable {
             target,
@@ -120,8 +142,18 @@ pub fn choose_mesh(
     let m = subject.joint_intervals().max(1);
     let mut pilots = Vec::new();
     let mut failures = Vec::new();
-    for &order in orders {
-        match pilot(subject, order, SAFETY * target, m) {
+    for (done, &order) in orders.iter().enumerate() {
+        let outcome = pilot(subject, order, SAFETY * target, m, interrupt);
+        if let Some(why) = interrupt.and_then(Interrupt::check) {
+            return Err(AccuracyError::Interrupted {
+                target,
+                why,
+                orders_done: done,
+                orders: orders.len(),
+                elapsed: t0.elapsed(),
+            });
+        }
+        match outcome {
             Ok(p) => pilots.push(p),
             Err(reason) => failures.push(reason),
         }
@@ -166,7 +198,13 @@ pub fn choose_mesh(
 /// The two coarse solves of `order` ([`Subject::coarsest`] and twice that) and what they
 /// predict for the relative error `goal` on meshes of `m` elements between joints; the
 /// reason when they cannot be made.
-fn pilot(subject: &Subject, order: Order, goal: f64, m: usize) -> Result<Pilot, String> {
+fn pilot(
+    subject: &Subject,
+    order: Order,
+    goal: f64,
+    m: usize,
+    interrupt: Option<&Interrupt>,
+) -> Result<Pilot, String> {
     let n1 = subject.coarsest(order);
     if n1.saturating_mul(2) > MAX_ELEMENTS {
         return Err(format!(
@@ -179,12 +217,13 @@ fn pilot(subject: &Subject, order: Order, goal: f64, m: usize) -> Result<Pilot, 
     let probes = subject.vertices(n1);
     let solve = |n: usize| {
         let t = Instant::now();
-        subject.solve(order, n, &probes).map(|v| (v, t.elapsed()))
+        subject
+            .solve_with(order, n, &probes, interrupt)
+            .map(|v| (v, t.elapsed()))
+            .map_err(|e| format!("{}: {e}", order.name()))
     };
-    let (first, second) = match (solve(n1), solve(2 * n1)) {
-        (Ok(a), Ok(b)) => (a, b),
-        (Err(e), _) | (_, Err(e)) => return Err(format!("{}: {e}", order.name())),
-    };
+    let first = solve(n1)?;
+    let second = solve(2 * n1)?;
     let exponent = subject.theoretical_order(Measure::Response, order);
     let (q1, q2) = (first.0.response, second.0.response);
     let scale = if q2 != 0.0 { q2.abs() } else { 1.0 };
@@ -233,6 +272,14 @@ impl Pilot {
 /// target becomes a mesh: the faces (`spira run`, `spira bench`, the explorer) call it
 /// before solving.
 pub fn resolve_accuracy(case: &Case) -> Result<(Case, Option<MeshChoice>), AccuracyError> {
+    resolve_accuracy_with(case, None)
+}
+
+/// [`resolve_accuracy`], stopped when `interrupt` is raised.
+pub fn resolve_accuracy_with(
+    case: &Case,
+    interrupt: Option<&Interrupt>,
+) -> Result<(Case, Option<MeshChoice>), AccuracyError> {
     let Some(AccuracyTarget { target, order }) = case.discretisation.accuracy else {
         return Ok((case.clone(), None));
     };
@@ -241,6 +288,6 @@ pub fn resolve_accuracy(case: &Case) -> Result<(Case, Option<MeshChoice>), Accur
         None => ORDERS.to_vec(),
     };
     let subject = Subject::Path(Box::new(case.clone()));
-    let choice = choose_mesh(&subject, target, &orders)?;
+    let choice = choose_mesh_with(&subject, target, &orders, interrupt)?;
     Ok((with_mesh(case, choice.order, choice.elements), Some(choice)))
 }

@@ -5,6 +5,7 @@
 use super::subject::{Measure, Subject, Values, ORDERS};
 use crate::discretisation::shape::Order;
 use crate::simulation::SolveError;
+use crate::solver::interrupt::{Interrupt, Interruption};
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
@@ -124,6 +125,13 @@ pub struct Study {
 pub enum StudyError {
     #[error("the study was cancelled")]
     Cancelled,
+    /// Stopped from outside (a signal) after `done` of `total` meshes.
+    #[error("the study was {why} after {done} of {total} meshes")]
+    Interrupted {
+        why: Interruption,
+        done: usize,
+        total: usize,
+    },
     #[error("no reference: {0}")]
     NoReference(String),
 }
@@ -143,20 +151,47 @@ pub fn run_study(
     subject: &Subject,
     ladder: &Ladder,
     repeats: usize,
+    on_rung: impl FnMut(&RungFinished) -> ControlFlow<()>,
+) -> Result<Study, StudyError> {
+    run_study_with(subject, ladder, repeats, None, on_rung)
+}
+
+/// [`run_study`], stopped when `interrupt` is raised (the solves check it between Newton
+/// iterations): [`StudyError::Interrupted`] with the meshes done.
+pub fn run_study_with(
+    subject: &Subject,
+    ladder: &Ladder,
+    repeats: usize,
+    interrupt: Option<&Interrupt>,
     mut on_rung: impl FnMut(&RungFinished) -> ControlFlow<()>,
 ) -> Result<Study, StudyError> {
     let probes = subject.vertices(ladder.coarsest_elements());
     let mut rungs: Vec<RungResult> = Vec::new();
+    let stopped = |done: usize| {
+        interrupt
+            .and_then(Interrupt::check)
+            .map(|why| StudyError::Interrupted {
+                why,
+                done,
+                total: ladder.rungs.len(),
+            })
+    };
     for (k, &rung) in ladder.rungs.iter().enumerate() {
         // the warm-up: its values are kept, its time only when nothing is timed
         let t0 = Instant::now();
-        let values = subject.solve(rung.order, rung.elements, &probes);
+        let values = subject.solve_with(rung.order, rung.elements, &probes, interrupt);
+        if let Some(e) = stopped(k) {
+            return Err(e);
+        }
         let mut time = t0.elapsed();
         if values.is_ok() {
             let mut best: Option<Duration> = None;
             for _ in 0..repeats {
                 let t = Instant::now();
-                let again = subject.solve(rung.order, rung.elements, &probes);
+                let again = subject.solve_with(rung.order, rung.elements, &probes, interrupt);
+                if let Some(e) = stopped(k) {
+                    return Err(e);
+                }
                 let dt = t.elapsed();
                 if again.is_ok() {
                     best = Some(best.map_or(dt, |b| b.min(dt)));

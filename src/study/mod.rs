@@ -31,11 +31,12 @@ pub mod ladder;
 pub mod subject;
 
 pub use accuracy::{
-    choose_mesh, resolve_accuracy, AccuracyError, MeshChoice, Pilot, ACCURACY_FLOOR, MAX_ELEMENTS,
-    SAFETY,
+    choose_mesh, choose_mesh_with, resolve_accuracy, resolve_accuracy_with, AccuracyError,
+    MeshChoice, Pilot, ACCURACY_FLOOR, MAX_ELEMENTS, SAFETY,
 };
 pub use ladder::{
-    measured, run_study, Ladder, Reference, Rung, RungFinished, RungResult, Study, StudyError,
+    measured, run_study, run_study_with, Ladder, Reference, Rung, RungFinished, RungResult, Study,
+    StudyError,
 };
 
 pub use subject::{sample_curvature, Measure, Probes, Subject, Values, ORDERS};

@@ -1,7 +1,7 @@
 //! The subject of a study, what it solves: a case's load path or Love's helix, the measures taken of each
 //! solution and their theoretical orders.
 
-use crate::case::Case;
+use crate::case::{num, Case};
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::fields;
 use crate::discretisation::shape::Order;
@@ -10,9 +10,10 @@ use crate::model::helix::Chirality;
 use crate::model::loading::Control;
 use crate::model::love::LoveHelix;
 use crate::results::Snapshot;
-use crate::run::run_path;
+use crate::run::run_path_with;
 use crate::simulation::{Simulation, SolveError};
 use crate::solver::continuation::ContinuationSettings;
+use crate::solver::interrupt::Interrupt;
 
 /// Largest mesh a study considers (elements per rod).
 pub const MAX_ELEMENTS: usize = 8192;
@@ -154,7 +155,7 @@ impl Subject {
                 "n = {}, {} control 0 → {} in {} steps; {}, {} reference curvatures",
                 case.geometry.helices,
                 case.loading.control.name(),
-                case.loading.target,
+                num(case.loading.target),
                 case.loading.steps,
                 case.rod.describe(),
                 case.discretisation.reference.name()
@@ -174,8 +175,10 @@ impl Subject {
     pub fn response_label(&self) -> String {
         match self {
             Subject::Path(case) => match case.loading.control {
-                Control::Displacement => format!("Fz/(n Pcrit) at ε = {}", case.loading.target),
-                Control::Force => format!("ε at P/Pcrit = {}", case.loading.target),
+                Control::Displacement => {
+                    format!("Fz/(n Pcrit) at ε = {}", num(case.loading.target))
+                }
+                Control::Force => format!("ε at P/Pcrit = {}", num(case.loading.target)),
             },
             Subject::Love(_) => "tip force Fz (N)".to_string(),
         }
@@ -292,11 +295,24 @@ impl Subject {
         elements: usize,
         probes: &Probes,
     ) -> Result<Values, SolveError> {
+        self.solve_with(order, elements, probes, None)
+    }
+
+    /// [`Subject::solve`], stopped (an error of reason
+    /// [`StopReason::Interrupted`](crate::solver::continuation::StopReason)) when
+    /// `interrupt` is raised: the path checks it between Newton iterations.
+    pub fn solve_with(
+        &self,
+        order: Order,
+        elements: usize,
+        probes: &Probes,
+        interrupt: Option<&Interrupt>,
+    ) -> Result<Values, SolveError> {
         match self {
             Subject::Path(case) => {
                 let case = with_mesh(case, order, elements);
                 let targets = case.output_parameters(case.loading.target, case.loading.steps);
-                let outcome = run_path(&case, &targets, |_, _| {})?;
+                let outcome = run_path_with(&case, &targets, interrupt.cloned(), None, |_, _| {})?;
                 if let Some(e) = outcome.error {
                     return Err(e);
                 }

@@ -28,12 +28,13 @@ pub enum SweepError {
         message: String,
     },
     /// The base case is not a valid case by itself.
-    #[error("{file}:{line}: base case: {source}")]
+    /// The case reader's refusal is said in the message (and kept out of the error
+    /// chain, which a report walks: it would be said twice).
+    #[error("{file}:{line}: base case: {reason}")]
     Base {
         file: String,
         line: usize,
-        #[source]
-        source: CaseError,
+        reason: CaseError,
     },
     /// A generated case is refused by the case reader.
     #[error(transparent)]
@@ -46,6 +47,15 @@ pub enum SweepError {
     Write {
         path: String,
         reason: std::io::Error,
+    },
+    /// A cell of a sweep table that is not what its column holds.
+    #[error("{path}:{line}: column `{column}`: expected {expected}, found `{found}`")]
+    Cell {
+        path: String,
+        line: u64,
+        column: String,
+        expected: &'static str,
+        found: String,
     },
     /// A sweep table that cannot be read or merged.
     #[error("{path}: {message}")]
@@ -61,7 +71,9 @@ impl SweepError {
             | SweepError::Key { file, .. }
             | SweepError::Base { file, .. } => Some(file),
             SweepError::Generated(g) => Some(&g.file),
-            SweepError::Write { path, .. } | SweepError::Table { path, .. } => Some(path),
+            SweepError::Write { path, .. }
+            | SweepError::Table { path, .. }
+            | SweepError::Cell { path, .. } => Some(path),
             SweepError::Shard(_) => None,
         }
     }
@@ -73,6 +85,7 @@ impl SweepError {
             | SweepError::Key { line, .. }
             | SweepError::Base { line, .. } => Some(*line),
             SweepError::Generated(g) => Some(g.line),
+            SweepError::Cell { line, .. } => usize::try_from(*line).ok(),
             _ => None,
         }
     }
@@ -83,7 +96,7 @@ impl SweepError {
         match self {
             SweepError::Key { key, .. } => Some(key),
             SweepError::Generated(g) => Some(&g.key),
-            SweepError::Base { source, .. } => source.key(),
+            SweepError::Base { reason, .. } => reason.key(),
             _ => None,
         }
     }

@@ -13,7 +13,7 @@ pub mod table;
 
 pub use error::{InvalidCase, SweepError};
 pub use merge::merge_dirs;
-pub use plan::{Axis, Combine, Sweep, SweepCase};
+pub use plan::{folder_name, Axis, Combine, Sweep, SweepCase, MAX_CASES};
 pub use runner::{
     run_sweep, table_name, workers, CaseFinished, CaseStatus, RunOptions, SweepReport, CASE_FILE,
     MARKER,

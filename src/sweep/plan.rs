@@ -50,9 +50,20 @@ pub struct Sweep {
 
 const TOP_KEYS: [&str; 5] = ["name", "base", "combine", "case", "axes"];
 
+/// The most cases a sweep may generate without `--force` (each is read and checked before
+/// anything runs, and listed by `--check`).
+pub const MAX_CASES: usize = 10_000;
+
 impl Sweep {
-    /// Reads a sweep file; a `base` case is looked for beside it.
+    /// Reads a sweep file of at most [`MAX_CASES`] cases; a `base` case is looked for
+    /// beside it.
     pub fn from_file(path: &Path) -> Result<Sweep, SweepError> {
+        Sweep::from_file_with(path, MAX_CASES)
+    }
+
+    /// Reads a sweep file of at most `max_cases` cases (counted from its axes before any is
+    /// generated); a `base` case is looked for beside it.
+    pub fn from_file_with(path: &Path, max_cases: usize) -> Result<Sweep, SweepError> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|reason| SweepError::Io {
             file: file.clone(),
@@ -63,12 +74,24 @@ impl Sweep {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "sweep".into());
-        Sweep::parse(&text, &file, &stem, dir)
+        Sweep::parse_with(&text, &file, &stem, dir, max_cases)
     }
 
-    /// Parses sweep text; `file` names it in errors, `stem` is the sweep's name when it gives
-    /// none, `dir` is where a `base` file is looked for. Every generated case is validated.
+    /// Parses sweep text of at most [`MAX_CASES`] cases; `file` names it in errors, `stem`
+    /// is the sweep's name when it gives none, `dir` is where a `base` file is looked for.
+    /// Every generated case is validated.
     pub fn parse(text: &str, file: &str, stem: &str, dir: &Path) -> Result<Sweep, SweepError> {
+        Sweep::parse_with(text, file, stem, dir, MAX_CASES)
+    }
+
+    /// [`Sweep::parse`] of at most `max_cases` cases.
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        stem: &str,
+        dir: &Path,
+        max_cases: usize,
+    ) -> Result<Sweep, SweepError> {
         let doc: Table = text
             .parse()
             .map_err(|e: toml::de::Error| SweepError::Syntax {
@@ -85,9 +108,10 @@ impl Sweep {
                 ),
             ));
         }
+        // the name is the default output folder's: safe for a file system, under `out/`
         let name = match doc.get("name") {
-            None => stem.to_string(),
-            Some(Value::String(s)) => s.clone(),
+            None => folder_name(stem),
+            Some(Value::String(s)) => folder_name(s),
             Some(v) => return Err(src.key_error("name", format!("expected a string, found {v}"))),
         };
         let combine = match doc.get("combine") {
@@ -103,6 +127,7 @@ impl Sweep {
         };
         let base = base_case(&doc, src, dir)?;
         let axes = axes_of(&doc, src)?;
+        count_cases(&axes, combine, src, max_cases)?;
         let combos = combinations(&axes, combine, file)?;
         let cases = generated_cases(&base, &axes, combos, file)?;
         Ok(Sweep {
@@ -187,10 +212,10 @@ fn base_file(path: &Path, src: Source, line: usize) -> Result<Table, SweepError>
         key: "base".into(),
         message: format!("cannot read case file {base_file}: {reason}"),
     })?;
-    let as_base = |source: CaseError| SweepError::Base {
+    let as_base = |reason: CaseError| SweepError::Base {
         file: file.into(),
         line,
-        source,
+        reason,
     };
     Case::parse(&base_text, &base_file, "base").map_err(as_base)?;
     base_text
@@ -478,6 +503,57 @@ fn flat(v: &Value) -> String {
         Value::Array(a) => a.iter().map(flat).collect::<Vec<_>>().join("-"),
         v => v.to_string(),
     }
+}
+
+/// A sweep's name as a folder name: [`slug`]ged, without leading dots (no `..`, no hidden
+/// folder), at most 100 characters; `sweep` when nothing is left.
+pub fn folder_name(name: &str) -> String {
+    let s: String = slug(name)
+        .trim_start_matches('.')
+        .chars()
+        .take(100)
+        .collect();
+    if s.is_empty() {
+        "sweep".into()
+    } else {
+        s
+    }
+}
+
+/// Refuses axes that make more than `max` cases, counted before any is generated.
+fn count_cases(axes: &[Axis], combine: Combine, src: Source, max: usize) -> Result<(), SweepError> {
+    let lengths: Vec<usize> = axes.iter().map(|a| a.values.len()).collect();
+    let (count, how) = match combine {
+        // unequal lengths are refused with the combinations
+        Combine::Zip => (
+            lengths.iter().copied().max().unwrap_or(0),
+            "zipped".to_string(),
+        ),
+        Combine::Product => (
+            lengths.iter().fold(1usize, |n, &l| n.saturating_mul(l)),
+            lengths
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(" × "),
+        ),
+    };
+    if count <= max {
+        return Ok(());
+    }
+    let count = if count == usize::MAX {
+        format!("more than {}", usize::MAX - 1)
+    } else {
+        count.to_string()
+    };
+    Err(SweepError::Key {
+        file: src.file.into(),
+        line: line_of_section(src.text, "axes").unwrap_or(1),
+        key: "axes".into(),
+        message: format!(
+            "the axes make {count} cases ({how}); a sweep of more than {max} cases is read, checked and listed only with --force"
+        ),
+    })
 }
 
 fn slug(s: &str) -> String {

@@ -11,7 +11,7 @@ use crate::model::loading::Control;
 use crate::output::precision::ChoiceReport as _;
 use crate::run::{run_path_steps, PathOutcome};
 use crate::solver::interrupt::Interrupt;
-use crate::study::resolve_accuracy;
+use crate::study::resolve_accuracy_with;
 use rayon::prelude::*;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -105,13 +105,17 @@ pub fn table_name(shard: Shard) -> String {
     }
 }
 
-/// The number of workers `jobs` asks for (default: the cores).
-pub fn workers(jobs: Option<usize>) -> usize {
-    jobs.filter(|&j| j > 0).unwrap_or_else(|| {
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1)
-    })
+/// The number of workers `jobs` asks for (default: the cores), at most the cores and the
+/// `cases` to run (and at least one): more threads would only wait.
+pub fn workers(jobs: Option<usize>, cases: usize) -> usize {
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    jobs.filter(|&j| j > 0)
+        .unwrap_or(cores)
+        .min(cores)
+        .min(cases)
+        .max(1)
 }
 
 /// Runs the cases of `opts.shard` not yet complete in `opts.out`, `on_case` told after each
@@ -136,7 +140,6 @@ pub fn run_sweep(
         .filter(|c| opts.shard.contains(c.index))
         .collect();
     let total = selected.len();
-    let jobs = workers(opts.jobs);
     let tally = Tally::new(on_case, total, t0);
     // finished cases first, in order
     let mut rows = Vec::new();
@@ -152,6 +155,7 @@ pub fn run_sweep(
         }
     }
     let skipped = rows.len();
+    let jobs = workers(opts.jobs, todo.len());
     let results = run_cases(&todo, jobs, out, &empty, interrupt, &tally)?;
     let pending = results.iter().filter(|r| r.is_none()).count();
     rows.extend(results.into_iter().flatten());
@@ -368,7 +372,8 @@ struct Solved {
 }
 
 fn solve(case: &Case, interrupt: Option<&Interrupt>) -> Result<Solved, String> {
-    let (case, choice) = resolve_accuracy(case).map_err(|e| format!("choosing the mesh: {e}"))?;
+    let (case, choice) =
+        resolve_accuracy_with(case, interrupt).map_err(|e| format!("choosing the mesh: {e}"))?;
     let eps = case.output_parameters(case.loading.target, case.loading.steps);
     let outcome = run_path_steps(&case, &eps, interrupt.cloned(), None, |_| {})
         .map_err(|e| format!("no equilibrium at eps = 0: {e}"))?;

@@ -65,11 +65,20 @@ impl Shard {
                 max.map_or("?".into(), |m| m.to_string())
             )));
         }
-        let k = (id - min) / step + 1;
+        // the place of a task from `min` on, 1-based; none past the whole numbers
+        let place = |task: usize, name: &str| {
+            ((task - min) / step).checked_add(1).ok_or_else(|| {
+                SweepError::Shard(format!(
+                    "{name} = {task} with SLURM_ARRAY_TASK_MIN = {min}: an array of more tasks than can be counted ({} at most); use --shard",
+                    usize::MAX
+                ))
+            })
+        };
+        let k = place(id, "SLURM_ARRAY_TASK_ID")?;
         let n =
             match (count, max) {
                 (Some(c), _) => c,
-                (None, Some(max)) if max >= min => (max - min) / step + 1,
+                (None, Some(max)) if max >= min => place(max, "SLURM_ARRAY_TASK_MAX")?,
                 _ => return Err(SweepError::Shard(
                     "a Slurm array task without SLURM_ARRAY_TASK_COUNT or SLURM_ARRAY_TASK_MAX: \
                      the array's size is unknown; use --shard"
@@ -77,13 +86,17 @@ impl Shard {
                 )),
             };
         if let Some(max) = max {
-            if (max - min) / step + 1 != n {
+            if max < min || place(max, "SLURM_ARRAY_TASK_MAX")? != n {
                 return Err(SweepError::Shard(format!(
                     "the Slurm array {min}-{max}:{step} has gaps ({n} tasks); use --shard"
                 )));
             }
         }
-        Shard::new(k, n).map(Some)
+        Shard::new(k, n).map(Some).map_err(|_| {
+            SweepError::Shard(format!(
+                "SLURM_ARRAY_TASK_ID = {id} is task {k} of an array of {n} (SLURM_ARRAY_TASK_COUNT or SLURM_ARRAY_TASK_MAX); use --shard"
+            ))
+        })
     }
 
     /// Whether the case at 0-based `index` of the sorted list belongs to this shard.

@@ -28,6 +28,25 @@ pub const RESULT_COLUMNS: [&str; 20] = [
     "reason",
 ];
 
+/// The columns of [`RESULT_COLUMNS`] that hold numbers (or nothing).
+pub const NUMBER_COLUMNS: [&str; 15] = [
+    "elements",
+    "unknowns",
+    "target",
+    "eps_reached",
+    "fz",
+    "energy",
+    "stable",
+    "unstable_dirs",
+    "lowest_eig",
+    "critical_eps",
+    "critical_fz",
+    "critical_points",
+    "steps",
+    "iterations",
+    "wall_s",
+];
+
 /// A table: its header and rows of cells, the rows sorted by case.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SweepTable {
@@ -106,6 +125,16 @@ impl SweepTable {
         let mut rows = Vec::new();
         for rec in r.records() {
             let rec = rec.map_err(|e| bad(e.to_string()))?;
+            let line = rec.position().map_or(0, |p| p.line());
+            for (cell, column) in rec.iter().zip(&headers) {
+                check_cell(cell, column).map_err(|expected| SweepError::Cell {
+                    path: path.into(),
+                    line,
+                    column: column.clone(),
+                    expected,
+                    found: quoted(cell),
+                })?;
+            }
             rows.push(rec.iter().map(str::to_string).collect());
         }
         Ok(SweepTable { headers, rows })
@@ -161,6 +190,29 @@ impl SweepTable {
         }
         out.rows = by_case.into_values().collect();
         Ok(out)
+    }
+}
+
+/// Whether `cell` may stand in `column` of a sweep table: a status `done` or `failed`, a
+/// finite number or nothing in a column of numbers; else what was expected.
+fn check_cell(cell: &str, column: &str) -> Result<(), &'static str> {
+    if column == "status" && cell != "done" && cell != "failed" {
+        return Err("done or failed");
+    }
+    let number = cell.trim().parse::<f64>().is_ok_and(f64::is_finite);
+    if NUMBER_COLUMNS.contains(&column) && !cell.trim().is_empty() && !number {
+        return Err("a finite number or an empty cell");
+    }
+    Ok(())
+}
+
+/// A cell as a message quotes it: on one line, at most 40 characters.
+fn quoted(cell: &str) -> String {
+    let one_line = crate::output::csv::comment_safe(cell);
+    if one_line.chars().count() > 40 {
+        one_line.chars().take(40).collect::<String>() + "…"
+    } else {
+        one_line
     }
 }
 

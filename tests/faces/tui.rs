@@ -1519,9 +1519,9 @@ fn a_saved_session_replays_to_the_explorers_csvs() {
     assert!(load.contains("tip fixed/clamped") && load.contains("tip slide/clamped"));
     let session = app.save_session().expect("saved");
     // the session file as written, read back and replayed headless
-    let script = spira::session::script::Script::read(&session).expect("readable");
+    let script = spira::session::script::Session::read(&session).expect("readable");
     let replayed =
-        spira::session::script::replay_into(&script, &small_case(2), &dir.join("replay"))
+        spira::session::replay::replay_into(&script, &small_case(2), &dir.join("replay"))
             .expect("replays");
     for (ours, theirs) in files.iter().zip(&replayed) {
         assert_eq!(ours.file_name(), theirs.file_name());
@@ -1799,8 +1799,8 @@ fn a_step_cancelled_part_of_the_way_replays_to_the_same_state() {
     let files = app.export();
     assert_eq!(files.len(), 3, "{:?}", app.message);
     let session = app.save_session().expect("saved");
-    let script = spira::session::script::Script::read(&session).expect("readable");
-    let replayed = spira::session::script::replay_into(&script, &slow_case(), &dir.join("replay"))
+    let script = spira::session::script::Session::read(&session).expect("readable");
+    let replayed = spira::session::replay::replay_into(&script, &slow_case(), &dir.join("replay"))
         .expect("replays");
     assert_eq!(replayed.len(), files.len());
     for (ours, theirs) in files.iter().zip(&replayed) {
@@ -1888,8 +1888,8 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
     let load = std::fs::read_to_string(&files[1]).unwrap();
     assert!(load.contains("# event: from point 8"), "{load}");
     let session = app.save_session().expect("saved");
-    let script = spira::session::script::Script::read(&session).expect("readable");
-    let replayed = spira::session::script::replay_into(
+    let script = spira::session::script::Session::read(&session).expect("readable");
+    let replayed = spira::session::replay::replay_into(
         &script,
         &pair_case("fundamental", 0.5, 10),
         &dir.join("replay"),

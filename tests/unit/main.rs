@@ -9,3 +9,4 @@ mod cases;
 mod continuation;
 mod docs;
 mod fuzz_cases;
+mod fuzz_sessions;

@@ -11,6 +11,7 @@ use super::{load_case, repeats_flag};
 use anyhow::{bail, Result};
 use spira::case::Case;
 use spira::run::{run_path, PathOutcome};
+use spira::solver::interrupt::Interrupt;
 use std::path::Path;
 use std::time::Instant;
 
@@ -56,7 +57,7 @@ pub fn bench(case: Option<&Path>, repeats: u64, measure: Measure) -> Result<()> 
 /// symmetry.
 fn bench_path(path: Option<&Path>, repeats: usize) -> Result<()> {
     end_on_signal_between_writes();
-    let (mut case, _) = resolve(load_case(path)?)?;
+    let (mut case, _) = resolve(load_case(path)?, &Interrupt::new())?;
     // the full model first, the symmetric pair (what "auto" solves) beside it
     case.discretisation.symmetric = false;
     let parameters = case.output_parameters(case.loading.target, case.loading.steps);
@@ -67,7 +68,7 @@ fn bench_path(path: Option<&Path>, repeats: usize) -> Result<()> {
         case.discretisation.elements,
         case.discretisation.order,
         case.load_parameter().ascii(),
-        case.loading.target,
+        spira::case::num(case.loading.target),
         case.loading.steps,
         repeats.max(1)
     );

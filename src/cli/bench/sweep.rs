@@ -28,7 +28,7 @@ pub fn bench_sweep() -> Result<()> {
         "bench",
         Path::new("."),
     )?;
-    let cores = workers(None);
+    let cores = workers(None, sweep.cases.len());
     println!(
         "spira bench --sweep: {} cases (n = 2, 24 quadratic elements per rod, eps 0 -> 0.3 in 6 steps, turns 2 ... 5.5, fixed and sliding tips), {cores} core(s)",
         sweep.cases.len()

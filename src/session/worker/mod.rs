@@ -31,4 +31,4 @@ pub use event::{Solved, WorkerEvent};
 pub use handle::{Worker, PRECISION_THREAD_NAME, SOLVE_BUDGET, THREAD_NAME};
 pub use job::{coalesce, Job, Part, Request};
 pub use precision::PRECISION_REPEATS;
-pub use solver::{run_jobs, PROGRESS_INTERVAL};
+pub use solver::{run_jobs, Runner, PROGRESS_INTERVAL};

@@ -12,7 +12,7 @@ use crate::run::BRANCH_STEP;
 use crate::simulation::{Simulation, SolveError};
 use crate::solver::continuation::Observer;
 use crate::solver::interrupt::Interrupt;
-use crate::study::resolve_accuracy;
+use crate::study::{resolve_accuracy_with, AccuracyError};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::Arc;
@@ -24,21 +24,55 @@ pub const PROGRESS_INTERVAL: Duration = Duration::from_millis(50);
 /// Runs `jobs` in order on this thread with the solver thread's code (no time budget, no
 /// cancellation, no coalescing) and returns its answers: a replay of a session.
 pub fn run_jobs(jobs: Vec<Job>) -> Vec<WorkerEvent> {
-    let mut solver = Solver::new();
-    let mut events = Vec::new();
-    for (k, job) in jobs.into_iter().enumerate() {
-        let generation = if matches!(job, Job::Start(_)) {
-            solver.generation + 1
-        } else {
-            solver.generation
-        };
-        events.extend(solver.run(Request {
-            generation,
-            seq: k as u64 + 1,
-            job,
-        }));
+    let mut runner = Runner::new();
+    jobs.into_iter().flat_map(|job| runner.run(job)).collect()
+}
+
+/// Jobs run one at a time on this thread with the solver thread's code (no time budget, no
+/// cancellation, no coalescing), so that a replay can look at the simulation between two.
+pub struct Runner {
+    solver: Solver,
+    jobs: u64,
+}
+
+impl Default for Runner {
+    fn default() -> Self {
+        Runner::new()
     }
-    events
+}
+
+impl Runner {
+    /// No simulation yet.
+    pub fn new() -> Runner {
+        Runner {
+            solver: Solver::new(),
+            jobs: 0,
+        }
+    }
+
+    /// Runs `job` and returns its answers.
+    pub fn run(&mut self, job: Job) -> Vec<WorkerEvent> {
+        let generation = if matches!(job, Job::Start(_)) {
+            self.solver.generation + 1
+        } else {
+            self.solver.generation
+        };
+        self.jobs += 1;
+        self.solver.run(Request {
+            generation,
+            seq: self.jobs,
+            job,
+        })
+    }
+
+    /// The critical points the current simulation has found since its start (0 without
+    /// one): the indices a [`Job::Switch`] may name.
+    pub fn critical_points(&self) -> usize {
+        self.solver
+            .sim
+            .as_ref()
+            .map_or(0, |s| s.critical_points().len())
+    }
 }
 
 /// The solver thread's state: the simulation of the current generation and the number of
@@ -213,8 +247,18 @@ impl Solver {
     /// A new simulation of `case` (of generation `generation`) at its natural state.
     fn start(&mut self, case: &Case, generation: u64, seq: u64, t0: Instant) -> Vec<WorkerEvent> {
         // an accuracy target becomes a mesh here, before the natural state
-        let (case, choice) = match resolve_accuracy(case) {
+        let (case, choice) = match resolve_accuracy_with(case, self.interrupt.as_ref()) {
             Ok(resolved) => resolved,
+            // stopped from outside: the previous simulation stays, as it was
+            Err(e @ AccuracyError::Interrupted { why, .. }) => {
+                return vec![WorkerEvent::Failed {
+                    generation,
+                    seq,
+                    reason: format!("{e}; the previous simulation is kept"),
+                    boundary: self.sim.as_ref().map(Simulation::boundary_conditions),
+                    interrupted: Some(why),
+                }]
+            }
             Err(e) => {
                 return vec![WorkerEvent::Failed {
                     generation,

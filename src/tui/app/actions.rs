@@ -59,8 +59,9 @@ impl App {
         if gap.abs() < 1e-12 {
             self.requests.running = false;
             self.message = Some(Message::Info(format!(
-                "reached the target {} = {target}; r starts over",
-                self.symbol()
+                "reached the target {} = {}; r starts over",
+                self.symbol(),
+                crate::case::num(target)
             )));
             return vec![];
         }
@@ -260,8 +261,9 @@ impl App {
         if target > 0.0 && sign > 0.0 {
             if from >= target - 1e-12 {
                 self.message = Some(Message::Info(format!(
-                    "at the target {} = {target}; ← steps back, r starts over",
-                    self.symbol()
+                    "at the target {} = {}; ← steps back, r starts over",
+                    self.symbol(),
+                    crate::case::num(target)
                 )));
                 return vec![];
             }
