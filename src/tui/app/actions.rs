@@ -454,7 +454,7 @@ impl App {
         self.message = Some(Message::Info(format!(
             "stepping the {name} ({} = 0 → {} {}): starting over",
             self.symbol(),
-            self.target(),
+            crate::case::num(self.target()),
             self.load_parameter().unit()
         )));
         self.record(format!("load {name}, start over"));

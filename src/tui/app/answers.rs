@@ -4,6 +4,7 @@
 use super::explorer::{App, Effect, Message, PrecisionView, CANCELLING};
 use super::state::Progress;
 use crate::model::boundary::BoundaryConditions;
+use crate::model::loading::Component;
 use crate::results::Snapshot;
 use crate::session::worker::{Solved, WorkerEvent};
 use crate::solver::interrupt::Interruption;
@@ -107,11 +108,19 @@ impl App {
         self.screen.path.push(state.point.clone());
         self.screen.conditions.push(state.boundary);
         for c in &state.critical {
+            // where: ε and the axial load, or the stepped load's own parameter
+            let at = if self.case.loading.parameter == Component::Axial {
+                format!(
+                    "ε = {:.5}, fz/(n Pcrit) = {:.4}",
+                    c.compression_ratio, c.load[2]
+                )
+            } else {
+                let p = self.load_parameter();
+                format!("{} = {:.5} {}", p.symbol(), c.parameter, p.unit())
+            };
             self.message = Some(Message::Info(format!(
-                "critical point: {} at ε = {:.5}, fz/(n Pcrit) = {:.4}, unstable directions {} → {} (x lists them)",
+                "critical point: {} at {at}, unstable directions {} → {} (x lists them)",
                 c.kind.name(),
-                c.compression_ratio,
-                c.load[2],
                 c.unstable_before,
                 c.unstable_after
             )));

@@ -2,6 +2,7 @@
 
 use super::colours::DIM;
 use super::overlay::draw_overlay;
+use crate::model::loading::Component;
 use crate::tui::app::App;
 use ratatui::layout::Rect;
 use ratatui::style::{Modifier, Style};
@@ -11,10 +12,18 @@ use ratatui::Frame;
 /// The critical points crossed so far, as a list over the screen, the chosen one
 /// highlighted (a bifurcation's branch is switched onto from here).
 pub(super) fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
-    let mut lines = vec![Line::from(Span::styled(
-        "  #  kind           ε         fz/(n Pcrit)  unstable  p",
-        Style::new().fg(DIM),
-    ))];
+    // the axial load's critical points by ε and fz, the others' by their own parameter
+    let axial = app.case().loading.parameter == Component::Axial;
+    let head = if axial {
+        "  #  kind           ε         fz/(n Pcrit)  unstable  p".to_string()
+    } else {
+        let p = app.load_parameter();
+        format!(
+            "  #  kind           {:<9} fz/(n Pcrit)  unstable  p",
+            format!("{} ({})", p.symbol(), p.unit())
+        )
+    };
+    let mut lines = vec![Line::from(Span::styled(head, Style::new().fg(DIM)))];
     if app.screen.critical.is_empty() {
         lines.push(Line::from(" none crossed on this path yet"));
     }
@@ -27,7 +36,11 @@ pub(super) fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
                 ' '
             },
             c.kind.name(),
-            c.compression_ratio,
+            if axial {
+                c.compression_ratio
+            } else {
+                c.parameter
+            },
             c.load[2],
             c.unstable_before,
             c.unstable_after,

@@ -242,19 +242,26 @@ fn parameter_bounds(app: &App) -> [f64; 2] {
         Control::Displacement => vec![app.target(), app.screen.requested_parameter],
         Control::Force => Vec::new(),
     };
+    // the abscissa starts at 0 but for the pressure's, the mean radius: from the path alone
+    let origin = (c != Component::Pressure).then_some(0.0);
+    let start = origin.unwrap_or(f64::INFINITY);
     let (lo, hi) = app
         .screen
         .path
         .iter()
         .map(|p| along(c, p))
-        .chain([0.0])
+        .chain(origin)
         .chain(ahead)
         .filter(|e| e.is_finite())
-        .fold((0.0f64, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
+        .fold((start, -start), |(lo, hi), e| (lo.min(e), hi.max(e)));
     if hi > lo {
         [lo, hi]
+    } else if lo.is_finite() {
+        // one point: a span around it of its own size
+        let half = 0.5 * lo.abs().max(1e-12).min(0.5) * if origin.is_some() { 1.0 } else { 0.01 };
+        [lo - half, hi + half]
     } else {
-        [lo - 0.5, hi + 0.5]
+        [-0.5, 0.5]
     }
 }
 

@@ -60,7 +60,7 @@ fn case_line(app: &App) -> Line<'static> {
         sep(),
         Span::raw(format!("{} ", app.symbol())),
         bold(parameter),
-        Span::raw(format!(" → {}", app.target())),
+        Span::raw(format!(" → {}", crate::case::num(app.target()))),
         sep(),
         Span::raw(format!("Δ{} {}", app.symbol(), fmt_step(app.user_step()))),
         sep(),
@@ -177,7 +177,7 @@ fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)
         fields.push((
             0,
             vec![
-                Span::raw(format!("{} {} ", short_name(m), fmt_num(motion))),
+                Span::raw(format!("{} {} ", short_name(m), fmt_motion(motion))),
                 Span::raw(format!("{} ", short_name(f))),
                 bold(fmt_num(force)),
             ],
@@ -338,4 +338,13 @@ fn short_name(name: &str) -> String {
         Some((symbol, unit)) => format!("{symbol}/{}", unit.trim_end_matches(')')),
         None => name.to_string(),
     }
+}
+
+/// A displacement to 5 significant figures (a radius moves in its fourth digit).
+fn fmt_motion(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return fmt_num(v);
+    }
+    let decimals = (4 - v.abs().log10().floor() as i32).clamp(0, 8) as usize;
+    format!("{v:.decimals$}")
 }
