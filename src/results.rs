@@ -261,6 +261,12 @@ pub struct StepBulk {
     /// The finite assembly's mean tip `Fz` over its rods divided by `tube_force`; `None` at
     /// `ε = 0` (both vanish).
     pub tube_ratio: Option<f64>,
+    /// Under a radial pressure: the bulk radius of the infinite tube that the pressure holds
+    /// with no axial force (m), the pantograph's closed form (docs/loads.md); `None` without
+    /// pressure, for other elastic hypotheses, or past the largest pressure it carries.
+    pub tube_radius: Option<f64>,
+    /// The rods' mean fitted bulk radius over `tube_radius`.
+    pub radius_ratio: Option<f64>,
 }
 
 /// A critical mode on the geometry of its state, for output: the shape of the state at the

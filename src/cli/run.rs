@@ -291,7 +291,10 @@ fn bulk_line(bulk: &StepBulk) -> String {
         love.map_or("-".to_string(), |f| format!("{f:.4} N")),
         mean(&|b| b.axial_force),
         bulk.tube_ratio.map_or("-".to_string(), |r| format!("{r:.4}"))
-    )
+    ) + &match (bulk.tube_radius, bulk.radius_ratio) {
+        (Some(a), Some(r)) => format!(", infinite tube under this pressure a = {a:.5} m (ratio {r:.4})"),
+        _ => String::new(),
+    }
 }
 
 /// One line per critical point of the path.

@@ -7,8 +7,10 @@
 //! Barlow points ([`super::fields::recovered_curvature`]), accurate to `O(h^{p+1})`.
 
 use super::discrete_model::DiscreteModel;
+use crate::model::elasticity::Elasticity;
 use crate::model::helix::Helix;
 use crate::model::love::{axial_wrench, LoveHelix};
+use crate::model::pantograph::pantograph_radius;
 use crate::model::stiffness::Stiffness;
 use crate::results::{LoadPoint, RodBulk, RodReaction, RodShape, Snapshot, StepBulk};
 use nalgebra::Vector3;
@@ -188,12 +190,23 @@ pub fn step_bulk(model: &DiscreteModel, snapshot: &Snapshot, point: &LoadPoint) 
         let mean = rods.iter().map(|r| r.axial_force).sum::<f64>() / rods.len() as f64;
         Some(mean / tf).filter(|r| r.is_finite())
     });
+    // the pantograph's radius, for Kirchhoff rods stress-free on their natural helices
+    let tube_radius = natural
+        .filter(|h| !h.is_straight() && point.support.pressure != 0.0)
+        .filter(|_| model.elasticity == Elasticity::default())
+        .and_then(|h| pantograph_radius(&h, &model.stiffness, point.support.pressure));
+    let radius_ratio = tube_radius.and_then(|a| {
+        let mean = rods.iter().map(|r| r.radius).sum::<f64>() / rods.len().max(1) as f64;
+        Some(mean / a).filter(|r| r.is_finite() && !rods.is_empty())
+    });
     StepBulk {
         step: point.step,
         compression_ratio: point.compression_ratio,
         rods,
         tube_force,
         tube_ratio,
+        tube_radius,
+        radius_ratio,
     }
 }
 

@@ -7,6 +7,7 @@ pub mod elasticity;
 pub mod helix;
 pub mod loading;
 pub mod love;
+pub mod pantograph;
 pub mod quaternion;
 pub mod stiffness;
 pub mod symmetry;

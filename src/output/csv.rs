@@ -473,6 +473,12 @@ struct BulkRow {
     tube_force: Option<f64>,
     #[serde(serialize_with = "format::opt_e10")]
     tube_ratio: Option<f64>,
+    /// Under radial pressure: the infinite tube's bulk radius with no axial force (m), and
+    /// the mean fitted bulk radius over it.
+    #[serde(serialize_with = "format::opt_e10")]
+    tube_radius: Option<f64>,
+    #[serde(serialize_with = "format::opt_e10")]
+    radius_ratio: Option<f64>,
 }
 
 /// `bulk.csv`: the bulk of every rod at every output step, the helix fitted there, Love's
@@ -480,7 +486,7 @@ struct BulkRow {
 pub fn bulk_csv(case: &str, steps: &[StepBulk]) -> String {
     let comments = [
         format!("spira bulk, case {case}; bulk = longest stretch where k1, k2, omega stay within {} x 1/c0 of one helix", BULK_TOLERANCE),
-        "bulk_start,bulk_end: extent of the bulk (s/L); layer_base,layer_tip: boundary-layer lengths (m); radius,pitch: fitted helix a and b (m); k1,k2,omega: mean curvatures over the bulk (1/m); love_force (N, tension positive), love_moment (N m): Love's closed form for the fitted helix; fz (N), mz (N m): the rod's tip reaction, axial force and couple about the tube axis; tube_force: Love's axial force per rod of the infinite tube (c = c0, b = b0 (1 - eps)) (N); tube_ratio: mean tip fz of the rods / tube_force".to_string(),
+        "bulk_start,bulk_end: extent of the bulk (s/L); layer_base,layer_tip: boundary-layer lengths (m); radius,pitch: fitted helix a and b (m); k1,k2,omega: mean curvatures over the bulk (1/m); love_force (N, tension positive), love_moment (N m): Love's closed form for the fitted helix; fz (N), mz (N m): the rod's tip reaction, axial force and couple about the tube axis; tube_force: Love's axial force per rod of the infinite tube (c = c0, b = b0 (1 - eps)) (N); tube_ratio: mean tip fz of the rods / tube_force; tube_radius: under radial pressure, the infinite tube's bulk radius with no axial force, the pantograph's closed form (m); radius_ratio: the rods' mean bulk radius / tube_radius".to_string(),
     ];
     let rows = steps.iter().flat_map(|st| {
         st.rods.iter().map(move |b| BulkRow {
@@ -503,6 +509,8 @@ pub fn bulk_csv(case: &str, steps: &[StepBulk]) -> String {
             mz: b.axial_moment,
             tube_force: st.tube_force,
             tube_ratio: st.tube_ratio,
+            tube_radius: st.tube_radius,
+            radius_ratio: st.radius_ratio,
         })
     });
     table(&comments, rows)

@@ -311,6 +311,21 @@ fn pantograph_pressure(a: f64) -> f64 {
 #[test]
 fn the_pantographs_closed_form_gives_the_check_value() {
     assert!((pantograph_pressure(0.05) - 2790.21).abs() < 0.01);
+    // the library's, against this file's own derivation
+    let natural = spira::model::assembly::Assembly::new(8, 0.06, 0.025, 1.0).rods[0];
+    let stiffness = spira::model::stiffness::Stiffness {
+        b1: 1.0,
+        b2: 1.0,
+        b3: 2.0,
+    };
+    use spira::model::pantograph::{pantograph_pressure as library, pantograph_radius};
+    for a in [0.055, 0.05, 0.045] {
+        assert!((library(&natural, &stiffness, a) - pantograph_pressure(a)).abs() < 1e-9);
+    }
+    let a = pantograph_radius(&natural, &stiffness, 2790.21).unwrap();
+    assert!((a - 0.05).abs() < 1e-7, "{a}");
+    // past the branch's largest pressure no radius carries it
+    assert!(pantograph_radius(&natural, &stiffness, 4000.0).is_none());
 }
 
 /// The mean bulk helix `(a, b)` (m) of the rods at the case's path end, stepped to
@@ -373,8 +388,9 @@ fn the_bulk_of_a_long_pressurised_tube_is_the_pantographs_helix() {
         392,
         &format!("parameter = \"pressure\"\ntarget = {q}\nhold = {{ axial_force = 0 }}"),
     );
-    let (a, _) = bulk_helix(&tube28, q, 4);
+    let (a, point) = bulk_helix(&tube28, q, 4);
     let needed = pantograph_pressure(a);
+    assert!((point.support.pressure - q).abs() < 1e-9 * q);
     assert!(
         (needed - q).abs() < 0.02 * q,
         "bulk radius {a} m needs q = {needed} N/m, applied {q}"
