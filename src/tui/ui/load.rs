@@ -258,7 +258,7 @@ fn parameter_bounds(app: &App) -> [f64; 2] {
         [lo, hi]
     } else if lo.is_finite() {
         // one point: a span around it of its own size
-        let half = 0.5 * lo.abs().max(1e-12).min(0.5) * if origin.is_some() { 1.0 } else { 0.01 };
+        let half = 0.5 * lo.abs().clamp(1e-12, 0.5) * if origin.is_some() { 1.0 } else { 0.01 };
         [lo - half, hi + half]
     } else {
         [-0.5, 0.5]
