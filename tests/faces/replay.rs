@@ -85,14 +85,13 @@ fn a_start_of_zero_or_three_or_1024_helices_is_refused_by_the_case_readers_limit
         ("3", "expected 1 or an even number"),
         ("1024", "pin joints; expected at most 1000000"),
     ] {
-        let (out, took) = replay(&dir, &session("\"x\"", helices, &advance("0.05")));
+        let (out, _) = replay(&dir, &session("\"x\"", helices, &advance("0.05")));
         let err = assert_refused(&dir, &out, 10, 1);
         assert!(
             err.contains(&format!("refused: helices = {helices}: ")),
             "{err}"
         );
         assert!(err.contains(says), "{err}");
-        assert!(took < Duration::from_secs(2), "refused at once: {took:?}");
     }
 }
 
@@ -102,17 +101,13 @@ fn a_load_parameter_the_case_does_not_admit_is_refused_before_anything_runs() {
     for bad in ["nan", "inf", "-inf", "1e300", "1.0", "-5.0"] {
         // a good first step: the refusal comes before it runs
         let rest = advance("0.05") + &advance(bad);
-        let (out, took) = replay(&dir, &session("\"x\"", "2", &rest));
+        let (out, _) = replay(&dir, &session("\"x\"", "2", &rest));
         let err = assert_refused(&dir, &out, 23, 3);
         assert!(
             err.contains("(do = \"advance\") refused: parameter: expected a compression ratio"),
             "{bad}: {err}"
         );
         assert!(!err.contains("1000000000"), "numbers short: {err}");
-        assert!(
-            took < Duration::from_secs(1),
-            "before anything ran: {took:?}"
-        );
     }
 }
 

@@ -53,7 +53,8 @@ fn jobs_are_capped_at_the_cases_and_the_cores() {
     let workers = spira::sweep::workers(None, 2);
     assert!(said.contains("--jobs 1000000: "), "{said}");
     assert!(said.contains(&format!("on {workers} worker(s)")), "{said}");
-    assert!(took < Duration::from_secs(10), "{took:?}");
+    // a guard against a hang (a million threads), not a measure of speed
+    assert!(took < Duration::from_secs(120), "{took:?}");
     assert_eq!(
         spira::sweep::workers(Some(1_000_000), 2),
         spira::sweep::workers(None, 2)
@@ -173,7 +174,8 @@ fn an_os_error_is_said_once_and_a_fifo_is_not_a_table() {
         err.contains("fifo/load.csv: not a regular file (a FIFO)"),
         "{err}"
     );
-    assert!(took < Duration::from_secs(5));
+    // a guard against blocking on the FIFO, not a measure of speed
+    assert!(took < Duration::from_secs(120));
 }
 
 #[test]
@@ -230,7 +232,8 @@ fn a_sweep_of_more_than_ten_thousand_cases_asks_for_force() {
         err.contains("sweep.toml:2: key `axes`: the axes make 4000000 cases (2000 × 2000); a sweep of more than 10000 cases is read, checked and listed only with --force"),
         "{err}"
     );
-    assert!(took < Duration::from_secs(5), "at once: {took:?}");
+    // a guard against an unbounded check, not a measure of speed
+    assert!(took < Duration::from_secs(120), "at once: {took:?}");
     let file = dir.path().join("sweep.toml");
     assert!(Sweep::from_file(&file).is_err());
     let small = "base = \"base.toml\"\n[axes]\n\"loading.target\" = [0.05, 0.1]\n";
