@@ -1,4 +1,4 @@
-//! A session replayed: every action checked before anything runs ([`check`]), then run one
+//! A session replayed: every action checked before anything runs (`check`), then run one
 //! at a time through the solver thread's code; an action that cannot be done is refused
 //! with the explorer's message, naming the file, the action and its line, and nothing is
 //! written.

@@ -1,6 +1,6 @@
 //! A session as a small TOML script of the jobs the solver ran, saved by the explorer and
 //! replayed headless by `spira replay SESSION.toml --out DIR` through the same solver code
-//! ([`worker::run_jobs`]), so the replay writes the explorer's CSVs.
+//! (`worker::run_jobs`), so the replay writes the explorer's CSVs.
 //!
 //! The format has a version ([`VERSION`]). Version 2 names the load parameter `λ` (the
 //! compression ratio `ε` under displacement control, `P/Pcrit` under load control)
@@ -163,7 +163,7 @@ impl Action {
     }
 
     /// The action stopped from outside after `steps` accepted internal steps with the
-    /// next `step_length` long (see [`WorkerEvent::Stopped`]).
+    /// next `step_length` long (see `WorkerEvent::Stopped`).
     pub fn stopped_after(&mut self, at: usize, length: f64) {
         match self {
             Action::Advance {

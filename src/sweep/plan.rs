@@ -505,7 +505,7 @@ fn flat(v: &Value) -> String {
     }
 }
 
-/// A sweep's name as a folder name: [`slug`]ged, without leading dots (no `..`, no hidden
+/// A sweep's name as a folder name: `slug`ged, without leading dots (no `..`, no hidden
 /// folder), at most 100 characters; `sweep` when nothing is left.
 pub fn folder_name(name: &str) -> String {
     let s: String = slug(name)
