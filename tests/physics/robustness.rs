@@ -335,3 +335,27 @@ fn extension_paths_stop_at_their_folds_and_stay_physical() {
         );
     }
 }
+
+/// Under a compressive dead load far past its limit point the spring of thesis n = 1 is
+/// carried through flat: the path stops before a state with the tip at or below the base,
+/// says why, and keeps the states above it.
+#[test]
+fn a_load_controlled_path_stops_before_the_tip_reaches_the_base() {
+    use spira::solver::continuation::StopReason;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/thesis-n1.toml");
+    let text = std::fs::read_to_string(&path)
+        .expect("shipped case")
+        .replace("target = 0.5 ", "control = \"force\"\ntarget = 40.0 ")
+        .replace("elements = 48 ", "elements = 16 ");
+    let case = Case::parse(&text, "force.toml", "force").expect("valid");
+    let targets = case.output_parameters(40.0, 10);
+    let out = run_path(&case, &targets, |_, _| {}).expect("path");
+    let err = out.error.expect("short of its target");
+    assert_eq!(err.reason, StopReason::LeftDomain, "{err}");
+    assert_eq!(err.target, 40.0, "{err}");
+    let last = out.points.last().expect("points");
+    assert!(last.compression_ratio > 0.9, "{}", last.compression_ratio);
+    for p in &out.points {
+        assert!(p.height > 0.0, "step {}: h = {}", p.step, p.height);
+    }
+}
