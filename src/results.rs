@@ -204,6 +204,20 @@ pub struct CriticalPoint {
     pub second_mode: Option<Vec<f64>>,
 }
 
+impl CriticalPoint {
+    /// The change of the count of unstable directions as the faces show it, `arrow`
+    /// between the counts either side (`0 → 1`); a neutral direction, which crosses nothing
+    /// and counts as stable, as the count it keeps and the word `neutral` (`0, neutral`).
+    pub fn count_change(&self, arrow: &str) -> String {
+        match self.kind {
+            CriticalKind::Neutral => {
+                format!("{}, neutral", self.unstable_before.min(self.unstable_after))
+            }
+            _ => format!("{} {arrow} {}", self.unstable_before, self.unstable_after),
+        }
+    }
+}
+
 /// The bulk of one rod in a state: the longest stretch of arc length where its curvatures
 /// stay within a tolerance of one uniform helix (thesis §4, "bulk" and boundary layers),
 /// the helix fitted there, the axial force and couple Love's closed form gives for that

@@ -135,7 +135,9 @@ pub fn run_path_steps(
                 report(&sim, &p, t.elapsed());
                 points.push(p);
             }
-            error = Some(err);
+            // the error speaks of the path's target, not of the output step on the way
+            let target = targets.last().copied().unwrap_or(err.target);
+            error = Some(SolveError { target, ..err });
             break;
         }
         let p = sim.load_point(k + 1);

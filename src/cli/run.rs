@@ -13,7 +13,7 @@ use spira::output::precision::ChoiceReport as _;
 use spira::output::read::RunTables;
 use spira::results::{RodBulk, Snapshot, StepBulk, SupportResponse};
 use spira::run::{run_path_steps, PathOutcome, Step};
-use spira::solver::continuation::Observer;
+use spira::solver::continuation::{Observer, StopReason};
 use spira::solver::interrupt::Interrupt;
 use spira::study::MeshChoice;
 use std::collections::BTreeMap;
@@ -301,14 +301,13 @@ fn bulk_line(bulk: &StepBulk) -> String {
 fn print_critical_points(outcome: &PathOutcome) {
     for (i, c) in outcome.critical.iter().enumerate() {
         println!(
-            "critical point {i}: {} at eps = {:.6} ({} parameter {:.8}), fz/(n Pcrit) = {:.6}, unstable directions {} -> {}{}",
+            "critical point {i}: {} at eps = {:.6} ({} parameter {:.8}), fz/(n Pcrit) = {:.6}, unstable directions {}{}",
             c.kind.name(),
             c.compression_ratio,
             c.control.name(),
             c.parameter,
             c.load[2],
-            c.unstable_before,
-            c.unstable_after,
+            c.count_change("->"),
             if outcome.switched_at == Some(i) { "; the path switched branch here" } else { "" }
         );
     }
@@ -386,8 +385,14 @@ fn print_summary(
             f.0
         );
     }
+    // a path stopped short of its target did not reach anything
+    let ended = match &outcome.error {
+        None => "reached",
+        Some(e) if matches!(e.reason, StopReason::Interrupted(_)) => "interrupted at",
+        Some(_) => "stopped at",
+    };
     println!(
-        "reached eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
+        "{ended} eps = {:.6} in {:.1} ms: {} steps ({} rejected), {} Newton iterations, {} factorisations, {} unknowns; fz/(n Pcrit) = {:.6}, energy = {:.6e} J",
         last.compression_ratio,
         t0.elapsed().as_secs_f64() * 1e3,
         outcome.stats.steps,

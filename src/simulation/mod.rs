@@ -373,7 +373,12 @@ impl Simulation {
 
     /// Continues to load parameter `target` with as many internal steps as needed.
     /// On failure the last converged state is kept and the error says where and why.
+    /// A path whose parameter prescribes the axial motion of the tip ends at the first
+    /// limit point it meets: past it the path would carry the tip back, beyond where it
+    /// started.
     pub fn advance_to(&mut self, target: f64) -> Result<(), SolveError> {
+        let prescribed = prescribes_axial_motion(self.loads());
+        self.path.set_stop_at_folds(prescribed);
         let outcome = self.path.advance_to(target);
         self.record_critical();
         outcome.map_err(|e| self.error(e))
@@ -631,10 +636,21 @@ fn preloaded(
 /// `loads`: `ε` itself when the parameter prescribes the axial motion (the supports then
 /// hold the tips where the state has them), zero otherwise.
 fn parameter_of_state(loads: &Loads, eps: f64) -> f64 {
-    match (loads.parameter().driven, loads.tip().axis(SupportAxis::Z)) {
-        (Driven::Tip(SupportAxis::Z), AxisLoad::Motion(r)) => (eps - r.at_zero) / r.per_unit,
-        _ => 0.0,
+    if !prescribes_axial_motion(loads) {
+        return 0.0;
     }
+    match loads.tip().axis(SupportAxis::Z) {
+        AxisLoad::Motion(r) => (eps - r.at_zero) / r.per_unit,
+        AxisLoad::Force(_) => 0.0,
+    }
+}
+
+/// Whether the load parameter of `loads` prescribes the axial motion of the tip (`ε`).
+fn prescribes_axial_motion(loads: &Loads) -> bool {
+    matches!(
+        (loads.parameter().driven, loads.tip().axis(SupportAxis::Z)),
+        (Driven::Tip(SupportAxis::Z), AxisLoad::Motion(_))
+    )
 }
 
 fn solve_error(e: ContinuationError, control: Control, eps: f64) -> SolveError {

@@ -129,6 +129,11 @@ impl Problem for LoadedAssembly {
         self.system.n
     }
 
+    /// The mean tip above the base (`h > 0`).
+    fn in_domain(&self, x: &[f64]) -> bool {
+        mean_tip_height(&self.model, x) > 0.0
+    }
+
     fn primal_unknowns(&self) -> usize {
         self.model.n_primal
     }

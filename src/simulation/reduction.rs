@@ -11,7 +11,7 @@ use super::judge::{JudgeOnItself, StabilityJudge};
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::symmetry::{assembly_mode, expand_state};
 use crate::discretisation::system::System;
-use crate::results::CriticalPoint;
+use crate::results::{CriticalKind, CriticalPoint};
 use crate::solver::continuation::Critical;
 
 /// How the modelled rods stand for the whole assembly.
@@ -133,7 +133,9 @@ impl Reduction for WholeAssembly {
         Box::new(JudgeOnItself::new(model, system))
     }
 
-    /// At a double point (two eigenvalues crossing together) the plane's other mode.
+    /// At a double point (two eigenvalues crossing together) the plane's other mode; the
+    /// multiplicity is the jump of the count of unstable directions, as the blocks give
+    /// theirs (a neutral direction, which crosses nothing, one).
     fn critical_modes(
         &self,
         model: &DiscreteModel,
@@ -141,13 +143,17 @@ impl Reduction for WholeAssembly {
         judge: &mut dyn StabilityJudge,
         critical: &Critical,
     ) -> CriticalModes {
-        let double = critical.unstable_after.abs_diff(critical.unstable_before) == 2;
+        let jump = critical.unstable_after.abs_diff(critical.unstable_before);
+        let double = jump == 2;
         let second = double
             .then(|| judge.second_mode(model, system, &critical.state, &critical.mode))
             .flatten();
         CriticalModes {
             wavenumber: None,
-            multiplicity: 1,
+            multiplicity: match critical.kind {
+                CriticalKind::Neutral => 1,
+                _ => jump.max(1),
+            },
             assembly_mode: None,
             second_mode: second,
         }

@@ -74,6 +74,12 @@ pub enum StopReason {
     Newton { step: f64, cause: NewtonError },
     #[error("the path turned back (a limit point) and does not reach the target within {steps} arclength steps")]
     TurnedBack { steps: usize },
+    /// A path that must not turn back in its parameter (the axial motion prescribed) met a
+    /// limit point: it ends there (see [`Continuation::set_stop_at_folds`]).
+    #[error("the path meets a limit point (fold) at parameter {parameter:.6} and turns back there, short of the target: a path of prescribed motion ends at its fold")]
+    Fold { parameter: f64 },
+    #[error("the next step leaves the physical domain (the tip at or below the base)")]
+    LeftDomain,
     #[error("switching branch needs the full model: a symmetric pair cannot follow a mode that breaks the symmetry")]
     SymmetricPair,
     #[error("there is no critical point {index} to switch branch at")]
@@ -132,6 +138,15 @@ pub struct Critical {
     pub mode: Vec<f64>,
 }
 
+/// The converged state an accepted step started from, and how many critical points had
+/// been located then.
+pub(super) struct Before {
+    pub x: Vec<f64>,
+    pub lambda: f64,
+    pub stability: Option<Stability>,
+    pub located: usize,
+}
+
 /// Arclength steps after which a path that has turned back is given up.
 const MAX_ARCLENGTH_STEPS: usize = 2000;
 
@@ -152,6 +167,8 @@ pub struct Continuation<P: Problem> {
     pub(super) critical: Vec<Critical>,
     /// Whether a neutral direction has been recorded (once) on this path.
     neutral_found: bool,
+    /// Whether the path ends at a limit point instead of following it back.
+    pub(super) stop_at_folds: bool,
     /// Checked between Newton iterations and between steps.
     interrupt: Option<Interrupt>,
     /// Told of every accepted step.
@@ -194,6 +211,7 @@ impl<P: Problem> Continuation<P> {
             stats: Statistics::default(),
             critical: Vec::new(),
             neutral_found: false,
+            stop_at_folds: false,
             interrupt,
             observer,
         };
@@ -216,6 +234,12 @@ impl<P: Problem> Continuation<P> {
     /// Solves from now on stop when `interrupt` says so.
     pub fn set_interrupt(&mut self, interrupt: Option<Interrupt>) {
         self.interrupt = interrupt;
+    }
+
+    /// Whether the path ends at a limit point it meets (the parameter prescribes a motion
+    /// that may not turn back) instead of following the returning branch: false by default.
+    pub fn set_stop_at_folds(&mut self, stop: bool) {
+        self.stop_at_folds = stop;
     }
 
     /// `observer` is told of every accepted step from now on.
@@ -453,7 +477,12 @@ impl<P: Problem> Continuation<P> {
                         self.newton.discard_factorisation();
                         continue;
                     }
+                    if !self.problem.in_domain(&t.x) {
+                        self.newton.discard_factorisation();
+                        return Err(self.error(target, h, StopReason::LeftDomain));
+                    }
                     let iterations = t.report.iterations;
+                    let located_before = self.critical.len();
                     let (x_before, l_before) = (self.state.x.clone(), self.state.lambda);
                     let (stability_before, was_arclength) =
                         (self.state.stability, self.state.arclength);
@@ -481,6 +510,15 @@ impl<P: Problem> Continuation<P> {
                     }
                     self.judge_crossing(stability_before, &x_before, l_before, was_arclength)
                         .map_err(|reason| self.error(target, h, reason))?;
+                    let step_from = Before {
+                        x: x_before,
+                        lambda: l_before,
+                        stability: stability_before,
+                        located: located_before,
+                    };
+                    if let Some(reason) = self.stop_at_fold(step_from, dir) {
+                        return Err(self.error(target, h, reason));
+                    }
                     self.adapt_step(nominal, h, iterations);
                 }
                 Err(NewtonError::Interrupted { why, .. }) => {

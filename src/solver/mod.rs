@@ -5,6 +5,7 @@
 
 pub mod continuation;
 pub mod critical;
+mod fold;
 pub mod interrupt;
 pub mod ldl;
 pub mod linear;

@@ -116,6 +116,13 @@ pub trait Problem {
     /// After the location: every block counts again.
     fn clear_focus(&mut self) {}
 
+    /// Whether the state `x` is in the problem's physical domain (for the rods: the tips
+    /// above the base). The continuation stops before a step that leaves it. Every state
+    /// by default.
+    fn in_domain(&self, _x: &[f64]) -> bool {
+        true
+    }
+
     /// Back to the converged point `(x, λ)` after a trial step (accepted or rejected) or the
     /// probes of a critical-point search: whatever the problem keeps of its last evaluation
     /// is reset to that point.

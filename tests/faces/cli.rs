@@ -469,6 +469,50 @@ fn solver_failure_writes_what_was_reached_and_says_where_and_why() {
     assert!(err.contains("were written"), "{err}");
 }
 
+/// A pulled tube (the shipped straight clamped n = 8, target ε = −0.5) folds at
+/// ε = −0.3428: the run stops there, says so with the case's target, lists the fold in
+/// critical.csv, writes no state beyond [target, 0] nor at or below the base, exits
+/// non-zero, and its summary does not say "reached".
+#[test]
+fn a_displacement_path_stops_at_its_fold_and_says_so() {
+    let dir = Scratch::new("fold");
+    let case = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases/hypotheses/n8-straight-clamped-extension.toml");
+    let out_dir = dir.path("out");
+    let out = spira_run(&dir, &case, &out_dir, &[]);
+    assert!(!out.status.success(), "a path short of its target fails");
+    // progress lines ("still solving") may come first on a loaded machine
+    let stderr = stderr(&out);
+    let err = stderr
+        .lines()
+        .find(|l| l.starts_with("spira: error: "))
+        .unwrap_or_else(|| panic!("no error report: {stderr}"));
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(err.contains("limit point (fold)"), "{err}");
+    assert!(err.contains("target -0.500000"), "{err}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        !stdout.lines().any(|l| l.starts_with("reached")),
+        "{stdout}"
+    );
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("stopped at eps = -0.342795")),
+        "{stdout}"
+    );
+    let load = Csv::read(&out_dir.join("load.csv"));
+    let eps = load.numbers("eps");
+    for (e, h) in eps.iter().zip(load.numbers("h")) {
+        assert!((-0.5..=0.0).contains(e) && h > 0.0, "eps = {e}, h = {h}");
+    }
+    let critical = Csv::read(&out_dir.join("critical.csv"));
+    assert_eq!(critical.strings("kind"), ["limit-point"]);
+    let fold = critical.numbers("eps")[0];
+    assert!((fold + 0.342795).abs() < 1e-5, "{fold}");
+    assert_eq!(*eps.last().unwrap(), fold, "the path ends at its fold");
+}
+
 /// Ctrl-C (SIGINT) stops `spira run` at its last converged state and the files
 /// are written as after a failure. The case (8 helices in steps of 0.001) takes tens of
 /// seconds, so the signal arrives mid-path.
@@ -503,6 +547,13 @@ fn ctrl_c_stops_run_keeping_what_was_reached() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success(), "a stopped run is a failure");
     assert!(stderr.contains("interrupted"), "{stderr}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("interrupted at eps = ")),
+        "{stdout}"
+    );
     assert!(
         took < std::time::Duration::from_secs(10),
         "stopped after {took:?}"

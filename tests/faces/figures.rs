@@ -231,7 +231,10 @@ fn write_run(dir: &Path) {
 }
 
 fn synthetic() -> RunTables {
-    let dir = scratch("tables");
+    // a folder of its own for every call: the tests that read it run in parallel
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = scratch(&format!("tables-{call}"));
     write_run(&dir);
     RunTables::read(&dir).expect("the synthetic run reads")
 }

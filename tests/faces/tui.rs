@@ -1413,6 +1413,38 @@ fn a_critical_point_crossed_is_announced_marked_and_listed() {
     assert!(app.screen.critical.is_empty());
 }
 
+/// A neutral direction (a buckled isotropic rod turning about its axis) flips the count by
+/// rounding and counts as stable: announced and listed as neutral with the count it keeps,
+/// not as a change of the count.
+#[test]
+fn a_neutral_entry_is_announced_and_listed_as_neutral() {
+    let (mut app, mut sim) = started(small_case(2));
+    let r = only_request(&app.handle_key(ch('l')));
+    sim.advance_to(0.05).expect("converges");
+    let mut state = solved(&sim, 1);
+    state.critical = vec![spira::results::CriticalPoint {
+        kind: spira::results::CriticalKind::Neutral,
+        ..critical_point()
+    }];
+    app.on_worker_event(answer(&r, state));
+    match &app.message {
+        Some(Message::Info(m)) => {
+            assert!(m.contains("neutral at ε = 0.05000"), "{m}");
+            assert!(m.contains("unstable directions 0, neutral"), "{m}");
+            assert!(!m.contains("0 → 1"), "{m}");
+        }
+        other => panic!("expected the announcement, got {other:?}"),
+    }
+    app.handle_key(ch('x'));
+    let screen = text(&draw(&app, 80, 24));
+    let row = screen
+        .lines()
+        .find(|l| l.contains("neutral"))
+        .unwrap_or_else(|| panic!("no neutral row:\n{screen}"));
+    assert!(row.contains("0, neutral"), "{row}");
+    assert!(!row.contains('→'), "{row}");
+}
+
 #[test]
 fn the_readout_and_the_cursors_give_the_numbers() {
     let mut app = compressed_app();

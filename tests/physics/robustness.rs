@@ -278,3 +278,84 @@ fn every_length_times_1e_3_gives_the_thesis_n1_path_in_other_units() {
         }
     }
 }
+
+/// The three extension cases pass a limit point short of their target ε = −0.5 (the tube,
+/// pulled, stiffens until it folds back): under displacement control each ends at its fold
+/// — named as the reason, located, the last state written — and never writes a state with
+/// ε outside [target, 0] or the tip at or below the base. The error quotes the case's
+/// target, not the output step on the way.
+#[test]
+fn extension_paths_stop_at_their_folds_and_stay_physical() {
+    use spira::results::CriticalKind;
+    use spira::solver::continuation::StopReason;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/hypotheses");
+    for (name, fold_eps) in [
+        ("n8-straight-clamped-extension", -0.342795),
+        ("n8-straight-slide-extension", -0.365177),
+        ("n8-sadowsky-clamped-extension", -0.494603),
+    ] {
+        let case = Case::from_file(&root.join(format!("{name}.toml"))).expect("shipped case");
+        let target = case.loading.target;
+        let eps = case.output_parameters(target, case.loading.steps);
+        let out = run_path(&case, &eps, |_, _| {}).expect(name);
+        let err = out
+            .error
+            .unwrap_or_else(|| panic!("{name}: reached its target"));
+        let StopReason::Fold { parameter } = err.reason else {
+            panic!("{name}: stopped for another reason: {err}");
+        };
+        assert_eq!(err.target, target, "{name}: {err}");
+        assert!(
+            err.to_string().contains("target -0.500000"),
+            "{name}: {err}"
+        );
+        for p in &out.points {
+            assert!(
+                p.height > 0.0 && (target..=0.0).contains(&p.compression_ratio),
+                "{name}: step {} at eps = {}, h = {}",
+                p.step,
+                p.compression_ratio,
+                p.height
+            );
+        }
+        let fold = out.critical.last().expect("the fold is listed");
+        assert_eq!(fold.kind, CriticalKind::LimitPoint, "{name}");
+        assert_eq!(fold.parameter, parameter, "{name}");
+        assert!(
+            (fold.compression_ratio - fold_eps).abs() < 1e-5,
+            "{name}: fold at eps = {}",
+            fold.compression_ratio
+        );
+        let last = out.points.last().expect("points");
+        assert!(
+            (last.compression_ratio - fold.compression_ratio).abs() < 1e-12,
+            "{name}: the path ends at eps = {}, the fold is at {}",
+            last.compression_ratio,
+            fold.compression_ratio
+        );
+    }
+}
+
+/// Under a compressive dead load far past its limit point the spring of thesis n = 1 is
+/// carried through flat: the path stops before a state with the tip at or below the base,
+/// says why, and keeps the states above it.
+#[test]
+fn a_load_controlled_path_stops_before_the_tip_reaches_the_base() {
+    use spira::solver::continuation::StopReason;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/thesis-n1.toml");
+    let text = std::fs::read_to_string(&path)
+        .expect("shipped case")
+        .replace("target = 0.5 ", "control = \"force\"\ntarget = 40.0 ")
+        .replace("elements = 48 ", "elements = 16 ");
+    let case = Case::parse(&text, "force.toml", "force").expect("valid");
+    let targets = case.output_parameters(40.0, 10);
+    let out = run_path(&case, &targets, |_, _| {}).expect("path");
+    let err = out.error.expect("short of its target");
+    assert_eq!(err.reason, StopReason::LeftDomain, "{err}");
+    assert_eq!(err.target, 40.0, "{err}");
+    let last = out.points.last().expect("points");
+    assert!(last.compression_ratio > 0.9, "{}", last.compression_ratio);
+    for p in &out.points {
+        assert!(p.height > 0.0, "step {}: h = {}", p.step, p.height);
+    }
+}

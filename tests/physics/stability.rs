@@ -458,3 +458,25 @@ fn the_lowest_eigenvalue_is_that_of_a_dense_solve_of_the_constrained_pencil() {
         "n = 2 at rest: {lowest} vs dense {dense}"
     );
 }
+
+/// Greenhill's built-in shaft (B1 = B2) buckles in a plane of any orientation: two
+/// eigenvalues cross zero together. The full model reports the point with the count
+/// jumping by 2 and multiplicity 2, as the Bloch blocks report theirs.
+#[test]
+fn the_full_model_reports_a_double_point_with_multiplicity_two() {
+    let c = case("straight-twist");
+    let targets = c.output_parameters(c.loading.target, c.loading.steps);
+    let out = run_path(&c, &targets, |_, _| {}).expect("path");
+    assert!(out.error.is_none(), "{:?}", out.error);
+    let first = out.critical.first().expect("Greenhill's point");
+    assert_eq!(first.kind, CriticalKind::Bifurcation);
+    assert_eq!((first.unstable_before, first.unstable_after), (0, 2));
+    assert_eq!(first.wavenumber, None, "the full model");
+    assert_eq!(first.multiplicity, 2);
+    // T L/B = 8.9868 at B3 = 2: phi = 8.9868 / 2
+    assert!(
+        (first.parameter - 4.4934).abs() < 1e-3,
+        "{}",
+        first.parameter
+    );
+}

@@ -119,10 +119,9 @@ impl App {
                 format!("{} = {:.5} {}", p.symbol(), c.parameter, p.unit())
             };
             self.message = Some(Message::Info(format!(
-                "critical point: {} at {at}, unstable directions {} → {} (x lists them)",
+                "critical point: {} at {at}, unstable directions {} (x lists them)",
                 c.kind.name(),
-                c.unstable_before,
-                c.unstable_after
+                c.count_change("→")
             )));
         }
         self.screen.critical.extend(state.critical.iter().cloned());

@@ -29,7 +29,7 @@ pub(super) fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
     }
     for (i, c) in app.screen.critical.iter().enumerate() {
         let text = format!(
-            "{} {i:>2}  {:<13} {:>9.5}  {:>12.5}  {} → {}{}",
+            "{} {i:>2}  {:<13} {:>9.5}  {:>12.5}  {}{}",
             if i == app.view.critical_cursor {
                 '▸'
             } else {
@@ -42,8 +42,7 @@ pub(super) fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
                 c.parameter
             },
             c.load[2],
-            c.unstable_before,
-            c.unstable_after,
+            c.count_change("→"),
             c.wavenumber.map_or(String::new(), |p| format!("     {p}"))
         );
         let style = if i == app.view.critical_cursor {
