@@ -13,13 +13,16 @@ use crate::tui::keys::{self, Action};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 impl App {
-    /// Records a change of the session, at the next point of the path.
-    fn record(&mut self, what: String) {
-        self.screen.events.push(SessionEvent {
+    /// Records a change of the session: it applies from the next request on, and is placed
+    /// at the first point that request (or a later one) adds to the path.
+    pub(super) fn record(&mut self, what: String) {
+        let event = SessionEvent {
             from_point: self.screen.path.len(),
             parameter: self.screen.requested_parameter,
             what,
-        });
+        };
+        let from = self.requests.upcoming();
+        self.screen.pending.push((from, event));
     }
 
     /// Asks for load parameter `parameter` if the geometry admits it.
@@ -410,8 +413,7 @@ impl App {
             self.screen.helices,
             self.symbol()
         )));
-        self.record(format!("n = {n}, start over"));
-        self.restart_from(previous)
+        self.restart_from(previous, format!("n = {n}, start over"))
     }
 
     /// The next load component of [`Component::ALL`] that the supports can carry, stepped
@@ -457,8 +459,7 @@ impl App {
             crate::case::num(self.target()),
             self.load_parameter().unit()
         )));
-        self.record(format!("load {name}, start over"));
-        self.restart_from(previous)
+        self.restart_from(previous, format!("load {name}, start over"))
     }
 
     /// Back to `λ = 0` under the case's conditions and step.
@@ -470,8 +471,7 @@ impl App {
             "reset: {} = 0 under the case's boundary conditions",
             self.symbol()
         )));
-        self.record("reset".into());
-        self.restart_from(previous)
+        self.restart_from(previous, "reset".into())
     }
 
     /// Shows or hides the work-precision chart; the first time, asks for the study.

@@ -105,6 +105,7 @@ impl App {
                 )));
             }
         }
+        self.screen.place_events(seq);
         self.screen.path.push(state.point.clone());
         self.screen.conditions.push(state.boundary);
         for c in &state.critical {

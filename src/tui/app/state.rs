@@ -41,8 +41,13 @@ pub struct Screen {
     pub natural_k1: Option<f64>,
     /// The mesh chosen for the case's accuracy target, when it gives one.
     pub mesh: Option<MeshChoice>,
-    /// What changed in this session, in order (conditions, `n`, step, control).
+    /// What changed on this path, in point order (conditions, step, a branch switch; first
+    /// the start of the path: `n`, a reset, the load stepped), each at the first point
+    /// solved after it.
     pub events: Vec<SessionEvent>,
+    /// Changes that no point solved after them has reached yet, with the sequence number
+    /// of the first request that applies them.
+    pub(super) pending: Vec<(u64, SessionEvent)>,
 }
 
 impl Screen {
@@ -61,12 +66,15 @@ impl Screen {
             natural_k1: None,
             mesh: None,
             events: Vec::new(),
+            pending: Vec::new(),
         }
     }
 
     /// The screen of a new simulation (the next generation) from `λ = 0`: the same `n`,
-    /// conditions asked for, step and events.
+    /// conditions asked for and step; the events of the discarded path go with it.
     pub(super) fn restart(&mut self) {
+        self.events.clear();
+        self.pending.clear();
         self.generation += 1;
         self.path.clear();
         self.conditions.clear();
@@ -75,6 +83,30 @@ impl Screen {
         self.natural_k1 = None;
         self.requested_parameter = 0.0;
         self.mesh = None;
+    }
+
+    /// A point of request `seq` is about to join the path: the changes it is the first
+    /// point after are placed at it.
+    pub(super) fn place_events(&mut self, seq: u64) {
+        let at = self.path.len();
+        let (reached, waiting): (Vec<_>, Vec<_>) =
+            self.pending.drain(..).partition(|(from, _)| *from <= seq);
+        self.pending = waiting;
+        for (_, mut e) in reached {
+            e.from_point = at;
+            self.events.push(e);
+        }
+    }
+
+    /// The changes of this path in point order, those no point has reached yet at the
+    /// next point.
+    pub fn session_events(&self) -> Vec<SessionEvent> {
+        let next = self.path.len();
+        let waiting = self.pending.iter().map(|(_, e)| SessionEvent {
+            from_point: next,
+            ..e.clone()
+        });
+        self.events.iter().cloned().chain(waiting).collect()
     }
 
     /// Number of rods of the state on screen (`n` before the first state).
@@ -196,6 +228,11 @@ impl Requests {
     /// True while a request is unanswered.
     pub fn busy(&self) -> bool {
         self.last_done < self.last_sent
+    }
+
+    /// The sequence number the next request will have.
+    pub(super) fn upcoming(&self) -> u64 {
+        self.next_seq + 1
     }
 
     /// The next sequence number.
