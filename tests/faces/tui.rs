@@ -1549,7 +1549,7 @@ fn no_color_legends_tell_the_curves_apart_by_their_marks() {
     let mut app = compressed_app();
     app.view.no_color = true;
     let screen = text(&draw(&app, 100, 30));
-    for label in ["━κ1", "•κ2", "▀Ω", "━fx", "•fy", "▀fz"] {
+    for label in ["━κ1", "•κ2", "+Ω", "━fx", "•fy", "+fz"] {
         assert!(screen.contains(label), "legend {label}:\n{screen}");
     }
     assert_snapshot("no_color_100x30", &screen);
@@ -2304,4 +2304,75 @@ fn the_exported_events_are_those_of_the_path_kept_in_point_order() {
     );
     worker.join();
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The n = 2 small case stepped to ε = 0.15, unstable from ε = 0.1 on past a bifurcation at
+/// ε = 0.05, with the path cursor on the bifurcation's step.
+fn unstable_app() -> App {
+    let (mut app, mut sim) = started(small_case(2));
+    for k in 1..=3 {
+        let r = only_request(&app.handle_key(ch('l')));
+        let Job::Advance(eps) = r.job else {
+            panic!("expected Advance")
+        };
+        sim.advance_to(eps).expect("converges");
+        let mut state = solved(&sim, k);
+        state.point.stability = Some(spira::results::Stability {
+            unstable_directions: usize::from(k >= 2),
+            lowest_eigenvalue: Some(if k >= 2 { -1.0 } else { 1.0 }),
+            lowest_wavenumber: None,
+        });
+        if k == 1 {
+            state.critical = vec![critical_point()];
+        }
+        app.on_worker_event(answer(&r, state));
+    }
+    app
+}
+
+#[test]
+fn no_color_marks_every_series_and_point_apart_at_80x24() {
+    let mut app = unstable_app();
+    app.view.no_color = true;
+    let screen = text(&draw(&app, 80, 24));
+    // the load panel's legend: one mark per series, none shared
+    let legend = ["━fx", "•fy", "+fz", "░unstable", "█now", "×critical"];
+    for label in legend {
+        assert!(screen.contains(label), "legend {label}:\n{screen}");
+    }
+    let marks: std::collections::BTreeSet<char> = legend
+        .iter()
+        .map(|l| l.chars().next().unwrap())
+        .chain(['◆'])
+        .collect();
+    assert_eq!(marks.len(), legend.len() + 1, "{marks:?}");
+    // the path cursor on the bifurcation's step: its readout whole, the critical key in
+    // what is left
+    app.handle_key(ch('<'));
+    app.handle_key(ch('<'));
+    let screen = text(&draw(&app, 80, 24));
+    let foot = screen
+        .lines()
+        .find(|l| l.starts_with('└') && l.contains('◆'))
+        .expect("the cursor's readout");
+    assert!(foot.contains("×critical 1"), "{screen}");
+    assert!(foot.ends_with(" ┘"), "readout cut:\n{screen}");
+    assert!(foot.contains("◆1 ε 0.0500"), "{screen}");
+    // the marks drawn: the unstable stretch as a line, the critical point, now, the cursor
+    let plot: String = screen
+        .lines()
+        .skip_while(|l| !l.contains("now"))
+        .map(|l| l.split_once("││").map_or(l, |(_, right)| right))
+        .collect::<Vec<_>>()
+        .join("\n");
+    for mark in ['░', '×', '█', '◆'] {
+        assert!(plot.contains(mark), "{mark} drawn:\n{screen}");
+    }
+    assert!(
+        plot.matches('░').count() >= 4,
+        "the unstable stretch is a line, not isolated points:\n{screen}"
+    );
+    // the rods are all drawn alike: no colour scale
+    assert!(!screen.contains("κ1 (1/m)"), "{screen}");
+    assert_snapshot("no_color_unstable_80x24", &screen);
 }
