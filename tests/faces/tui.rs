@@ -2376,3 +2376,35 @@ fn no_color_marks_every_series_and_point_apart_at_80x24() {
     assert!(!screen.contains("κ1 (1/m)"), "{screen}");
     assert_snapshot("no_color_unstable_80x24", &screen);
 }
+
+#[test]
+fn the_cancel_key_stays_whole_on_the_status_line_at_80_columns() {
+    let (mut app, _sim) = started(small_case(1));
+    // continuous loading, a step under way with its progress reported
+    let r = only_request(&app.handle_key(ch(' ')));
+    app.on_worker_event(WorkerEvent::Started {
+        generation: r.generation,
+        seq: r.seq,
+        job: Job::Advance(0.05).describe("ε"),
+    });
+    app.on_worker_event(WorkerEvent::Progress {
+        generation: r.generation,
+        seq: r.seq,
+        parameter: 0.0321,
+        steps: 7,
+        elapsed: Duration::from_millis(2500),
+    });
+    let screen = text(&draw(&app, 80, 24));
+    let line = screen
+        .lines()
+        .find(|l| l.starts_with("small │"))
+        .expect("status line 1");
+    assert!(line.contains("· c cancels"), "{screen}");
+    assert!(line.contains("▶"), "running shown:\n{screen}");
+    // at 160 columns the progress is there too
+    let screen = text(&draw(&app, 160, 48));
+    assert!(
+        screen.contains("▶ running · ε → 0.05000… 2.5 s · c cancels · at 0.03210 (7 steps)"),
+        "{screen}"
+    );
+}
