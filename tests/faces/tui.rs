@@ -754,6 +754,17 @@ fn the_solver_thread_reports_failures_and_keeps_the_state() {
         app.screen.state.as_ref().unwrap().boundary,
         "what is asked for falls back to what is in force"
     );
+    let events = app.screen.session_events();
+    assert!(
+        !events
+            .iter()
+            .any(|e| e.what.starts_with("base translation")),
+        "a change that failed is no event of the path: {events:?}"
+    );
+    assert!(
+        events.iter().all(|e| e.from_point < app.screen.path.len()),
+        "the changes that stay are placed at points solved under them: {events:?}"
+    );
     worker.join();
 }
 

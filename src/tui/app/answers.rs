@@ -153,6 +153,7 @@ impl App {
         interrupted: Option<Interruption>,
     ) -> Vec<Effect> {
         self.requests.running = false;
+        self.screen.drop_failed_change(seq);
         if interrupted == Some(Interruption::Cancelled) {
             // a cancel the user asked for is news, not an error
             self.message = Some(Message::Info(reason));

@@ -315,7 +315,7 @@ impl App {
         self.requests.running = false;
         self.requests.solving = None;
         if let Some(what) = what {
-            self.record(what);
+            self.record(what, false);
         }
         let mut case = self.case.with_helices(self.screen.helices);
         case.boundary = self.screen.boundary;

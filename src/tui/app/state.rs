@@ -46,8 +46,9 @@ pub struct Screen {
     /// solved after it.
     pub events: Vec<SessionEvent>,
     /// Changes that no point solved after them has reached yet, with the sequence number
-    /// of the first request that applies them.
-    pub(super) pending: Vec<(u64, SessionEvent)>,
+    /// of the first request that applies them, and whether that request is the change
+    /// itself (which goes if the request fails).
+    pub(super) pending: Vec<(u64, bool, SessionEvent)>,
 }
 
 impl Screen {
@@ -89,20 +90,30 @@ impl Screen {
     /// point after are placed at it.
     pub(super) fn place_events(&mut self, seq: u64) {
         let at = self.path.len();
-        let (reached, waiting): (Vec<_>, Vec<_>) =
-            self.pending.drain(..).partition(|(from, _)| *from <= seq);
+        let (reached, waiting): (Vec<_>, Vec<_>) = self
+            .pending
+            .drain(..)
+            .partition(|(from, _, _)| *from <= seq);
         self.pending = waiting;
-        for (_, mut e) in reached {
+        for (_, _, mut e) in reached {
             e.from_point = at;
             self.events.push(e);
         }
+    }
+
+    /// Request `seq` failed without a point: the change it was, and those folded into it
+    /// (changes still waiting from earlier requests, which the scheduling dropped in its
+    /// favour), are no changes of the path.
+    pub(super) fn drop_failed_change(&mut self, seq: u64) {
+        self.pending
+            .retain(|(from, own, _)| !(*own && *from <= seq));
     }
 
     /// The changes of this path in point order, those no point has reached yet at the
     /// next point.
     pub fn session_events(&self) -> Vec<SessionEvent> {
         let next = self.path.len();
-        let waiting = self.pending.iter().map(|(_, e)| SessionEvent {
+        let waiting = self.pending.iter().map(|(_, _, e)| SessionEvent {
             from_point: next,
             ..e.clone()
         });
