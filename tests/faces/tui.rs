@@ -577,18 +577,24 @@ fn req(seq: u64, job: Job) -> Request {
 }
 
 #[test]
-fn coalescing_keeps_the_last_request_of_each_kind_in_order() {
+fn coalescing_keeps_every_step_and_the_last_of_a_run_of_changes() {
     let bc = BoundaryConditions::default();
     let mut q: VecDeque<Request> = [
         req(1, Job::Advance(0.05)),
         req(2, Job::SetBoundary(bc)),
-        req(3, Job::Advance(0.1)),
-        req(4, Job::Advance(0.15)),
+        req(3, Job::SetBoundary(bc)),
+        req(4, Job::Advance(0.1)),
+        req(5, Job::Advance(0.15)),
+        req(6, Job::SetBoundary(bc)),
     ]
     .into();
     coalesce(&mut q);
     let seqs: Vec<u64> = q.iter().map(|r| r.seq).collect();
-    assert_eq!(seqs, [2, 4]);
+    assert_eq!(
+        seqs,
+        [1, 3, 4, 5, 6],
+        "every step stays; of two changes in a row the later"
+    );
 
     let mut q: VecDeque<Request> = [
         req(1, Job::Advance(0.05)),
@@ -604,26 +610,21 @@ fn coalescing_keeps_the_last_request_of_each_kind_in_order() {
 }
 
 #[test]
-fn the_solver_thread_answers_and_the_last_request_wins() {
+fn the_solver_thread_answers_every_step_and_coalesces_toggles() {
     let worker = Worker::spawn().expect("thread");
     let mut app = App::new(small_case(2), std::env::temp_dir());
     let start = app.start();
     settle(&mut app, &worker, start);
     assert_eq!(app.compression_ratio(), Some(0.0));
-    // three presses in a row: the last is solved, the middle one never (the first only
-    // if the solver took it before the others arrived)
+    // three presses in a row: three points
     let mut effects = app.handle_key(ch('l'));
     effects.extend(app.handle_key(ch('l')));
     effects.extend(app.handle_key(ch('l')));
     settle(&mut app, &worker, effects);
     assert_close(app.compression_ratio(), 0.15);
-    assert!(
-        app.screen.path.len() == 2 || app.screen.path.len() == 3,
-        "{}",
-        app.screen.path.len()
-    );
+    assert_eq!(app.screen.path.len(), 4);
     let steps: Vec<usize> = app.screen.path.iter().map(|p| p.step).collect();
-    assert_eq!(steps, (0..app.screen.path.len()).collect::<Vec<_>>());
+    assert_eq!(steps, [0, 1, 2, 3]);
     // a condition change re-solves at the same ε
     let effects = app.handle_key(ch('p'));
     settle(&mut app, &worker, effects);
@@ -644,6 +645,80 @@ fn the_solver_thread_answers_and_the_last_request_wins() {
     );
     assert!(!app.screen.state.as_ref().unwrap().boundary.joints);
     worker.join();
+}
+
+#[test]
+fn quick_key_presses_give_a_point_each_on_screen_in_the_export_and_the_session() {
+    let worker = Worker::spawn().expect("thread");
+    let dir = temp_dir("quick-keys");
+    let mut app = App::new(small_case(2), dir.join("explorer"));
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    // four → presses before any answer arrives
+    let mut effects = Vec::new();
+    for _ in 0..4 {
+        effects.extend(app.handle_key(key(KeyCode::Right)));
+    }
+    assert_eq!(requests(&effects).len(), 4, "{effects:?}");
+    settle(&mut app, &worker, effects);
+    let eps: Vec<f64> = app
+        .screen
+        .path
+        .iter()
+        .map(|p| p.compression_ratio)
+        .collect();
+    let expected = [0.0, 0.05, 0.1, 0.15, 0.2];
+    assert_eq!(eps.len(), expected.len(), "{eps:?}");
+    for (got, want) in eps.iter().zip(expected) {
+        assert!((got - want).abs() < 1e-12, "{eps:?}");
+    }
+    // the export: one row per point
+    let files = app.export();
+    assert_eq!(files.len(), 3, "{:?}", app.message);
+    let load = std::fs::read_to_string(&files[1]).unwrap();
+    let rows = load.lines().filter(|l| !l.starts_with('#')).skip(1).count();
+    assert_eq!(rows, 5, "{load}");
+    // the session: one step per press, replayed to the same table
+    let session = app.save_session().expect("saved");
+    let script = spira::session::script::Session::read(&session).expect("readable");
+    let asked: Vec<f64> = app
+        .script()
+        .actions
+        .iter()
+        .filter_map(|a| match a {
+            ScriptAction::Advance { parameter, .. } => Some(*parameter),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(asked, [0.05, 0.1, 0.15, 0.2]);
+    let replayed =
+        spira::session::replay::replay_into(&script, &small_case(2), &dir.join("replay"))
+            .expect("replays");
+    assert_eq!(
+        std::fs::read_to_string(&files[1]).unwrap(),
+        std::fs::read_to_string(&replayed[1]).unwrap()
+    );
+    worker.join();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_cancel_drops_the_queued_steps() {
+    let worker = Worker::spawn().expect("thread");
+    let mut app = App::new(small_case(2), std::env::temp_dir());
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    let mut effects = Vec::new();
+    for _ in 0..4 {
+        effects.extend(app.handle_key(key(KeyCode::Right)));
+    }
+    effects.extend(app.handle_key(ch('c')));
+    send_all(&worker, effects);
+    settle(&mut app, &worker, Vec::new());
+    assert!(!app.busy());
+    // the cancel reached the solver before any step ended: none of them, or at most the
+    // one it was solving, is on the path
+    assert!(app.screen.path.len() <= 2, "{}", app.screen.path.len());
 }
 
 #[test]
@@ -678,6 +753,17 @@ fn the_solver_thread_reports_failures_and_keeps_the_state() {
         app.screen.boundary,
         app.screen.state.as_ref().unwrap().boundary,
         "what is asked for falls back to what is in force"
+    );
+    let events = app.screen.session_events();
+    assert!(
+        !events
+            .iter()
+            .any(|e| e.what.starts_with("base translation")),
+        "a change that failed is no event of the path: {events:?}"
+    );
+    assert!(
+        events.iter().all(|e| e.from_point < app.screen.path.len()),
+        "the changes that stay are placed at points solved under them: {events:?}"
     );
     worker.join();
 }
@@ -1506,7 +1592,7 @@ fn no_color_legends_tell_the_curves_apart_by_their_marks() {
     let mut app = compressed_app();
     app.view.no_color = true;
     let screen = text(&draw(&app, 100, 30));
-    for label in ["━κ1", "•κ2", "▀Ω", "━fx", "•fy", "▀fz"] {
+    for label in ["━κ1", "•κ2", "+Ω", "━fx", "•fy", "+fz"] {
         assert!(screen.contains(label), "legend {label}:\n{screen}");
     }
     assert_snapshot("no_color_100x30", &screen);
@@ -2190,4 +2276,178 @@ fn l_steps_the_twist_and_the_screen_and_session_follow() {
         r.job,
         Job::Start(ref c) if c.loading.parameter == spira::model::loading::Component::Tilt
     ));
+}
+
+/// The `# event:` lines of a load table: (point, what).
+fn event_lines(load: &str) -> Vec<(usize, String)> {
+    load.lines()
+        .filter_map(|l| l.strip_prefix("# event: from point "))
+        .map(|rest| {
+            let (point, tail) = rest.split_once(' ').expect("point then text");
+            let what = tail.split_once("): ").expect("asked, then what").1;
+            (point.parse().expect("a point number"), what.to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn the_exported_events_are_those_of_the_path_kept_in_point_order() {
+    let worker = Worker::spawn().expect("thread");
+    let dir = temp_dir("events");
+    let mut app = App::new(pair_case("fundamental", 0.5, 10), dir.join("explorer"));
+    let effects = app.start();
+    settle(&mut app, &worker, effects);
+    // a path that a reset discards, with a change of the tip on it
+    for c in ['l', 'l', 'l', 't', 'l', 'l'] {
+        let effects = app.handle_key(ch(c));
+        settle(&mut app, &worker, effects);
+    }
+    assert_eq!(
+        app.screen.path.len(),
+        7,
+        "five steps and the re-solve under the new tip"
+    );
+    let effects = app.handle_key(ch('r'));
+    settle(&mut app, &worker, effects);
+    // steps and step changes pressed faster than they are solved: each change is placed
+    // at the first point solved after it
+    let mut effects = Vec::new();
+    for c in "lll-lllll+ll".chars() {
+        effects.extend(app.handle_key(ch(c)));
+    }
+    settle(&mut app, &worker, effects);
+    assert_eq!(app.screen.path.len(), 11);
+    assert_close(app.compression_ratio(), 0.35);
+    assert!(
+        !app.screen.critical.is_empty(),
+        "the bifurcation is crossed"
+    );
+    app.handle_key(ch('x'));
+    let effects = app.handle_key(key(KeyCode::Enter));
+    settle(&mut app, &worker, effects);
+    let files = app.export();
+    assert_eq!(files.len(), 3, "{:?}", app.message);
+    let load = std::fs::read_to_string(&files[1]).unwrap();
+    let events = event_lines(&load);
+    let points: Vec<usize> = events.iter().map(|(p, _)| *p).collect();
+    assert_eq!(points, [0, 4, 9, 11], "{load}");
+    assert_eq!(events[0].1, "reset");
+    assert!(events[1].1.starts_with("step Δε = 0.02"), "{load}");
+    assert!(events[2].1.starts_with("step Δε = 0.05"), "{load}");
+    assert!(events[3].1.starts_with("switch onto the branch"), "{load}");
+    let rows = load.lines().filter(|l| !l.starts_with('#')).skip(1).count();
+    assert!(rows > 11, "the switch added points: {rows}");
+    // the saved session holds the same events
+    let session = app.save_session().expect("saved");
+    let script = spira::session::script::Session::read(&session).expect("readable");
+    assert_eq!(
+        script.script.events,
+        app.screen.session_events(),
+        "the session's events"
+    );
+    worker.join();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The n = 2 small case stepped to ε = 0.15, unstable from ε = 0.1 on past a bifurcation at
+/// ε = 0.05, with the path cursor on the bifurcation's step.
+fn unstable_app() -> App {
+    let (mut app, mut sim) = started(small_case(2));
+    for k in 1..=3 {
+        let r = only_request(&app.handle_key(ch('l')));
+        let Job::Advance(eps) = r.job else {
+            panic!("expected Advance")
+        };
+        sim.advance_to(eps).expect("converges");
+        let mut state = solved(&sim, k);
+        state.point.stability = Some(spira::results::Stability {
+            unstable_directions: usize::from(k >= 2),
+            lowest_eigenvalue: Some(if k >= 2 { -1.0 } else { 1.0 }),
+            lowest_wavenumber: None,
+        });
+        if k == 1 {
+            state.critical = vec![critical_point()];
+        }
+        app.on_worker_event(answer(&r, state));
+    }
+    app
+}
+
+#[test]
+fn no_color_marks_every_series_and_point_apart_at_80x24() {
+    let mut app = unstable_app();
+    app.view.no_color = true;
+    let screen = text(&draw(&app, 80, 24));
+    // the load panel's legend: one mark per series, none shared
+    let legend = ["━fx", "•fy", "+fz", "░unstable", "█now", "×critical"];
+    for label in legend {
+        assert!(screen.contains(label), "legend {label}:\n{screen}");
+    }
+    let marks: std::collections::BTreeSet<char> = legend
+        .iter()
+        .map(|l| l.chars().next().unwrap())
+        .chain(['◆'])
+        .collect();
+    assert_eq!(marks.len(), legend.len() + 1, "{marks:?}");
+    // the path cursor on the bifurcation's step: its readout whole, the critical key in
+    // what is left
+    app.handle_key(ch('<'));
+    app.handle_key(ch('<'));
+    let screen = text(&draw(&app, 80, 24));
+    let foot = screen
+        .lines()
+        .find(|l| l.starts_with('└') && l.contains('◆'))
+        .expect("the cursor's readout");
+    assert!(foot.contains("×critical 1"), "{screen}");
+    assert!(foot.ends_with(" ┘"), "readout cut:\n{screen}");
+    assert!(foot.contains("◆1 ε 0.0500"), "{screen}");
+    // the marks drawn: the unstable stretch as a line, the critical point, now, the cursor
+    let plot: String = screen
+        .lines()
+        .skip_while(|l| !l.contains("now"))
+        .map(|l| l.split_once("││").map_or(l, |(_, right)| right))
+        .collect::<Vec<_>>()
+        .join("\n");
+    for mark in ['░', '×', '█', '◆'] {
+        assert!(plot.contains(mark), "{mark} drawn:\n{screen}");
+    }
+    assert!(
+        plot.matches('░').count() >= 4,
+        "the unstable stretch is a line, not isolated points:\n{screen}"
+    );
+    // the rods are all drawn alike: no colour scale
+    assert!(!screen.contains("κ1 (1/m)"), "{screen}");
+    assert_snapshot("no_color_unstable_80x24", &screen);
+}
+
+#[test]
+fn the_cancel_key_stays_whole_on_the_status_line_at_80_columns() {
+    let (mut app, _sim) = started(small_case(1));
+    // continuous loading, a step under way with its progress reported
+    let r = only_request(&app.handle_key(ch(' ')));
+    app.on_worker_event(WorkerEvent::Started {
+        generation: r.generation,
+        seq: r.seq,
+        job: Job::Advance(0.05).describe("ε"),
+    });
+    app.on_worker_event(WorkerEvent::Progress {
+        generation: r.generation,
+        seq: r.seq,
+        parameter: 0.0321,
+        steps: 7,
+        elapsed: Duration::from_millis(2500),
+    });
+    let screen = text(&draw(&app, 80, 24));
+    let line = screen
+        .lines()
+        .find(|l| l.starts_with("small │"))
+        .expect("status line 1");
+    assert!(line.contains("· c cancels"), "{screen}");
+    assert!(line.contains("▶"), "running shown:\n{screen}");
+    // at 160 columns the progress is there too
+    let screen = text(&draw(&app, 160, 48));
+    assert!(
+        screen.contains("▶ running · ε → 0.05000… 2.5 s · c cancels · at 0.03210 (7 steps)"),
+        "{screen}"
+    );
 }

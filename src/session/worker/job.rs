@@ -1,5 +1,6 @@
-//! The work the solver thread is asked for, and the "last request wins" scheduling of the
-//! requests that pile up while a solve runs.
+//! The work the solver thread is asked for, and the scheduling of the requests that pile
+//! up while a solve runs: every step asked for is solved, a run of other changes only for
+//! its last.
 
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
@@ -35,8 +36,14 @@ pub enum Job {
 }
 
 impl Job {
-    fn same_kind(&self, other: &Job) -> bool {
-        std::mem::discriminant(self) == std::mem::discriminant(other)
+    /// Whether `later`, queued right after this job, makes it of no use: a change of the
+    /// conditions or a branch switch replaced by another of the same kind. A step is never
+    /// replaced: each one asked for is a point of the path.
+    fn replaced_by(&self, later: &Job) -> bool {
+        matches!(
+            (self, later),
+            (Job::SetBoundary(_), Job::SetBoundary(_)) | (Job::Switch { .. }, Job::Switch { .. })
+        )
     }
 
     /// What the solver is doing, for the status line, with `symbol` the load parameter's
@@ -77,8 +84,10 @@ pub struct Request {
     pub job: Job,
 }
 
-/// Drops the requests a later one replaces: everything before the last `Start`, then every
-/// request followed by a later one of the same kind. The survivors keep their order.
+/// Drops the requests a later one replaces: everything before the last `Start` (a new
+/// simulation), then a change of the conditions or a branch switch directly followed by
+/// another of its kind. Steps ([`Job::Advance`]) are all kept, so that quick key presses
+/// give as many points as slow ones; the survivors keep their order.
 pub fn coalesce(queue: &mut VecDeque<Request>) {
     if let Some(last_start) = queue.iter().rposition(|r| matches!(r.job, Job::Start(_))) {
         queue.drain(..last_start);
@@ -86,7 +95,9 @@ pub fn coalesce(queue: &mut VecDeque<Request>) {
     let jobs: Vec<Job> = queue.iter().map(|r| r.job.clone()).collect();
     let mut k = 0;
     queue.retain(|_| {
-        let keep = !jobs[k + 1..].iter().any(|later| later.same_kind(&jobs[k]));
+        let keep = jobs
+            .get(k + 1)
+            .is_none_or(|later| !jobs[k].replaced_by(later));
         k += 1;
         keep
     });

@@ -3,10 +3,12 @@
 //! answers with [`WorkerEvent`]s carrying cloned results, so the UI thread never waits for a
 //! solve (gitui's async jobs, bottom's event enum).
 //!
-//! Scheduling is "last request wins": while a solve runs, requests pile up in a queue; before
-//! the next one is taken, an earlier pending request of the same kind is dropped in favour of
-//! the later one, and a pending [`Job::Start`] drops everything queued before it. The thread
-//! stops when the request channel closes.
+//! Scheduling: while a solve runs, requests pile up in a queue. Every step asked for is
+//! solved in turn (each is a point of the path, however quickly the keys were pressed); a
+//! change of the conditions or a branch switch directly followed by another of its kind is
+//! dropped in favour of the later one, and a pending [`Job::Start`] drops everything queued
+//! before it. A cancel answers the queued requests without solving them. The thread stops
+//! when the request channel closes.
 //!
 //! Work-precision studies ([`Job::Precision`]) run on a second thread of their own, a
 //! [`Latest`](crate::session::latest::Latest) job, so that a study of many meshes never

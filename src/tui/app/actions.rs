@@ -13,13 +13,17 @@ use crate::tui::keys::{self, Action};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 impl App {
-    /// Records a change of the session, at the next point of the path.
-    fn record(&mut self, what: String) {
-        self.screen.events.push(SessionEvent {
+    /// Records a change of the session: it applies from the next request on, and is placed
+    /// at the first point that request (or a later one) adds to the path; `own`: that
+    /// request is the change itself, and if it fails the change is not recorded.
+    pub(super) fn record(&mut self, what: String, own: bool) {
+        let event = SessionEvent {
             from_point: self.screen.path.len(),
             parameter: self.screen.requested_parameter,
             what,
-        });
+        };
+        let from = self.requests.upcoming();
+        self.screen.pending.push((from, own, event));
     }
 
     /// Asks for load parameter `parameter` if the geometry admits it.
@@ -80,7 +84,7 @@ impl App {
             return vec![];
         }
         self.screen.boundary = bc;
-        self.record(what.clone());
+        self.record(what.clone(), true);
         self.message = Some(Message::Info(format!(
             "{what}; the path continues from {} = {:.5} under the new conditions",
             self.symbol(),
@@ -232,9 +236,12 @@ impl App {
         let (symbol, parameter) = (self.symbol(), self.screen.requested_parameter);
         self.requests.running = false;
         self.view.show_critical = false;
-        self.record(format!(
-            "switch onto the branch of critical point {index} (ε = {at:.5}, side {sign:+})"
-        ));
+        self.record(
+            format!(
+                "switch onto the branch of critical point {index} (ε = {at:.5}, side {sign:+})"
+            ),
+            true,
+        );
         self.message = Some(Message::Info(format!(
             "switching onto the branch of critical point {index} at ε = {at:.5} (side {sign:+}), then along it to {symbol} = {parameter:.5}"
         )));
@@ -313,7 +320,7 @@ impl App {
         self.screen.step = step;
         let what = format!("step Δ{} = {}", self.symbol(), fmt_step(self.user_step()));
         self.message = Some(Message::Info(what.clone()));
-        self.record(what);
+        self.record(what, false);
         vec![]
     }
 
@@ -410,8 +417,7 @@ impl App {
             self.screen.helices,
             self.symbol()
         )));
-        self.record(format!("n = {n}, start over"));
-        self.restart_from(previous)
+        self.restart_from(previous, format!("n = {n}, start over"))
     }
 
     /// The next load component of [`Component::ALL`] that the supports can carry, stepped
@@ -457,8 +463,7 @@ impl App {
             crate::case::num(self.target()),
             self.load_parameter().unit()
         )));
-        self.record(format!("load {name}, start over"));
-        self.restart_from(previous)
+        self.restart_from(previous, format!("load {name}, start over"))
     }
 
     /// Back to `λ = 0` under the case's conditions and step.
@@ -470,8 +475,7 @@ impl App {
             "reset: {} = 0 under the case's boundary conditions",
             self.symbol()
         )));
-        self.record("reset".into());
-        self.restart_from(previous)
+        self.restart_from(previous, "reset".into())
     }
 
     /// Shows or hides the work-precision chart; the first time, asks for the study.

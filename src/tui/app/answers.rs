@@ -105,6 +105,7 @@ impl App {
                 )));
             }
         }
+        self.screen.place_events(seq);
         self.screen.path.push(state.point.clone());
         self.screen.conditions.push(state.boundary);
         for c in &state.critical {
@@ -151,6 +152,7 @@ impl App {
         interrupted: Option<Interruption>,
     ) -> Vec<Effect> {
         self.requests.running = false;
+        self.screen.drop_failed_change(seq);
         if interrupted == Some(Interruption::Cancelled) {
             // a cancel the user asked for is news, not an error
             self.message = Some(Message::Info(reason));

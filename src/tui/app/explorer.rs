@@ -281,19 +281,25 @@ impl App {
         self.view.critical_cursor = 0;
     }
 
-    /// A new simulation with the current `n` and conditions, from `λ = 0`; `previous` is
-    /// what was on screen (brought back if its natural state is cancelled).
-    pub(super) fn restart_from(&mut self, previous: Box<Kept>) -> Vec<Effect> {
+    /// A new simulation with the current `n` and conditions, from `λ = 0`, for the reason
+    /// `what` (the first event of its path); `previous` is what was on screen (brought back
+    /// if its natural state is cancelled).
+    pub(super) fn restart_from(&mut self, previous: Box<Kept>, what: String) -> Vec<Effect> {
         // a new simulation asked for while another's natural state solves replaces that
         // one: the simulation to come back to is still the one before
         if self.previous.is_none() && previous.screen.state.is_some() {
             self.previous = Some(previous);
         }
-        self.restart()
+        self.restart_with(Some(what))
     }
 
     /// A new simulation with the current `n` and conditions, from `λ = 0`.
     pub(super) fn restart(&mut self) -> Vec<Effect> {
+        self.restart_with(None)
+    }
+
+    /// [`App::restart`], recording `what` as the first event of the new path.
+    fn restart_with(&mut self, what: Option<String>) -> Vec<Effect> {
         // a solve of the old simulation in progress is of no more use: stop it
         let cancel = self
             .busy()
@@ -308,6 +314,9 @@ impl App {
         self.requests.progress = None;
         self.requests.running = false;
         self.requests.solving = None;
+        if let Some(what) = what {
+            self.record(what, false);
+        }
         let mut case = self.case.with_helices(self.screen.helices);
         case.boundary = self.screen.boundary;
         // a large problem says so before it is solved, as `spira run` does

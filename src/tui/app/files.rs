@@ -36,7 +36,7 @@ impl App {
                 &state.snapshot,
                 &self.screen.path,
                 &self.screen.conditions,
-                &self.screen.events,
+                &self.screen.session_events(),
             ),
             None => Err(std::io::Error::other("no converged state yet")),
         };
@@ -67,16 +67,11 @@ impl App {
             .case_file
             .as_ref()
             .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()));
-        let from = self
-            .screen
-            .events
-            .iter()
-            .rposition(|e| e.from_point == 0 && (e.what.starts_with("n =") || e.what == "reset"))
-            .unwrap_or(0);
+        // the events are those of the path on screen, as the jobs since its start are
         Script::of(
             case,
             self.case_label(),
-            self.screen.events[from..].to_vec(),
+            self.screen.session_events(),
             &self.replay.ran(),
         )
     }

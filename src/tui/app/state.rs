@@ -41,8 +41,14 @@ pub struct Screen {
     pub natural_k1: Option<f64>,
     /// The mesh chosen for the case's accuracy target, when it gives one.
     pub mesh: Option<MeshChoice>,
-    /// What changed in this session, in order (conditions, `n`, step, control).
+    /// What changed on this path, in point order (conditions, step, a branch switch; first
+    /// the start of the path: `n`, a reset, the load stepped), each at the first point
+    /// solved after it.
     pub events: Vec<SessionEvent>,
+    /// Changes that no point solved after them has reached yet, with the sequence number
+    /// of the first request that applies them, and whether that request is the change
+    /// itself (which goes if the request fails).
+    pub(super) pending: Vec<(u64, bool, SessionEvent)>,
 }
 
 impl Screen {
@@ -61,12 +67,15 @@ impl Screen {
             natural_k1: None,
             mesh: None,
             events: Vec::new(),
+            pending: Vec::new(),
         }
     }
 
     /// The screen of a new simulation (the next generation) from `λ = 0`: the same `n`,
-    /// conditions asked for, step and events.
+    /// conditions asked for and step; the events of the discarded path go with it.
     pub(super) fn restart(&mut self) {
+        self.events.clear();
+        self.pending.clear();
         self.generation += 1;
         self.path.clear();
         self.conditions.clear();
@@ -75,6 +84,40 @@ impl Screen {
         self.natural_k1 = None;
         self.requested_parameter = 0.0;
         self.mesh = None;
+    }
+
+    /// A point of request `seq` is about to join the path: the changes it is the first
+    /// point after are placed at it.
+    pub(super) fn place_events(&mut self, seq: u64) {
+        let at = self.path.len();
+        let (reached, waiting): (Vec<_>, Vec<_>) = self
+            .pending
+            .drain(..)
+            .partition(|(from, _, _)| *from <= seq);
+        self.pending = waiting;
+        for (_, _, mut e) in reached {
+            e.from_point = at;
+            self.events.push(e);
+        }
+    }
+
+    /// Request `seq` failed without a point: the change it was, and those folded into it
+    /// (changes still waiting from earlier requests, which the scheduling dropped in its
+    /// favour), are no changes of the path.
+    pub(super) fn drop_failed_change(&mut self, seq: u64) {
+        self.pending
+            .retain(|(from, own, _)| !(*own && *from <= seq));
+    }
+
+    /// The changes of this path in point order, those no point has reached yet at the
+    /// next point.
+    pub fn session_events(&self) -> Vec<SessionEvent> {
+        let next = self.path.len();
+        let waiting = self.pending.iter().map(|(_, _, e)| SessionEvent {
+            from_point: next,
+            ..e.clone()
+        });
+        self.events.iter().cloned().chain(waiting).collect()
     }
 
     /// Number of rods of the state on screen (`n` before the first state).
@@ -196,6 +239,11 @@ impl Requests {
     /// True while a request is unanswered.
     pub fn busy(&self) -> bool {
         self.last_done < self.last_sent
+    }
+
+    /// The sequence number the next request will have.
+    pub(super) fn upcoming(&self) -> u64 {
+        self.next_seq + 1
     }
 
     /// The next sequence number.

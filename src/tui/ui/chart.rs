@@ -57,7 +57,11 @@ pub(super) fn axis_labels(b: [f64; 2]) -> Vec<Line<'static>> {
         .collect()
 }
 
-pub(super) fn key_span(mark: &'static str, name: &'static str, color: Color) -> [Span<'static>; 2] {
+pub(super) fn key_span(
+    mark: impl Into<std::borrow::Cow<'static, str>>,
+    name: &'static str,
+    color: Color,
+) -> [Span<'static>; 2] {
     [
         Span::styled(mark, Style::new().fg(color)),
         Span::raw(format!("{name} ")),
@@ -65,23 +69,48 @@ pub(super) fn key_span(mark: &'static str, name: &'static str, color: Color) -> 
 }
 
 /// How curve `c` (0, 1, 2) of a plot is drawn: all lines in colour; without colour
-/// (`NO_COLOR`) a line, dots and blocks, so the legend's marks tell them apart.
+/// (`NO_COLOR`) a braille line, a line of dots and a line of crosses, so the legend's marks
+/// tell them apart (and none is a mark of the load panel's points: [`UNSTABLE_MARK`],
+/// [`NOW_MARK`], [`CRITICAL_MARK`]).
 pub(super) fn line_style(no_color: bool, c: usize) -> (GraphType, Marker) {
     match (no_color, c) {
         (false, _) | (true, 0) => (GraphType::Line, Marker::Braille),
-        (true, 1) => (GraphType::Scatter, Marker::Dot),
-        (true, _) => (GraphType::Scatter, Marker::HalfBlock),
+        (true, 1) => (GraphType::Line, Marker::Custom('•')),
+        (true, _) => (GraphType::Line, Marker::Custom('+')),
     }
 }
 
 /// The legend's marks of the three curves of a plot (see [`line_style`]).
 pub(super) fn legend_marks(no_color: bool) -> [&'static str; 3] {
     if no_color {
-        ["━", "•", "▀"]
+        ["━", "•", "+"]
     } else {
         ["━", "━", "━"]
     }
 }
+
+/// How an unstable stretch of the load path is drawn, and its legend's mark: dots in
+/// colour (each curve keeps its colour), a shaded line without.
+pub(super) fn unstable_style(no_color: bool) -> (GraphType, Marker, char) {
+    if no_color {
+        (
+            GraphType::Line,
+            Marker::Custom(UNSTABLE_MARK),
+            UNSTABLE_MARK,
+        )
+    } else {
+        (GraphType::Scatter, Marker::Dot, '•')
+    }
+}
+
+/// The shaded line of an unstable stretch without colour.
+pub(super) const UNSTABLE_MARK: char = '░';
+/// The state on screen on the load panel.
+pub(super) const NOW_MARK: char = '█';
+/// A critical point on the load panel.
+pub(super) const CRITICAL_MARK: char = '×';
+/// The path cursor on the load panel (its readout starts with it).
+pub(super) const CURSOR_MARK: char = '◆';
 
 pub(super) fn placeholder(frame: &mut Frame, area: Rect, block: Block, app: &App) {
     let inner = block.inner(area);
@@ -105,6 +134,18 @@ pub(super) fn placeholder(frame: &mut Frame, area: Rect, block: Block, app: &App
             },
         );
     }
+}
+
+/// The first of `lines` (longest first) that fits `width` columns, else the last.
+pub(super) fn first_fitting(lines: Vec<Line<'static>>, width: u16) -> Line<'static> {
+    let mut last = Line::default();
+    for line in lines {
+        if line.width() <= width as usize {
+            return line;
+        }
+        last = line;
+    }
+    last
 }
 
 pub(super) fn sep() -> Span<'static> {

@@ -2,7 +2,8 @@
 //! bulk and a cursor that reads the values.
 
 use super::chart::{
-    axis_labels, key_span, legend_marks, line_style, nice_bounds, padded_range, placeholder,
+    axis_labels, first_fitting, key_span, legend_marks, line_style, nice_bounds, padded_range,
+    placeholder,
 };
 use super::colours::{BULK, DIM, JOINT, K1_LINE, K2_LINE, OMEGA_LINE};
 use super::numbers::{fmt_short, largest};
@@ -20,7 +21,8 @@ pub(super) fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     let state = app.screen.state.as_ref();
     let rod = state.and_then(|s| s.snapshot.rods.get(app.view.selected_rod));
     let bulk = state.and_then(|s| s.bulk.rods.get(app.view.selected_rod));
-    let block = curvature_block(rod, app.view.no_color, bulk.is_some());
+    let width = area.width.saturating_sub(2);
+    let block = curvature_block(rod, app.view.no_color, bulk.is_some(), width);
     let Some(rod) = rod else {
         return placeholder(frame, area, block, app);
     };
@@ -31,7 +33,7 @@ pub(super) fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
         Line::from({
             let big = largest(&values);
             format!(
-                " s/L {at:.2} κ1 {} κ2 {} Ω {} ",
+                " s/L {at:.2} κ1 {} κ2 {} Ω {} 1/m ",
                 fmt_short(values[0], big),
                 fmt_short(values[1], big),
                 fmt_short(values[2], big)
@@ -152,29 +154,39 @@ impl Curves {
     }
 }
 
-/// The curvature panel's frame: the rod and the legend of its lines.
-fn curvature_block(rod: Option<&RodShape>, no_color: bool, bulk: bool) -> Block<'static> {
-    let mut title = vec![Span::styled(
-        match rod {
+/// The curvature panel's frame: the rod and the legend of its lines, shortened to fit
+/// `width` columns (the rod's chirality is in the Z-Y view's legend too).
+fn curvature_block(
+    rod: Option<&RodShape>,
+    no_color: bool,
+    bulk: bool,
+    width: u16,
+) -> Block<'static> {
+    let marks = legend_marks(no_color);
+    let title = |short: bool| {
+        let name = match rod {
+            Some(r) if short => format!(" rod {} ", r.rod),
             Some(r) => format!(" rod {} ({}) ", r.rod, r.chirality.name()),
             None => " curvature ".to_string(),
-        },
-        Style::new().add_modifier(Modifier::BOLD),
-    )];
-    let marks = legend_marks(no_color);
-    title.extend(key_span(marks[0], "κ1", K1_LINE));
-    title.extend(key_span(marks[1], "κ2", K2_LINE));
-    title.extend(key_span(marks[2], "Ω", OMEGA_LINE));
-    if rod.is_some_and(|r| !r.joints.is_empty()) {
-        title.extend(key_span("╷", "joints", JOINT));
-    }
-    if bulk {
-        title.extend(key_span("▄", "bulk", BULK));
-    }
+        };
+        let mut title = vec![Span::styled(
+            name,
+            Style::new().add_modifier(Modifier::BOLD),
+        )];
+        title.extend(key_span(marks[0], "κ1", K1_LINE));
+        title.extend(key_span(marks[1], "κ2", K2_LINE));
+        title.extend(key_span(marks[2], "Ω", OMEGA_LINE));
+        if rod.is_some_and(|r| !r.joints.is_empty()) {
+            title.extend(key_span("╷", "joints", JOINT));
+        }
+        if bulk {
+            title.extend(key_span("▄", "bulk", BULK));
+        }
+        Line::from(title)
+    };
     Block::new()
         .borders(Borders::ALL)
-        .title(Line::from(title))
-        .title_bottom(Line::from(" (1/m) ").alignment(Alignment::Left))
+        .title(first_fitting(vec![title(false), title(true)], width))
 }
 
 /// κ1, κ2, Ω at `s/L = at`, interpolated between nodes.

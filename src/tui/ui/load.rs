@@ -3,7 +3,8 @@
 //! dotted, critical points and the path cursor marked.
 
 use super::chart::{
-    axis_labels, key_span, legend_marks, line_style, nice_bounds, padded_range, placeholder,
+    axis_labels, first_fitting, key_span, legend_marks, line_style, nice_bounds, padded_range,
+    placeholder, unstable_style, CRITICAL_MARK, CURSOR_MARK, NOW_MARK,
 };
 use super::colours::{DIM, FX_LINE, FY_LINE, FZ_LINE, SELECTED};
 use super::numbers::fmt_load;
@@ -32,37 +33,67 @@ struct Series {
 pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let path = &app.screen.path;
     let stretches = stability::stretches(path.len(), |k| stability::is_unstable(&path[k]));
+    let width = area.width.saturating_sub(2);
     let mut block = load_block(
         app.case().loading.parameter,
         stretches.iter().any(|s| s.unstable),
         app.view.no_color,
+        width,
     );
-    if !app.screen.critical.is_empty() {
-        block = block.title_bottom(Line::from(vec![
-            Span::styled(" ×", Style::new().fg(Color::Yellow)),
-            Span::raw(format!("critical {} (x lists) ", app.screen.critical.len())),
-        ]));
-    }
     let c = app.case().loading.parameter;
-    if let Some(p) = app.view.path_cursor.and_then(|k| path.get(k)) {
-        let readout = match p.support.pair(c) {
-            None => format!(
-                "fx {} fy {} fz {}",
-                fmt_load(p.load[0], &p.load),
-                fmt_load(p.load[1], &p.load),
-                fmt_load(p.load[2], &p.load)
+    // the cursor's readout on the right, the critical points' key on the left in what is
+    // left of the bottom border
+    let readout = app.view.path_cursor.and_then(|k| path.get(k)).map(|p| {
+        let (loads, fz) = match p.support.pair(c) {
+            None => (
+                format!(
+                    "fx {} fy {} fz {}",
+                    fmt_load(p.load[0], &p.load),
+                    fmt_load(p.load[1], &p.load),
+                    fmt_load(p.load[2], &p.load)
+                ),
+                format!("fz {}", fmt_load(p.load[2], &p.load)),
             ),
-            Some([_, (force, name)]) => format!("{name} {force:.5e}"),
+            Some([_, (force, name)]) => {
+                let both = format!("{name} {force:.5e}");
+                (both.clone(), both)
+            }
         };
-        block = block.title_bottom(
-            Line::from(format!(
-                " ◆ step {} {} {:.5}: {readout} ",
-                p.step,
-                app.load_parameter().motion_symbol(),
-                along(c, p),
-            ))
-            .alignment(Alignment::Right),
+        let motion = app.load_parameter().motion_symbol();
+        let at = along(c, p);
+        let step = p.step;
+        first_fitting(
+            vec![
+                Line::from(format!(
+                    " {CURSOR_MARK} step {step} {motion} {at:.5}: {loads} "
+                )),
+                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {loads} ")),
+                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {fz} ")),
+            ],
+            width,
+        )
+    });
+    let used = readout.as_ref().map_or(0, Line::width);
+    if !app.screen.critical.is_empty() {
+        let n = app.screen.critical.len();
+        let mark = Span::styled(format!(" {CRITICAL_MARK}"), Style::new().fg(Color::Yellow));
+        let key = first_fitting(
+            vec![
+                Line::from(vec![
+                    mark.clone(),
+                    Span::raw(format!("critical {n} (x lists) ")),
+                ]),
+                Line::from(vec![mark.clone(), Span::raw(format!("critical {n} "))]),
+                Line::from(vec![mark, Span::raw(format!("{n} "))]),
+            ],
+            width.saturating_sub(used as u16 + 1),
         );
+        if key.width() + used < width as usize {
+            block = block.title_bottom(key);
+        }
+    }
+    if let Some(line) = readout {
+        block = block.title_bottom(line.alignment(Alignment::Right));
     }
     if path.is_empty() {
         return placeholder(frame, area, block, app);
@@ -170,7 +201,8 @@ fn datasets<'a>(series: &'a [Series], marks: &'a Marks) -> Vec<Dataset<'a>> {
         .iter()
         .map(|s| {
             let (graph, marker) = if s.unstable {
-                (GraphType::Scatter, Marker::Dot)
+                let (graph, marker, _) = unstable_style(s.no_color);
+                (graph, marker)
             } else {
                 line_style(s.no_color, s.component)
             };
@@ -185,52 +217,66 @@ fn datasets<'a>(series: &'a [Series], marks: &'a Marks) -> Vec<Dataset<'a>> {
         Dataset::default()
             .data(&marks.now)
             .graph_type(GraphType::Scatter)
-            .marker(Marker::Block)
+            .marker(Marker::Custom(NOW_MARK))
             .style(Style::new().fg(SELECTED)),
     );
     datasets.push(
         Dataset::default()
             .data(&marks.cursor)
             .graph_type(GraphType::Scatter)
-            .marker(Marker::Bar)
+            .marker(Marker::Custom(CURSOR_MARK))
             .style(Style::new().fg(Color::White)),
     );
     datasets.push(
         Dataset::default()
             .data(&marks.critical)
             .graph_type(GraphType::Scatter)
-            .marker(Marker::Block)
+            .marker(Marker::Custom(CRITICAL_MARK))
             .style(Style::new().fg(Color::Yellow)),
     );
     datasets
 }
 
-/// The load panel's frame: the legend of its lines (unstable stretches once there are).
-fn load_block(c: Component, any_unstable: bool, no_color: bool) -> Block<'static> {
+/// The load panel's frame: the legend of its lines (unstable stretches once there are),
+/// shortened to fit `width` columns.
+fn load_block(c: Component, any_unstable: bool, no_color: bool, width: u16) -> Block<'static> {
     let marks = legend_marks(no_color);
-    let mut title = Vec::new();
-    match SupportResponse::default().pair(c) {
-        None => {
-            title.push(Span::styled(
-                " load Σf/(n Pcrit) ",
-                Style::new().add_modifier(Modifier::BOLD),
-            ));
-            title.extend(key_span(marks[0], "fx", FX_LINE));
-            title.extend(key_span(marks[1], "fy", FY_LINE));
-            title.extend(key_span(marks[2], "fz", FZ_LINE));
+    let title = |short: bool| {
+        let mut title = Vec::new();
+        match SupportResponse::default().pair(c) {
+            None => {
+                title.push(Span::styled(
+                    if short {
+                        " Σf/nPc "
+                    } else {
+                        " load Σf/(n Pcrit) "
+                    },
+                    Style::new().add_modifier(Modifier::BOLD),
+                ));
+                title.extend(key_span(marks[0], "fx", FX_LINE));
+                title.extend(key_span(marks[1], "fy", FY_LINE));
+                title.extend(key_span(marks[2], "fz", FZ_LINE));
+            }
+            Some([_, (_, name)]) => {
+                title.push(Span::styled(
+                    format!(" {} {name} ", c.name()),
+                    Style::new().add_modifier(Modifier::BOLD),
+                ));
+            }
         }
-        Some([_, (_, name)]) => {
-            title.push(Span::styled(
-                format!(" {} {name} ", c.name()),
-                Style::new().add_modifier(Modifier::BOLD),
+        if any_unstable {
+            title.extend(key_span(
+                unstable_style(no_color).2.to_string(),
+                "unstable",
+                DIM,
             ));
         }
-    }
-    if any_unstable {
-        title.extend(key_span("•", "unstable", DIM));
-    }
-    title.extend(key_span("█", "now", SELECTED));
-    Block::new().borders(Borders::ALL).title(Line::from(title))
+        title.extend(key_span(NOW_MARK.to_string(), "now", SELECTED));
+        Line::from(title)
+    };
+    Block::new()
+        .borders(Borders::ALL)
+        .title(first_fitting(vec![title(false), title(true)], width))
 }
 
 /// The abscissa's range: from 0 to as far as the path went, and under displacement control

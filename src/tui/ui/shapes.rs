@@ -281,7 +281,8 @@ fn draw_view(
                 Span::raw(" joints "),
             ]));
         }
-        View::ZX => block = block.title_bottom(scale.legend()),
+        // without colour every rod is drawn alike: no colour scale to read
+        View::ZX if !app.view.no_color => block = block.title_bottom(scale.legend()),
         _ => {}
     }
     let inner = block.inner(area);

@@ -22,7 +22,7 @@ pub(super) fn draw_status(frame: &mut Frame, area: Rect, app: &App) {
         Constraint::Min(0),
     ])
     .areas(area);
-    frame.render_widget(Paragraph::new(case_line(app)), a);
+    frame.render_widget(Paragraph::new(case_line(app, a.width)), a);
     frame.render_widget(Paragraph::new(readout_line(app, r.width)), r);
     frame.render_widget(Paragraph::new(boundary_line(app)), b);
     frame.render_widget(Paragraph::new(solve_line(app)), c);
@@ -41,15 +41,16 @@ pub(super) fn message_lines(app: &App, width: u16) -> u16 {
     (len.div_ceil(width.max(1) as usize) as u16).clamp(1, 3)
 }
 
-/// Status line 1: case, `n`, the load parameter and its target, the step, the activity.
-fn case_line(app: &App) -> Line<'static> {
+/// Status line 1: case, `n`, the load parameter and its target, the step, the activity
+/// (shortened to fit `width` columns).
+fn case_line(app: &App, width: u16) -> Line<'static> {
     let parameter = app.screen.state.as_ref().map_or("–".to_string(), |s| {
         format!(
             "{:.5}",
             app.shown_parameter(s.point.compression_ratio, s.point.parameter)
         )
     });
-    Line::from(vec![
+    let mut spans = vec![
         bold(app.case_label()),
         sep(),
         Span::raw(format!(
@@ -64,15 +65,18 @@ fn case_line(app: &App) -> Line<'static> {
         sep(),
         Span::raw(format!("Δ{} {}", app.symbol(), fmt_step(app.user_step()))),
         sep(),
-        activity(app),
-    ])
+    ];
+    let room = (width as usize).saturating_sub(Line::from(spans.clone()).width());
+    spans.push(activity(app, room));
+    Line::from(spans)
 }
 
-/// What the explorer is doing: solving (what, for how long, how far), running, or idle.
-fn activity(app: &App) -> Span<'static> {
-    let solving = |job: &str| {
+/// What the explorer is doing: solving (what, for how long, how far), running, or idle, in
+/// `room` columns: how far the solve got is given up first, then the words around the
+/// cancel key, which stays.
+fn activity(app: &App, room: usize) -> Span<'static> {
+    let solving = |job: &str, running: bool| {
         // a step, and the natural state (whose n the line shows already), drop "solving"
-        // so that the cancel key fits 80 columns
         let what = if job.starts_with(app.symbol()) {
             job.to_string()
         } else if job.starts_with("natural state") {
@@ -80,21 +84,34 @@ fn activity(app: &App) -> Span<'static> {
         } else {
             format!("solving {job}")
         };
-        let mut text = match app.requests.elapsed {
-            Some(e) => format!("{what}… {:.1} s · c cancels", e.as_secs_f64()),
-            None => format!("solving {job}…"),
-        };
-        if let Some(p) = app.requests.progress {
-            text.push_str(&format!(" · at {:.5} ({} steps)", p.parameter, p.steps));
+        let progress = app
+            .requests
+            .progress
+            .map(|p| format!(" · at {:.5} ({} steps)", p.parameter, p.steps));
+        let elapsed = app
+            .requests
+            .elapsed
+            .map(|e| format!(" {:.1} s", e.as_secs_f64()));
+        let mut texts = Vec::new();
+        for run in if running {
+            ["▶ running · ", "▶ "]
+        } else {
+            ["", ""]
+        } {
+            let head = format!("{run}{what}…{}", elapsed.clone().unwrap_or_default());
+            texts.extend(progress.iter().map(|p| format!("{head} · c cancels{p}")));
+            texts.push(format!("{head} · c cancels"));
+            texts.push(format!("{run}{what}… c cancels"));
         }
-        text
+        texts
+            .iter()
+            .find(|t| Line::from(t.as_str()).width() <= room)
+            .or(texts.last())
+            .cloned()
+            .unwrap_or_default()
     };
     match (&app.requests.solving, app.requests.running) {
-        (Some(job), true) => Span::styled(
-            format!("▶ running · {}", solving(job)),
-            Style::new().fg(Color::Yellow),
-        ),
-        (Some(job), false) => Span::styled(solving(job), Style::new().fg(Color::Yellow)),
+        (Some(job), running) => Span::styled(solving(job, running), Style::new().fg(Color::Yellow)),
         (None, true) => Span::styled("▶ running", Style::new().fg(Color::Yellow)),
         (None, false) => Span::styled("idle", Style::new().fg(Color::Green)),
     }
