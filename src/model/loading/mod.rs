@@ -14,8 +14,6 @@ pub use line::{pressure_unit, LineLoad};
 pub use parameter::{Branch, Control, Driven, LoadParameter};
 pub use support::{AxisLoad, Ramp, SupportAxis, TipSupport};
 
-use support::constant_at;
-
 /// Everything applied to an assembly, as functions of the load parameter: the tip support
 /// axis by axis and the loads along the rods. The base is held where the rods' end
 /// conditions say.
@@ -131,24 +129,6 @@ impl Loads {
             tilt: at_zero(SupportAxis::RotX),
             pressure: self.pressure(0.0).0,
         }
-    }
-
-    /// The same loads with `component` stepped instead (under `control` for the axial
-    /// one), the others held at their values at load parameter `lambda` (the current
-    /// state's, so that the new path starts where the old one is).
-    pub fn restepped(&self, component: Component, control: Control, lambda: f64) -> Loads {
-        let at = |axis| self.tip.axis(axis).ramp().at(lambda);
-        let held = Held {
-            axial: match self.tip.axis(SupportAxis::Z) {
-                AxisLoad::Motion(r) => AxisLoad::Motion(constant_at(r, lambda)),
-                AxisLoad::Force(r) => AxisLoad::Force(constant_at(r, lambda)),
-            }
-            .held_axial(),
-            twist: at(SupportAxis::RotZ),
-            tilt: at(SupportAxis::RotX),
-            pressure: self.pressure(lambda).0,
-        };
-        Loads::compose(component, control, held)
     }
 
     /// The loads that bring a path from the natural state to where `self` holds it at

@@ -84,14 +84,6 @@ pub enum AxisLoad {
     Force(Ramp),
 }
 
-/// A ramp's value at `lambda`, held from then on.
-pub(super) fn constant_at(r: Ramp, lambda: f64) -> Ramp {
-    Ramp {
-        at_zero: r.at(lambda),
-        per_unit: 0.0,
-    }
-}
-
 impl AxisLoad {
     /// The axial component held at this axis load's value at `λ = 0`.
     pub(super) fn held_axial(self) -> AxialHeld {
