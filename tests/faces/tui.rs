@@ -119,6 +119,41 @@ fn settle(app: &mut App, worker: &Worker, effects: Vec<Effect>) {
     }
 }
 
+/// The solver's word that request `r` (a step to ε = 0.05) has started and is under way:
+/// 7 inner steps, at ε = 0.0321, 2.5 s in.
+fn under_way(app: &mut App, r: &Request) {
+    app.on_worker_event(WorkerEvent::Started {
+        generation: r.generation,
+        seq: r.seq,
+        job: Job::Advance(0.05).describe("ε"),
+    });
+    app.on_worker_event(WorkerEvent::Progress {
+        generation: r.generation,
+        seq: r.seq,
+        parameter: 0.0321,
+        steps: 7,
+        elapsed: Duration::from_millis(2500),
+    });
+}
+
+/// The saved `session`, read back and replayed headless (on the two-helix small case) into
+/// `dir`, writes the explorer's exported `files` byte for byte.
+fn assert_replays_exactly(session: &Path, files: &[PathBuf], dir: &Path) {
+    let script = spira::session::script::Session::read(session).expect("readable");
+    let replayed =
+        spira::session::replay::replay_into(&script, &small_case(2), dir).expect("replays");
+    assert_eq!(files.len(), replayed.len());
+    for (ours, theirs) in files.iter().zip(&replayed) {
+        assert_eq!(ours.file_name(), theirs.file_name());
+        assert_eq!(
+            std::fs::read_to_string(ours).unwrap(),
+            std::fs::read_to_string(theirs).unwrap(),
+            "{} replays exactly",
+            ours.display()
+        );
+    }
+}
+
 /// The solver reports ε from the tip height it reached: equal to what was asked up to
 /// rounding.
 fn assert_close(eps: Option<f64>, expected: f64) {
@@ -1429,18 +1464,7 @@ fn the_worker_answers_cancelled_requests_without_solving_and_stops_at_its_budget
 fn the_status_line_shows_elapsed_time_and_progress_of_a_solve() {
     let (mut app, _sim) = started(small_case(1));
     let r = only_request(&app.handle_key(ch('l')));
-    app.on_worker_event(WorkerEvent::Started {
-        generation: r.generation,
-        seq: r.seq,
-        job: Job::Advance(0.05).describe("ε"),
-    });
-    app.on_worker_event(WorkerEvent::Progress {
-        generation: r.generation,
-        seq: r.seq,
-        parameter: 0.0321,
-        steps: 7,
-        elapsed: Duration::from_millis(2500),
-    });
+    under_way(&mut app, &r);
     let screen = text(&draw(&app, 160, 48));
     assert!(
         screen.contains("ε → 0.05000… 2.5 s · c cancels · at 0.03210 (7 steps)"),
@@ -1637,19 +1661,7 @@ fn a_saved_session_replays_to_the_explorers_csvs() {
     assert!(load.contains("tip fixed/clamped") && load.contains("tip slide/clamped"));
     let session = app.save_session().expect("saved");
     // the session file as written, read back and replayed headless
-    let script = spira::session::script::Session::read(&session).expect("readable");
-    let replayed =
-        spira::session::replay::replay_into(&script, &small_case(2), &dir.join("replay"))
-            .expect("replays");
-    for (ours, theirs) in files.iter().zip(&replayed) {
-        assert_eq!(ours.file_name(), theirs.file_name());
-        assert_eq!(
-            std::fs::read_to_string(ours).unwrap(),
-            std::fs::read_to_string(theirs).unwrap(),
-            "{} replays exactly",
-            ours.display()
-        );
-    }
+    assert_replays_exactly(&session, &files, &dir.join("replay"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -2250,18 +2262,7 @@ fn l_steps_the_twist_and_the_screen_and_session_follow() {
     let session = app.save_session().expect("saved");
     let text_of = std::fs::read_to_string(&session).unwrap();
     assert!(text_of.contains("load = \"twist\""), "{text_of}");
-    let script = spira::session::script::Session::read(&session).expect("readable");
-    let replayed =
-        spira::session::replay::replay_into(&script, &small_case(2), &dir.join("replay"))
-            .expect("replays");
-    for (ours, theirs) in files.iter().zip(&replayed) {
-        assert_eq!(
-            std::fs::read_to_string(ours).unwrap(),
-            std::fs::read_to_string(theirs).unwrap(),
-            "{} replays exactly",
-            ours.display()
-        );
-    }
+    assert_replays_exactly(&session, &files, &dir.join("replay"));
     let _ = std::fs::remove_dir_all(&dir);
     // a straight rod cannot be pressed: L goes from the twist on to the tilt
     let straight = Case::parse(
@@ -2425,18 +2426,7 @@ fn the_cancel_key_stays_whole_on_the_status_line_at_80_columns() {
     let (mut app, _sim) = started(small_case(1));
     // continuous loading, a step under way with its progress reported
     let r = only_request(&app.handle_key(ch(' ')));
-    app.on_worker_event(WorkerEvent::Started {
-        generation: r.generation,
-        seq: r.seq,
-        job: Job::Advance(0.05).describe("ε"),
-    });
-    app.on_worker_event(WorkerEvent::Progress {
-        generation: r.generation,
-        seq: r.seq,
-        parameter: 0.0321,
-        steps: 7,
-        elapsed: Duration::from_millis(2500),
-    });
+    under_way(&mut app, &r);
     let screen = text(&draw(&app, 80, 24));
     let line = screen
         .lines()
