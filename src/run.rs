@@ -9,6 +9,7 @@ use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::Observer;
+use crate::solver::continuation::StopReason;
 use crate::solver::interrupt::Interrupt;
 use crate::solver::stats::Statistics;
 use std::time::{Duration, Instant};
@@ -123,6 +124,9 @@ pub fn run_path_steps(
                     .position(|c| c.kind == CriticalKind::Bifurcation);
                 if let Some(i) = found {
                     switched_at = Some(i);
+                    // the points the output step located past the switch point are of the
+                    // path left there
+                    sim.keep_critical_points(i + 1);
                     outcome = sim
                         .switch_branch(i, sign, BRANCH_STEP)
                         .and_then(|()| sim.advance_to(target));
@@ -143,6 +147,17 @@ pub fn run_path_steps(
         let p = sim.load_point(k + 1);
         report(&sim, &p, t.elapsed());
         points.push(p);
+    }
+    // a run asked to switch that never did has not answered its question
+    if error.is_none() && sign.is_some() && switched_at.is_none() {
+        error = Some(SolveError {
+            control: sim.control(),
+            reached: sim.parameter(),
+            compression_ratio: sim.compression_ratio(),
+            target: targets.last().copied().unwrap_or(0.0),
+            step: 0.0,
+            reason: StopReason::NoBifurcation,
+        });
     }
     let modes = sim
         .critical_points()

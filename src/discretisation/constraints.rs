@@ -2,6 +2,7 @@
 //! prescribed tip height, and the pin joints at the crossings (docs/theory.md §2).
 
 use super::discrete_model::{DiscreteModel, End};
+use super::mirror::Mirror;
 use super::support::{Moving, SupportPose};
 use crate::model::assembly::{Joint, RodId};
 use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
@@ -18,6 +19,9 @@ pub enum Role {
     TipHeight { rod: RodId },
     /// A pin joint (index into the model's joints).
     Joint(usize),
+    /// The phase condition that fixes a state on its orbit under the rotation about the
+    /// axis (see [`phase_condition`]); its multiplier vanishes at every solution.
+    Phase,
 }
 
 /// `Σ c_k x_k − value = 0`.
@@ -305,4 +309,88 @@ fn turning_tip_constraints(
         }
         Rotation::Free => {}
     }
+}
+
+/// The phase condition of a state `x` off the axis of a problem invariant under rotation
+/// about it (a straight isotropic rod, axisymmetric supports and loads: its buckled shapes
+/// turn about the axis at no cost): `(e_z × r_v(x))·r_v = 0` at the vertex `v` furthest
+/// from the axis, its angle about z held at that of `x`. It is transverse to the orbit at
+/// `x` and, as the energy is invariant, puts no force on the rod (its multiplier is zero at
+/// a solution: the orbit's direction is admissible and does no work), so it removes the
+/// orbit's neutral direction and nothing else — the phase condition of AUTO and
+/// BifurcationKit for relative equilibria, on two unknowns to keep the KKT matrix sparse.
+/// `None` when every vertex of `x` is on the axis (the orbit is a point).
+pub fn axis_phase(model: &DiscreteModel, x: &[f64]) -> Option<LinearConstraint> {
+    let mut furthest = None;
+    let mut reach = 1e-9 * model.length();
+    for (id, rod) in model.rods.iter().enumerate() {
+        for v in 0..=rod.mesh.elements() {
+            let r = model.vertex(x, id, v);
+            let rho = r[0].hypot(r[1]);
+            if rho > reach {
+                reach = rho;
+                furthest = Some((rod.r_dof(v, 0), rod.r_dof(v, 1), r));
+            }
+        }
+    }
+    let (dx, dy, r) = furthest?;
+    // e_z × r = (−y, x, 0)
+    normalised_phase(vec![(dx, -r[1]), (dy, r[0])], 0.0)
+}
+
+/// The phase condition that holds, at its value in the state `at`, the component of the
+/// state along the part of `direction` that the mirror `mirror` reverses, on a few
+/// unknowns: `c·x = c·x_at` with `c = (d_S − σ d_S)/2`, `d_S` the largest entries of
+/// `direction`'s primal unknowns. Every state the mirror keeps (`σx = x`) satisfies it,
+/// with no force (its multiplier zero), so on a branch of such states it removes the
+/// nearly neutral direction along `direction` (the mirror's reversed direction in the
+/// plane of a double point's modes, in which the branch would turn) and nothing else.
+/// `None` for a direction the mirror does not reverse at all.
+pub fn mirror_phase(
+    model: &DiscreteModel,
+    mirror: &Mirror,
+    direction: &[f64],
+    at: &[f64],
+) -> Option<LinearConstraint> {
+    const ENTRIES: usize = 6;
+    let np = model.n_primal;
+    let mut largest: Vec<usize> = (0..np).collect();
+    largest.sort_by(|&i, &j| direction[j].abs().total_cmp(&direction[i].abs()));
+    let mut d = vec![0.0; np];
+    for &i in largest.iter().take(ENTRIES) {
+        d[i] = direction[i];
+    }
+    let image = mirror.apply(model, &d);
+    let terms: Vec<(usize, f64)> = d
+        .iter()
+        .zip(&image)
+        .enumerate()
+        .map(|(i, (a, b))| (i, 0.5 * (a - b)))
+        .collect();
+    // what the mirror keeps of the largest entries cancels to rounding
+    let largest = terms.iter().fold(0.0f64, |m, t| m.max(t.1.abs()));
+    let terms: Vec<(usize, f64)> = terms
+        .into_iter()
+        .filter(|t| t.1.abs() > 1e-12 * largest)
+        .collect();
+    let value = terms.iter().map(|&(i, c)| c * at[i]).sum();
+    normalised_phase(terms, value)
+}
+
+/// `Σ terms = value` scaled to unit coefficients; `None` when every coefficient is zero.
+fn normalised_phase(mut terms: Vec<(usize, f64)>, value: f64) -> Option<LinearConstraint> {
+    terms.retain(|t| t.1 != 0.0);
+    let norm = terms.iter().map(|t| t.1 * t.1).sum::<f64>().sqrt();
+    if terms.is_empty() || !norm.is_finite() {
+        return None;
+    }
+    for t in &mut terms {
+        t.1 /= norm;
+    }
+    Some(LinearConstraint {
+        terms,
+        value: value / norm,
+        role: Role::Phase,
+        moving: None,
+    })
 }

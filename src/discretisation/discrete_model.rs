@@ -5,8 +5,9 @@ use super::element;
 use super::mesh::RodMesh;
 use super::shape::{self, Order, QuadraturePoint, MAX_NODES};
 use crate::model::assembly::{Assembly, RodId};
-use crate::model::elasticity::{Elasticity, StressFree};
+use crate::model::elasticity::{Elasticity, Energy, StressFree};
 use crate::model::helix::Helix;
+use crate::model::loading::{LineLoad, Loads};
 use crate::model::quaternion::Quat;
 use crate::model::stiffness::Stiffness;
 use nalgebra::Vector3;
@@ -285,6 +286,25 @@ impl DiscreteModel {
             *qa = node(e * p + a);
         }
         q
+    }
+
+    /// Whether the problem is invariant under the rotation about the z axis that turns
+    /// every position about it and every material frame back about its tangent: straight
+    /// Kirchhoff rods on the axis (radius 0) of isotropic bending stiffness (`B1 = B2`),
+    /// under loads that keep the axis (no tilt, no lateral dead load); every support
+    /// condition holds at the axis what it held. The buckled states of such a problem form
+    /// circles of equilibria of equal energy (a neutral direction along every branch),
+    /// which a phase condition fixes ([`System::with_phase`](super::system::System::with_phase)).
+    pub fn turns_freely_about_axis(&self, loads: &Loads) -> bool {
+        let b = self.stiffness;
+        let isotropic = (b.b1 - b.b2).abs() <= 1e-12 * b.b1.abs().max(b.b2.abs());
+        let on_axis = self.rods.iter().all(|r| r.helix.radius == 0.0);
+        let axial = loads.keeps_cyclic_symmetry()
+            && loads.along_rods().iter().all(|l| match l {
+                LineLoad::Dead { direction, .. } => direction[0] == 0.0 && direction[1] == 0.0,
+                LineLoad::Radial { .. } => true,
+            });
+        isotropic && on_axis && axial && self.elasticity.energy == Energy::Kirchhoff
     }
 
     /// Rods of the full assembly: the model's, or all the images of a symmetric pair.

@@ -8,6 +8,7 @@ pub mod discrete_model;
 pub mod element;
 pub mod fields;
 pub mod mesh;
+pub mod mirror;
 pub mod pressure;
 pub mod shape;
 pub mod support;

@@ -84,6 +84,15 @@ pub struct System {
     slots: Vec<usize>,
 }
 
+/// The rows and units of a system that do not depend on its linear constraints.
+struct Frame {
+    compat_rows: Vec<usize>,
+    unit_rows: Vec<usize>,
+    linear_row: usize,
+    height0: f64,
+    pcrit: f64,
+}
+
 /// What an evaluation of the system returns besides the residual.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Evaluation {
@@ -139,6 +148,74 @@ impl System {
                 joint_constraints(model, x, &bc, j, joint, &mut linear);
             }
         }
+        let frame = Frame {
+            compat_rows,
+            unit_rows,
+            linear_row,
+            height0,
+            pcrit,
+        };
+        System::with_constraints(model, bc, frame, linear, x, loads, lambda)
+    }
+
+    /// This system with the phase condition `phase` added (see
+    /// [`constraints::axis_phase`](super::constraints::axis_phase) and
+    /// [`constraints::mirror_phase`](super::constraints::mirror_phase)); the
+    /// system itself when it already holds one. `x` is the state the pattern is recorded
+    /// at.
+    pub fn with_phase(&self, model: &DiscreteModel, x: &[f64], phase: LinearConstraint) -> System {
+        if self.has_phase() {
+            return self.clone();
+        }
+        let mut linear = self.linear.clone();
+        linear.push(phase);
+        let frame = Frame {
+            compat_rows: self.compat_rows.clone(),
+            unit_rows: self.unit_rows.clone(),
+            linear_row: self.linear_row,
+            height0: self.height0,
+            pcrit: self.pcrit,
+        };
+        let primal = &x[..model.n_primal];
+        System::with_constraints(
+            model,
+            self.bc,
+            frame,
+            linear,
+            primal,
+            &self.loads,
+            self.lambda,
+        )
+    }
+
+    /// The phase condition the system holds, if any.
+    pub fn phase(&self) -> Option<&LinearConstraint> {
+        self.linear.iter().find(|c| c.role == Role::Phase)
+    }
+
+    /// Whether the system holds a phase condition (see [`System::with_phase`]).
+    pub fn has_phase(&self) -> bool {
+        self.phase().is_some()
+    }
+
+    /// The system of the constraints `linear` (rows from `frame.linear_row` on), its
+    /// pattern recorded at the state `x` (primal unknowns at least).
+    fn with_constraints(
+        model: &DiscreteModel,
+        bc: BoundaryConditions,
+        frame: Frame,
+        linear: Vec<LinearConstraint>,
+        x: &[f64],
+        loads: &Loads,
+        lambda: f64,
+    ) -> System {
+        let Frame {
+            compat_rows,
+            unit_rows,
+            linear_row,
+            height0,
+            pcrit,
+        } = frame;
         let n = linear_row + linear.len();
         let mut sys = System {
             bc,
@@ -318,6 +395,14 @@ impl System {
     /// Row of the unit-norm multiplier of quaternion node `k` of rod `rod`.
     pub fn unit_row(&self, rod: RodId, k: usize) -> usize {
         self.unit_rows[rod] + k
+    }
+
+    /// The multiplier (a generalised force) of the phase condition in the state `x`, if the
+    /// system holds one: zero at every solution when the symmetry the condition stands on
+    /// holds.
+    pub fn phase_multiplier(&self, x: &[f64]) -> Option<f64> {
+        let i = self.linear.iter().position(|c| c.role == Role::Phase)?;
+        x.get(self.linear_row + i).copied()
     }
 
     /// Row of linear constraint `i`.
@@ -653,7 +738,7 @@ impl System {
             let held = match c.role {
                 Role::Support { rod: rr, end: ee } => rr == rod && ee == end,
                 Role::TipHeight { rod: rr } => rr == rod && end == End::Tip,
-                Role::Joint(_) => false,
+                Role::Joint(_) | Role::Phase => false,
             };
             if !held {
                 continue;

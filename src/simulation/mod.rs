@@ -371,6 +371,14 @@ impl Simulation {
         self.path.problem_mut().restore(&x, lambda);
     }
 
+    /// Forgets the critical points after the first `len`: those located past a switch
+    /// point on the path it left (a run that switches at its first bifurcation lists only
+    /// the points of the path it followed).
+    pub fn keep_critical_points(&mut self, len: usize) {
+        self.critical.truncate(len);
+        self.path.keep_critical_points(len);
+    }
+
     /// Continues to load parameter `target` with as many internal steps as needed.
     /// On failure the last converged state is kept and the error says where and why.
     /// A path whose parameter prescribes the axial motion of the tip ends at the first
@@ -418,7 +426,13 @@ impl Simulation {
         };
         let model = self.model().clone();
         let x = self.state();
-        let system = System::new(&model, bc, &x[..model.n_primal], &loads, lambda);
+        let mut system = System::new(&model, bc, &x[..model.n_primal], &loads, lambda);
+        // a branch held by a phase condition stays held: every support condition and axial
+        // control keeps the symmetry the condition stands on (the rotation about the axis
+        // of a straight isotropic rod, the tube's mirror)
+        if let Some(phase) = self.system().phase() {
+            system = system.with_phase(&model, x, phase.clone());
+        }
         // inextensibility and unit-norm multipliers keep their rows; support and joint
         // multipliers enter the KKT matrix linearly and restart from zero
         let keep = system.linear_row(0).min(x.len());

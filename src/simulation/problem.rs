@@ -129,9 +129,11 @@ impl Problem for LoadedAssembly {
         self.system.n
     }
 
-    /// The mean tip above the base (`h > 0`).
+    /// The mean tip above the base (`h > 0`), for a tube; any state of straight rods on
+    /// the axis, whose ends are points that may pass each other (the elastica's loops).
     fn in_domain(&self, x: &[f64]) -> bool {
-        mean_tip_height(&self.model, x) > 0.0
+        let on_axis = self.model.rods.iter().all(|r| r.helix.radius == 0.0);
+        on_axis || mean_tip_height(&self.model, x) > 0.0
     }
 
     fn primal_unknowns(&self) -> usize {

@@ -88,6 +88,9 @@ pub enum StopReason {
     /// pair the path has left for the full model).
     #[error("critical point {index} is of the symmetric pair, which the path has left for the whole assembly: start over to switch there")]
     LeftProblem { index: usize },
+    /// A path asked to switch branch at its first bifurcation met none on the way.
+    #[error("the case asks to switch branch at the first bifurcation (loading.branch), but the path met none on its way to the target")]
+    NoBifurcation,
     #[error("the solve was interrupted: {0}")]
     Interrupted(Interruption),
     /// The count of unstable directions changed more often than a path has critical
@@ -285,6 +288,11 @@ impl<P: Problem> Continuation<P> {
     /// Critical points located so far.
     pub fn critical_points(&self) -> &[Critical] {
         &self.critical
+    }
+
+    /// Forgets the critical points after the first `len` (those of a path left behind).
+    pub fn keep_critical_points(&mut self, len: usize) {
+        self.critical.truncate(len);
     }
 
     pub(super) fn error(&self, target: f64, step: f64, reason: StopReason) -> ContinuationError {

@@ -85,6 +85,32 @@ impl<P: Problem> Continuation<P> {
         })
     }
 
+    /// Replaces the problem by `problem`: the same one with constraints added that the
+    /// current state satisfies (a phase condition), their multipliers zero. The state is
+    /// checked where it is, and the branch goes on as it was (its step, its mode of
+    /// stepping, the previous point and tangent its predictor uses). On failure the old
+    /// problem and state are kept.
+    pub fn constrain(&mut self, problem: P) -> Result<(), ContinuationError> {
+        let (x, lambda) = (self.state.x.clone(), self.state.lambda);
+        let n = problem.unknowns();
+        self.with_problem(problem, x, lambda, |this| {
+            let pad = |v: &mut Vec<f64>| v.resize(n, 0.0);
+            let mut previous = this.state.previous.take();
+            let mut tangent = this.state.tangent.take();
+            this.correct_in_place()?;
+            if let Some((x, _)) = previous.as_mut() {
+                pad(x);
+            }
+            if let Some(t) = tangent.as_mut() {
+                pad(t);
+            }
+            this.state.previous = previous;
+            this.state.tangent = tangent;
+            this.update_stability(true);
+            Ok(())
+        })
+    }
+
     /// Replaces the problem (e.g. the full model behind a reduced one) and leaves the
     /// critical state `(x, λ)` of the new problem along `mode` as
     /// [`Continuation::switch_onto`] does; on failure the old problem and state are kept.

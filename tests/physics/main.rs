@@ -5,6 +5,7 @@
 mod bulk;
 mod free_motion;
 mod loads;
+mod mirror;
 mod precision;
 mod robustness;
 mod rods;

@@ -294,82 +294,88 @@ fn a_duplicated_joint_is_reported_as_a_singular_system() {
     assert!(err.to_string().contains("singular"), "{err}");
 }
 
-/// Euler's pinned column switched onto its buckled branch: with B1 = B2 the buckled plane
-/// may turn about the axis at no cost (a neutral direction, eigenvalue zero to rounding),
-/// which used to flip the unstable count at every step and stop the path after 16
-/// "bifurcations". It is counted once, as neutral, and the path reaches its target, on the
-/// pinned elastica: P/(π²B/L²) = (2K(m)/π)² at δ/L = 2(1 − E(m)/K(m)) (closed form above;
-/// over spira's Pcrit = 4π²B/L² that is a quarter of the clamped column's `elastica_load`).
+/// Pinned elastica, end-shortening at a load: `P/(π²B/L²) = (2K(m)/π)²` solved for `m` by
+/// bisection, then `δ/L = 2(1 − E(m)/K(m))`. `load` is over spira's `Pcrit = 4π²B/L²`.
+fn pinned_elastica_shortening(load: f64) -> f64 {
+    let k_wanted = PI * load.sqrt(); // 2K/π = √(P/Pe), P/Pe = 4 load
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if elliptic_ke(mid).0 < k_wanted {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let (k, e) = elliptic_ke(0.5 * (lo + hi));
+    2.0 * (1.0 - e / k)
+}
+
+/// The critical points of a run: kind and load parameter.
+fn kinds_and_loads(out: &spira::run::PathOutcome) -> Vec<(CriticalKind, f64)> {
+    out.critical.iter().map(|c| (c.kind, c.parameter)).collect()
+}
+
+/// Euler's pinned column as shipped, switched onto its buckled branch: with B1 = B2 the
+/// buckled plane may turn about the axis at no cost, a neutral direction at every state of
+/// the branch, which once made the path crawl (thousands of steps, most rejected) or count
+/// it as critical at every step. A phase condition holds the plane: the path follows the
+/// pinned elastica to 1e-6 in δ/L through the loop (the ends meet at δ = L and pass each
+/// other) to P/Pcrit = 2.5 with no step rejected, and no neutral direction is left.
 #[test]
-fn a_buckled_isotropic_column_has_one_neutral_direction_and_reaches_its_target() {
-    let mut c = case("euler-pinned");
-    c.loading.branch = spira::model::loading::Branch::Switch;
-    let target = 0.3;
-    let targets = c.output_parameters(target, 3);
+fn the_pinned_isotropic_elastica_is_followed_with_its_plane_held() {
+    let c = case("euler-pinned");
+    let targets = c.output_parameters(c.loading.target, c.loading.steps);
     let out = run_path(&c, &targets, |_, _| {}).expect("path");
     assert!(out.error.is_none(), "{:?}", out.error);
-    let last = out.points.last().expect("points");
-    assert!(
-        (last.parameter - target).abs() < 1e-12,
-        "{}",
-        last.parameter
-    );
-    // the Euler load, to the tolerance of the fundamental-path test
-    let first = &out.critical[0];
-    assert_eq!(first.kind, CriticalKind::Bifurcation);
-    assert!(
-        (first.parameter - 0.25).abs() < 1e-5 * 0.25,
-        "{}",
-        first.parameter
-    );
     assert_eq!(out.switched_at, Some(0));
-    let neutral: Vec<_> = out
-        .critical
-        .iter()
-        .filter(|c| c.kind == CriticalKind::Neutral)
-        .collect();
-    assert_eq!(
-        neutral.len(),
-        1,
-        "{:?}",
-        out.critical
-            .iter()
-            .map(|c| (c.kind, c.parameter))
-            .collect::<Vec<_>>()
-    );
-    // nothing else: the neutral direction is no bifurcation
-    assert_eq!(out.critical.len(), 2);
-    assert!(neutral[0].parameter > 0.25 && neutral[0].parameter <= target);
-    // the buckled branch is stable, the neutral direction counted as stable
+    let last = out.points.last().expect("points");
+    assert!((last.parameter - 2.5).abs() < 1e-12, "{}", last.parameter);
+    assert_eq!(out.stats.rejected, 0, "{:?}", out.stats);
+    let mut checked = 0;
     for p in out.points.iter().filter(|p| p.parameter > 0.25) {
-        assert_eq!(
-            p.stability.map(|s| s.unstable_directions),
-            Some(0),
-            "{}",
-            p.parameter
-        );
-        let expected = elastica_load(p.compression_ratio) / 4.0;
+        let expected = pinned_elastica_shortening(p.parameter);
         assert!(
-            (p.parameter - expected).abs() < 1e-3 * expected,
-            "δ/L = {}: P/Pcrit = {} vs the pinned elastica's {expected}",
-            p.compression_ratio,
-            p.parameter
+            (p.compression_ratio - expected).abs() < 1e-6,
+            "P/Pcrit = {}: δ/L = {} vs the pinned elastica's {expected}",
+            p.parameter,
+            p.compression_ratio
         );
+        // stable in its plane and out of it until the ends meet
+        if p.compression_ratio < 1.0 {
+            assert_eq!(p.stability.map(|s| s.unstable_directions), Some(0));
+        }
+        checked += 1;
     }
-    // critical.csv names it
-    let files =
-        spira::output::run_files(&spira::output::RunFiles::of(&c.name, None, &out)).expect("files");
-    let critical = &files
+    assert!(checked >= 20, "{checked}");
+    assert!(last.compression_ratio > 1.5, "{}", last.compression_ratio);
+    // the double Euler point, then the point where the loop's ends meet (δ = L: E/K = ½,
+    // m = 0.826115, P/Pe = 2.18338), where the loop may turn about the meeting point at no
+    // cost and loses stability out of its plane; no neutral entry
+    let critical = kinds_and_loads(&out);
+    assert!(critical
         .iter()
-        .find(|(n, _)| n == "critical.csv")
-        .expect("critical.csv")
-        .1;
-    let kinds: Vec<&str> = critical
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.starts_with("index"))
-        .map(|l| l.split(',').nth(1).expect("kind"))
-        .collect();
-    assert_eq!(kinds, ["bifurcation", "neutral"]);
+        .all(|(kind, _)| *kind == CriticalKind::Bifurcation));
+    assert!((critical[0].1 - 0.25).abs() < 1e-6, "{critical:?}");
+    assert_eq!(out.critical[0].unstable_after, 2);
+    let meet = &out.critical[1];
+    assert!((meet.compression_ratio - 1.0).abs() < 1e-6, "{critical:?}");
+    let expected = 0.25 * 2.183_380;
+    assert!(
+        (meet.parameter - expected).abs() < 1e-5 * expected,
+        "{critical:?}"
+    );
+    assert_eq!((meet.unstable_before, meet.unstable_after), (0, 1));
+    // critical.csv lists the points of the path followed whatever the output steps: two
+    // output steps pass 0.25 and the straight rod's next point, 1.0, before the switch
+    let coarse = run_path(&c, &c.output_parameters(2.5, 2), |_, _| {}).expect("path");
+    assert!(coarse.error.is_none(), "{:?}", coarse.error);
+    let again = kinds_and_loads(&coarse);
+    assert_eq!(again.len(), critical.len(), "{again:?} vs {critical:?}");
+    for (a, b) in again.iter().zip(&critical) {
+        assert_eq!(a.0, b.0);
+        assert!((a.1 - b.1).abs() < 1e-7 * b.1, "{again:?} vs {critical:?}");
+    }
 }
 
 /// The lowest eigenvalue of the constrained pencil at the simulation's state by a dense
