@@ -56,7 +56,7 @@ pub fn free_motion_of(
     let n = geometry.helices.max(1);
     let assembly = Assembly::new(n, geometry.radius, geometry.pitch, geometry.length);
     let rods = assembly.rods.len();
-    let joints = if b.joints && rods > 1 {
+    let joints = if b.joints.active() && rods > 1 {
         assembly.joints.as_slice()
     } else {
         &[]

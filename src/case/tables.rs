@@ -327,15 +327,15 @@ pub(super) fn rod(r: &RawRod, ck: &Checker) -> Result<Elasticity, CaseError> {
     })
 }
 
-/// `[boundary]`: the supports of the base and the tip, and the joints at the crossings.
-/// Every value the file can hold is admissible (serde has refused the others).
-pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
+/// `[boundary]`: the supports of the base and the tip (every value the file can hold is
+/// admissible: serde has refused the others), and the joints at the crossings.
+pub(super) fn boundary(b: &RawBoundary, ck: &Checker) -> Result<BoundaryConditions, CaseError> {
     let thesis = BoundaryConditions::default();
-    BoundaryConditions {
+    Ok(BoundaryConditions {
         base: end_condition(&b.base, thesis.base),
         tip: end_condition(&b.tip, thesis.tip),
-        joints: b.joints.unwrap_or(thesis.joints),
-    }
+        joints: super::joints::joints(b, ck)?,
+    })
 }
 
 /// Refuses supports that leave a rigid motion of the assembly free ([`free_motion_of`]).

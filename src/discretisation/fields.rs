@@ -205,7 +205,7 @@ fn own_snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> 
                     };
                 }
             }
-            let joints = if system.bc.joints {
+            let joints = if system.bc.joints.active() {
                 model.assembly.joint_arc_lengths(id)
             } else {
                 vec![]

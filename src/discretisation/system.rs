@@ -16,10 +16,11 @@ use super::constraints::{
 };
 use super::discrete_model::{DiscreteModel, End};
 use super::element::{self, ElementLoad, ElementTerms};
+use super::joint_rotation::JointRotation;
 use super::pressure;
 use super::support::SupportPose;
 use crate::model::assembly::RodId;
-use crate::model::boundary::BoundaryConditions;
+use crate::model::boundary::{BoundaryConditions, Joints};
 use crate::model::loading::{AxisLoad, LineLoad, Loads, SupportAxis};
 use crate::model::quaternion::{self, Quat};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
@@ -63,6 +64,11 @@ pub struct System {
     /// Linear constraints (supports, tip height, joints), in row order after the
     /// inextensibility and unit-norm rows.
     pub linear: Vec<LinearConstraint>,
+    /// The rotational parts of welded and elastic joints; the rows of welded ones follow
+    /// the linear constraints.
+    pub rotations: Vec<JointRotation>,
+    /// First row of each rotational part's constraints.
+    rotation_rows: Vec<usize>,
     /// First row of each rod's inextensibility multipliers.
     compat_rows: Vec<usize>,
     /// First row of each rod's unit-norm multipliers.
@@ -134,15 +140,24 @@ impl System {
                 support_constraints(model, x, id, end, cond, tip, &mut linear);
             }
         }
-        if bc.joints {
+        if bc.joints.active() {
             for (j, joint) in model.assembly.joints.iter().enumerate() {
                 joint_constraints(model, x, &bc, j, joint, &mut linear);
             }
         }
-        let n = linear_row + linear.len();
+        let rotations = joint_rotations(model, x, &bc, tip);
+        let mut row = linear_row + linear.len();
+        let mut rotation_rows = Vec::new();
+        for r in &rotations {
+            rotation_rows.push(row);
+            row += r.rows();
+        }
+        let n = row;
         let mut sys = System {
             bc,
             linear,
+            rotations,
+            rotation_rows,
             compat_rows,
             unit_rows,
             linear_row,
@@ -481,6 +496,7 @@ impl System {
         }
         potential += self.assemble_pressure(model, x, residual, sink);
         self.assemble_linear(x, residual, sink);
+        energy += self.assemble_rotations(x, residual, sink);
         Evaluation { energy, potential }
     }
 
@@ -560,6 +576,41 @@ impl System {
             }
             residual[row] = g;
         }
+    }
+
+    /// The joints' rotational terms: springs' energy, gradient and Hessian, or the rows of
+    /// welded joints and their multipliers' terms. Returns the springs' energy (J).
+    fn assemble_rotations(&self, x: &[f64], residual: &mut [f64], sink: &mut dyn Sink) -> f64 {
+        let mut energy = 0.0;
+        for (r, &row) in self.rotations.iter().zip(&self.rotation_rows) {
+            let t = r.terms(x, &x[row..row + r.rows()]);
+            energy += t.energy;
+            for (a, &da) in r.dofs.iter().enumerate() {
+                residual[da] += t.gradient[a];
+                for (b, &db) in r.dofs.iter().enumerate() {
+                    sink.add(da, db, t.hessian[a][b]);
+                }
+            }
+            for (k, (value, gradient)) in t.rows.iter().enumerate() {
+                residual[row + k] = *value;
+                for (&d, &g) in r.dofs.iter().zip(gradient) {
+                    sink.add(d, row + k, g);
+                    sink.add(row + k, d, g);
+                }
+            }
+        }
+        energy
+    }
+
+    /// The multipliers (rows) of rotational part `i` of the joints in the state `x`.
+    pub fn rotation_multipliers<'a>(&self, x: &'a [f64], i: usize) -> &'a [f64] {
+        let row = self.rotation_rows[i];
+        &x[row..row + self.rotations[i].rows()]
+    }
+
+    /// First row of rotational part `i` of the joints.
+    pub fn rotation_row(&self, i: usize) -> usize {
+        self.rotation_rows[i]
     }
 
     /// The force per unit length (N/m) of the loads along the rods at load parameter
@@ -684,6 +735,39 @@ impl System {
         });
         (force, moment)
     }
+}
+
+/// The rotational parts of the joints of a welded or elastic assembly under `bc` (none for
+/// pins), the tip support at `tip`.
+fn joint_rotations(
+    model: &DiscreteModel,
+    x: &[f64],
+    bc: &BoundaryConditions,
+    tip: TipPlace,
+) -> Vec<JointRotation> {
+    if !matches!(bc.joints, Joints::Welded | Joints::Elastic(_)) {
+        return Vec::new();
+    }
+    let natural = model.natural_state();
+    let tip_axis = match tip {
+        TipPlace::Turned { pose, .. } => quaternion::rotation(&pose.rotation) * Vector3::z(),
+        TipPlace::Upright { .. } => Vector3::z(),
+    };
+    let length = model.length();
+    model
+        .assembly
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(j, joint)| {
+            let axis = if joint.s >= length * (1.0 - 1e-9) {
+                tip_axis
+            } else {
+                Vector3::z()
+            };
+            JointRotation::new(model, &natural, x, bc, j, joint, axis)
+        })
+        .collect()
 }
 
 /// The tip's height (m) at load parameter `lambda` when the tip support's z is a prescribed

@@ -4,7 +4,7 @@
 
 use spira::case::{Case, CaseError};
 use spira::discretisation::shape::Order;
-use spira::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
+use spira::model::boundary::{BoundaryConditions, EndCondition, Joints, Rotation, Translation};
 use spira::solver::continuation::ContinuationSettings;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -824,7 +824,7 @@ fn thesis_cases_have_the_thesis_values() {
         };
         assert_eq!(case.boundary.base, clamped, "{name}");
         assert_eq!(case.boundary.tip, clamped, "{name}");
-        assert!(case.boundary.joints, "{name}");
+        assert_eq!(case.boundary.joints, Joints::Pin, "{name}");
         assert_eq!(case.loading.target, 0.5, "{name}");
         assert!(case.discretisation.elements >= 48, "{name}");
         assert_eq!(case.discretisation.order, Order::Quadratic, "{name}");
@@ -840,7 +840,7 @@ fn minimal_case_takes_the_thesis_defaults() {
     assert_thesis_geometry(&case, "minimal");
     assert_eq!(case.boundary, BoundaryConditions::default());
     assert_eq!(case.boundary.base, EndCondition::CLAMPED);
-    assert!(case.boundary.joints);
+    assert_eq!(case.boundary.joints, Joints::Pin);
     assert_eq!(case.loading.target, 0.5);
     assert_eq!(case.loading.steps, 10);
     assert_eq!(case.discretisation.elements, 48);
