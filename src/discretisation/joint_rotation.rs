@@ -67,43 +67,9 @@ impl JointRotation {
         joint: &Joint,
         held_axis: Vector3<f64>,
     ) -> Option<JointRotation> {
-        let (ri, rj) = (&model.rods[joint.right], &model.rods[joint.left]);
-        let p = model.order.degree();
-        let vi = ri.mesh.vertex_at(joint.s)?;
-        let vj = rj.mesh.vertex_at(joint.s)?;
-        let (ni, nj) = (vi * p, vj * p);
-        let turn = TurnZ::new(joint.left_turn);
-        let unit = |q: Quat| q / q.norm();
-        let qr0 = unit(model.quaternion(natural, joint.right, ni));
-        let ql0 = turn.rotate(&unit(model.quaternion(natural, joint.left, nj)));
-        let q0 = quaternion::mul(&quaternion::conj(&qr0), &ql0);
-        let c = quaternion::conj(&q0);
-        let basis = |k: usize| {
-            let mut e = Quat::zeros();
-            e[k] = 1.0;
-            e
-        };
-        let m = std::array::from_fn(|i| {
-            std::array::from_fn(|a| {
-                std::array::from_fn(|b| {
-                    let left = quaternion::mul(&turn.rotate(&basis(b)), &c);
-                    quaternion::mul(&quaternion::conj(&basis(a)), &left)[i]
-                })
-            })
-        });
-        let rot0 = quaternion::rotation(&qr0);
-        let r = model.vertex(natural, joint.right, vi);
-        let radial = Vector3::new(r[0], r[1], 0.0);
-        let radial = if radial.norm() > 0.0 {
-            radial / radial.norm()
-        } else {
-            Vector3::x()
-        };
-        let n = rot0.transpose() * radial;
-        let t = Vector3::z() - n * n[2];
-        let t = t / t.norm();
-        let axes = Matrix3::from_rows(&[n.transpose(), t.transpose(), n.cross(&t).transpose()]);
-        let resistance = match bc.joints {
+        let mut out = JointRotation::measure(model, natural, index, joint)?;
+        let n = Vector3::from(out.axes.row(0).transpose());
+        out.resistance = match bc.joints {
             Joints::Pin | Joints::None => return None,
             Joints::Elastic(k) => Resistance::Elastic {
                 stiffness: Matrix3::identity() * k.out_of_plane
@@ -118,7 +84,8 @@ impl JointRotation {
                 } else {
                     None
                 };
-                let rot = quaternion::rotation(&model.quaternion(x, joint.right, ni));
+                let q = Quat::from(std::array::from_fn(|k| x[out.dofs[k]]));
+                let rot = quaternion::rotation(&q);
                 let weights = match end {
                     Some(Rotation::Clamped) => return None,
                     // the rotation about the held axis is held on both rods already: the
@@ -141,6 +108,51 @@ impl JointRotation {
                 Resistance::Welded { weights }
             }
         };
+        Some(out)
+    }
+
+    /// The relative rotation of joint `index` as a measure only (springs of no stiffness):
+    /// what a pin's rods turn by. `None` where the joint is at no vertex of its rods.
+    pub fn measure(
+        model: &DiscreteModel,
+        natural: &[f64],
+        index: usize,
+        joint: &Joint,
+    ) -> Option<JointRotation> {
+        let (ri, rj) = (&model.rods[joint.right], &model.rods[joint.left]);
+        let p = model.order.degree();
+        let vi = ri.mesh.vertex_at(joint.s)?;
+        let vj = rj.mesh.vertex_at(joint.s)?;
+        let (ni, nj) = (vi * p, vj * p);
+        let turn = TurnZ::new(joint.left_turn);
+        let unit = |q: Quat| q / q.norm();
+        let qr0 = unit(model.quaternion(natural, joint.right, ni));
+        let ql0 = turn.rotate(&unit(model.quaternion(natural, joint.left, nj)));
+        let c = quaternion::conj(&quaternion::mul(&quaternion::conj(&qr0), &ql0));
+        let basis = |k: usize| {
+            let mut e = Quat::zeros();
+            e[k] = 1.0;
+            e
+        };
+        let m = std::array::from_fn(|i| {
+            std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    let left = quaternion::mul(&turn.rotate(&basis(b)), &c);
+                    quaternion::mul(&quaternion::conj(&basis(a)), &left)[i]
+                })
+            })
+        });
+        let r = model.vertex(natural, joint.right, vi);
+        let radial = Vector3::new(r[0], r[1], 0.0);
+        let radial = if radial.norm() > 0.0 {
+            radial / radial.norm()
+        } else {
+            Vector3::x()
+        };
+        let n = quaternion::rotation(&qr0).transpose() * radial;
+        let t = Vector3::z() - n * n[2];
+        let t = t / t.norm();
+        let axes = Matrix3::from_rows(&[n.transpose(), t.transpose(), n.cross(&t).transpose()]);
         let dofs = std::array::from_fn(|k| {
             if k < 4 {
                 ri.q_dof(ni, k)
@@ -153,7 +165,9 @@ impl JointRotation {
             dofs,
             m,
             axes,
-            resistance,
+            resistance: Resistance::Elastic {
+                stiffness: Matrix3::zeros(),
+            },
         })
     }
 

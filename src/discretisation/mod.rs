@@ -7,6 +7,7 @@ pub mod constraints;
 pub mod discrete_model;
 pub mod element;
 pub mod fields;
+pub mod joint_fields;
 pub mod joint_rotation;
 pub mod mesh;
 pub mod pressure;

@@ -634,6 +634,12 @@ impl System {
         self.line_load_of(lambda, false)
     }
 
+    /// The force per unit length (N/m) of the loads along the rods at the system's load
+    /// parameter.
+    pub fn element_load(&self) -> ElementLoad {
+        self.line_load(self.lambda)
+    }
+
     /// `∂R/∂λ` of the loads along the rods at the state `x`, added to `out`: the gradient of
     /// the potential of a line load of the rate's force.
     fn add_line_load_derivative(
