@@ -34,11 +34,16 @@ pub(super) fn joints(b: &RawBoundary, ck: &Checker) -> Result<Joints, CaseError>
                 ))
             }
             other => {
+                let found = match other {
+                    Value::Float(f) => num(*f),
+                    Value::Integer(i) => i.to_string(),
+                    other => format!("a {}", other.type_str()),
+                };
                 return Err(ck.invalid(
                     "boundary.joints",
                     v.span(),
-                    format!("expected {}, found {other}", expected()),
-                ))
+                    format!("expected {}, found {found}", expected()),
+                ));
             }
         },
     };

@@ -97,7 +97,10 @@ impl Case {
         let geometry = tables::geometry(&raw.geometry, &ck)?;
         let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
         let rod = tables::rod(&raw.rod, &ck)?;
-        let boundary = tables::boundary(&raw.boundary, &ck)?;
+        let boundary = BoundaryConditions {
+            joints: joints::joints(&raw.boundary, &ck)?,
+            ..tables::boundary(&raw.boundary)
+        };
         let loading = loads::loading(&raw.loading, &geometry, stiffness.b1, &boundary, &ck)?;
         // the tip's height is free under a dead axial load
         tables::free_motion(&boundary, &geometry, loading.tip_height_held(), &ck)?;

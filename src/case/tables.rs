@@ -327,15 +327,16 @@ pub(super) fn rod(r: &RawRod, ck: &Checker) -> Result<Elasticity, CaseError> {
     })
 }
 
-/// `[boundary]`: the supports of the base and the tip (every value the file can hold is
-/// admissible: serde has refused the others), and the joints at the crossings.
-pub(super) fn boundary(b: &RawBoundary, ck: &Checker) -> Result<BoundaryConditions, CaseError> {
+/// `[boundary]`: the supports of the base and the tip, and pin joints at the crossings (the
+/// file's joints are read by `joints`). Every support the file can hold is admissible (serde
+/// has refused the others).
+pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
     let thesis = BoundaryConditions::default();
-    Ok(BoundaryConditions {
+    BoundaryConditions {
         base: end_condition(&b.base, thesis.base),
         tip: end_condition(&b.tip, thesis.tip),
-        joints: super::joints::joints(b, ck)?,
-    })
+        joints: thesis.joints,
+    }
 }
 
 /// Refuses supports that leave a rigid motion of the assembly free ([`free_motion_of`]).

@@ -11,8 +11,6 @@ use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, Snapshot, StepBulk};
 use serde::Serialize;
 
-pub use super::joints_table::joints_csv;
-
 /// Number formats of the cells: `{:.Ne}` scientific notation with `N` digits after the
 /// point, and empty cells for missing values.
 pub mod format {
