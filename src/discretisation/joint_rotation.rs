@@ -12,6 +12,7 @@
 //! - elastic: `W = ½ θᵀ K θ` with `θ = 2 vec p` and `K = k_o I + (k_s − k_o) n nᵀ`, `n` the
 //!   normal to the tube's surface at the crossing in the right rod's frame.
 
+use super::constraints::TipPlace;
 use super::discrete_model::DiscreteModel;
 use crate::model::assembly::Joint;
 use crate::model::boundary::{BoundaryConditions, Joints, Rotation};
@@ -298,4 +299,70 @@ impl JointRotation {
         };
         (moment(&t.gradient[..4], qr), moment(&t.gradient[4..], ql))
     }
+}
+
+/// The rotational parts of the joints of a welded or elastic assembly under `bc` (none for
+/// pins), the tip support at `tip`.
+pub(super) fn of_assembly(
+    model: &DiscreteModel,
+    x: &[f64],
+    bc: &BoundaryConditions,
+    tip: TipPlace,
+) -> Vec<JointRotation> {
+    if !matches!(bc.joints, Joints::Welded | Joints::Elastic(_)) {
+        return Vec::new();
+    }
+    let natural = model.natural_state();
+    let tip_axis = match tip {
+        TipPlace::Turned { pose, .. } => quaternion::rotation(&pose.rotation) * Vector3::z(),
+        TipPlace::Upright { .. } => Vector3::z(),
+    };
+    let length = model.length();
+    model
+        .assembly
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(j, joint)| {
+            let axis = if joint.s >= length * (1.0 - 1e-9) {
+                tip_axis
+            } else {
+                Vector3::z()
+            };
+            JointRotation::new(model, &natural, x, bc, j, joint, axis)
+        })
+        .collect()
+}
+
+/// The joints' rotational terms at `x`, the rows of part `i` from `rows[i]`: the springs'
+/// energy, gradient and Hessian, or the rows of welded joints and their multipliers' terms,
+/// added to `residual` and, entry by entry, to the KKT matrix by `add(row, col, value)`
+/// (every entry, zero or not, so that the pattern is the same at every state). Returns the
+/// springs' energy (J).
+pub(super) fn assemble(
+    parts: &[JointRotation],
+    rows: &[usize],
+    x: &[f64],
+    residual: &mut [f64],
+    add: &mut dyn FnMut(usize, usize, f64),
+) -> f64 {
+    let mut energy = 0.0;
+    for (r, &row) in parts.iter().zip(rows) {
+        let t = r.terms(x, &x[row..row + r.rows()]);
+        energy += t.energy;
+        for (a, &da) in r.dofs.iter().enumerate() {
+            residual[da] += t.gradient[a];
+            for (b, &db) in r.dofs.iter().enumerate() {
+                add(da, db, t.hessian[a][b]);
+            }
+        }
+        for (k, (value, gradient)) in t.rows.iter().enumerate() {
+            residual[row + k] = *value;
+            for (&d, &g) in r.dofs.iter().zip(gradient) {
+                add(d, row + k, g);
+                add(row + k, d, g);
+            }
+        }
+    }
+    energy
 }

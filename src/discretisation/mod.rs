@@ -11,6 +11,7 @@ pub mod joint_fields;
 pub mod joint_rotation;
 pub mod mesh;
 pub mod pressure;
+mod reactions;
 pub mod shape;
 pub mod support;
 pub mod symmetry;

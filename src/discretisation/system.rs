@@ -5,7 +5,8 @@
 //! - per element, a 3-vector `λ` for `r_end − r_start − ∫ d3 ds = 0`: it is the internal
 //!   force `n` (N) carried by the element;
 //! - per quaternion node, `μ` for `|q|² − 1 = 0`;
-//! - linear constraints: supports, prescribed tip height, pin joints.
+//! - linear constraints: supports, prescribed tip height, the positions of joints;
+//! - welded joints: the relative rotation of the two rods (bilinear rows, after the linear).
 //!
 //! Stationarity of `E + Σ λ·gap + Σ μ (|q|²−1) + Σ ν (a·x − b)` gives the residual; its
 //! Jacobian is the symmetric KKT matrix `[[H, Jᵀ], [J, 0]]`, assembled into a sparse
@@ -16,15 +17,14 @@ use super::constraints::{
 };
 use super::discrete_model::{DiscreteModel, End};
 use super::element::{self, ElementLoad, ElementTerms};
-use super::joint_rotation::JointRotation;
+use super::joint_rotation::{self, JointRotation};
 use super::pressure;
 use super::support::SupportPose;
 use crate::model::assembly::RodId;
-use crate::model::boundary::{BoundaryConditions, Joints};
+use crate::model::boundary::BoundaryConditions;
 use crate::model::loading::{AxisLoad, LineLoad, Loads, SupportAxis};
-use crate::model::quaternion::{self, Quat};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
-use nalgebra::{Vector3, Vector4};
+use nalgebra::Vector3;
 
 /// Sparse-matrix sink: either records the pattern or scatters values into it, visited in
 /// the same order by the same assembly code.
@@ -145,7 +145,7 @@ impl System {
                 joint_constraints(model, x, &bc, j, joint, &mut linear);
             }
         }
-        let rotations = joint_rotations(model, x, &bc, tip);
+        let rotations = joint_rotation::of_assembly(model, x, &bc, tip);
         let mut row = linear_row + linear.len();
         let mut rotation_rows = Vec::new();
         for r in &rotations {
@@ -247,7 +247,7 @@ impl System {
     /// The dead force (N) on every rod's tip along z at the current load parameter: `−P`,
     /// `P = Pcrit · (P/Pcrit)` (compressive positive), when the tip support's z carries a
     /// dead load.
-    fn tip_force_z(&self) -> Option<f64> {
+    pub(super) fn tip_force_z(&self) -> Option<f64> {
         match self.loads.tip().axis(SupportAxis::Z) {
             AxisLoad::Force(r) => Some(-(self.pcrit * r.at(self.lambda))),
             AxisLoad::Motion(_) => None,
@@ -578,28 +578,10 @@ impl System {
         }
     }
 
-    /// The joints' rotational terms: springs' energy, gradient and Hessian, or the rows of
-    /// welded joints and their multipliers' terms. Returns the springs' energy (J).
+    /// The joints' rotational terms ([`joint_rotation::assemble`]): the springs' energy (J).
     fn assemble_rotations(&self, x: &[f64], residual: &mut [f64], sink: &mut dyn Sink) -> f64 {
-        let mut energy = 0.0;
-        for (r, &row) in self.rotations.iter().zip(&self.rotation_rows) {
-            let t = r.terms(x, &x[row..row + r.rows()]);
-            energy += t.energy;
-            for (a, &da) in r.dofs.iter().enumerate() {
-                residual[da] += t.gradient[a];
-                for (b, &db) in r.dofs.iter().enumerate() {
-                    sink.add(da, db, t.hessian[a][b]);
-                }
-            }
-            for (k, (value, gradient)) in t.rows.iter().enumerate() {
-                residual[row + k] = *value;
-                for (&d, &g) in r.dofs.iter().zip(gradient) {
-                    sink.add(d, row + k, g);
-                    sink.add(row + k, d, g);
-                }
-            }
-        }
-        energy
+        let mut add = |row: usize, col: usize, v: f64| sink.add(row, col, v);
+        joint_rotation::assemble(&self.rotations, &self.rotation_rows, x, residual, &mut add)
     }
 
     /// The multipliers (rows) of rotational part `i` of the joints in the state `x`.
@@ -689,91 +671,6 @@ impl System {
         let row = self.compat_row(rod, e);
         Vector3::new(x[row], x[row + 1], x[row + 2])
     }
-
-    /// Force (N) and moment (N m) that the support (and, under load control, the dead
-    /// load at the tip) applies to rod `rod` at `end`, in the global frame, from the
-    /// multipliers of its support constraints: the generalised
-    /// reaction is `−ν ∂g/∂x`, and a virtual rotation `δθ` moves `q` by `½ (δθ, 0) ∘ q`.
-    pub fn reaction(
-        &self,
-        model: &DiscreteModel,
-        x: &[f64],
-        rod: RodId,
-        end: End,
-    ) -> (Vector3<f64>, Vector3<f64>) {
-        let r = &model.rods[rod];
-        let node = r.end_node(end);
-        let vertex = r.end_vertex(end);
-        let mut force = Vector3::zeros();
-        let mut fq = Vector4::zeros();
-        for (i, c) in self.linear.iter().enumerate() {
-            let held = match c.role {
-                Role::Support { rod: rr, end: ee } => rr == rod && ee == end,
-                Role::TipHeight { rod: rr } => rr == rod && end == End::Tip,
-                Role::Joint(_) => false,
-            };
-            if !held {
-                continue;
-            }
-            let nu = x[self.linear_row + i];
-            for &(d, a) in &c.terms {
-                for k in 0..3 {
-                    if d == r.r_dof(vertex, k) {
-                        force[k] -= nu * a;
-                    }
-                }
-                for k in 0..4 {
-                    if d == r.q_dof(node, k) {
-                        fq[k] -= nu * a;
-                    }
-                }
-            }
-        }
-        if let (Some(f), End::Tip) = (self.tip_force_z(), end) {
-            // under a dead axial load the tip is loaded by the dead load itself
-            force[2] += f;
-        }
-        let q = model.quaternion(x, rod, node);
-        let moment = Vector3::from_fn(|i, _| {
-            let mut e = Quat::zeros();
-            e[i] = 1.0;
-            0.5 * fq.dot(&quaternion::mul(&e, &q))
-        });
-        (force, moment)
-    }
-}
-
-/// The rotational parts of the joints of a welded or elastic assembly under `bc` (none for
-/// pins), the tip support at `tip`.
-fn joint_rotations(
-    model: &DiscreteModel,
-    x: &[f64],
-    bc: &BoundaryConditions,
-    tip: TipPlace,
-) -> Vec<JointRotation> {
-    if !matches!(bc.joints, Joints::Welded | Joints::Elastic(_)) {
-        return Vec::new();
-    }
-    let natural = model.natural_state();
-    let tip_axis = match tip {
-        TipPlace::Turned { pose, .. } => quaternion::rotation(&pose.rotation) * Vector3::z(),
-        TipPlace::Upright { .. } => Vector3::z(),
-    };
-    let length = model.length();
-    model
-        .assembly
-        .joints
-        .iter()
-        .enumerate()
-        .filter_map(|(j, joint)| {
-            let axis = if joint.s >= length * (1.0 - 1e-9) {
-                tip_axis
-            } else {
-                Vector3::z()
-            };
-            JointRotation::new(model, &natural, x, bc, j, joint, axis)
-        })
-        .collect()
 }
 
 /// The tip's height (m) at load parameter `lambda` when the tip support's z is a prescribed
