@@ -195,3 +195,33 @@ impl BoundaryConditions {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Session scripts write the conditions as TOML: pins and none as the flags they were
+    /// before other kinds existed, and every kind reads back as itself.
+    #[test]
+    fn joints_are_written_as_flags_names_and_springs_and_read_back() {
+        let springs = JointStiffness {
+            scissor: 0.5,
+            out_of_plane: 2.0,
+        };
+        for (joints, written) in [
+            (Joints::Pin, "joints = true"),
+            (Joints::None, "joints = false"),
+            (Joints::Welded, "joints = \"welded\""),
+            (Joints::Elastic(springs), "[joints.elastic]"),
+        ] {
+            let bc = BoundaryConditions {
+                joints,
+                ..BoundaryConditions::default()
+            };
+            let text = toml::to_string(&bc).expect("conditions as TOML");
+            assert!(text.contains(written), "{text}");
+            let back: BoundaryConditions = toml::from_str(&text).expect("read back");
+            assert_eq!(back, bc);
+        }
+    }
+}

@@ -670,6 +670,12 @@ fn the_solver_thread_answers_every_step_and_coalesces_toggles() {
     let state = app.screen.state.as_ref().unwrap();
     assert_eq!(state.boundary.joints, Joints::Welded);
     assert_close(Some(state.point.compression_ratio), 0.15);
+    // the status line says the kind, within 80 columns
+    let screen = text(&draw(&app, 80, 24));
+    assert!(
+        screen.lines().any(|l| l.contains("│ joints welded")),
+        "{screen}"
+    );
     // asking again for what is in force needs no solve and adds no point
     let n = app.screen.path.len();
     let effects = app.handle_key(ch('p'));
