@@ -64,8 +64,19 @@ pub fn expand_state(
             (pair.assembly.joints[r.joint].s - s).abs() <= tol && r.rows() == rot.rows()
         });
         if let (Some((k, _)), 3) = (source, rot.rows()) {
+            // the natural relative rotations of the two may differ in sign (the quaternion
+            // fields are continuous along each rod, not across images): so may the rows
+            let same = rot
+                .deviation(out)
+                .dot(&pair_system.rotations[k].deviation(x));
+            let sign = if same < 0.0 { -1.0 } else { 1.0 };
             let row = full_system.rotation_row(i);
-            out[row..row + 3].copy_from_slice(pair_system.rotation_multipliers(x, k));
+            for (o, nu) in out[row..row + 3]
+                .iter_mut()
+                .zip(pair_system.rotation_multipliers(x, k))
+            {
+                *o = sign * nu;
+            }
         }
     }
 }

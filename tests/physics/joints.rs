@@ -356,3 +356,42 @@ fn symmetric_pair_reproduces_the_full_welded_assembly() {
         assert_eq!(cf.len(), cp.len());
     }
 }
+
+/// The Bloch blocks of a welded or sprung pair against the full model at perturbed states
+/// (multipliers too): the joints' couplings between the two quaternions carry the phases.
+/// n = 8 with sliding tips, past the sway of the pins' tube.
+#[test]
+fn bloch_blocks_of_welded_and_elastic_pairs_count_the_full_models_unstable_directions() {
+    for joints in [Joints::Welded, springs(0.3)] {
+        let mut case = tube(8, 24, 0.3, 3, joints);
+        case.discretisation.symmetric = true;
+        case.boundary.tip.translation = spira::model::boundary::Translation::Slide;
+        let mut sim = Simulation::from_case_on(&case, 1).unwrap();
+        for k in 1..=3 {
+            sim.advance_to(0.1 * k as f64).unwrap();
+        }
+        let x0 = sim.state().to_vec();
+        let np = sim.model().n_primal;
+        for (k, amplitude) in [0.0, 1e-3].into_iter().enumerate() {
+            let x: Vec<f64> = x0
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    let wiggle = ((i * 7919 + k * 104_729) % 1000) as f64 / 1000.0 - 0.5;
+                    if i < np {
+                        v + amplitude * wiggle
+                    } else {
+                        v * (1.0 + 10.0 * amplitude * wiggle)
+                    }
+                })
+                .collect();
+            let (counted, full_count, lowest, full_lowest) =
+                super::symmetry::blocks_against_full(&case, &x);
+            assert_eq!(counted, full_count, "{joints:?}, amplitude {amplitude}");
+            assert!(
+                (lowest - full_lowest).abs() < 1e-8 * full_lowest.abs(),
+                "{joints:?}, amplitude {amplitude}: {lowest} vs {full_lowest}"
+            );
+        }
+    }
+}
