@@ -115,6 +115,27 @@ pub struct RodShape {
     pub nodes: Vec<NodeState>,
     /// Arc lengths of its active joints (m).
     pub joints: Vec<f64>,
+    /// What each of its active joints carries, in the order of `joints`.
+    pub joint_states: Vec<JointState>,
+}
+
+/// A joint as one of the rods it ties sees it in a state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JointState {
+    /// Arc length of the crossing (m).
+    pub s: f64,
+    /// Rotation (rad) of the left rod's frame relative to the right rod's, from its natural
+    /// value, in the right rod's frame on the axes (normal to the tube's surface, the right
+    /// rod's natural tangent, their cross product): `2 vec(q̄_R ∘ q_L ∘ q̄_0)`; its first
+    /// component is the change of the scissor angle.
+    pub rotation: [f64; 3],
+    /// Moment (N m, global frame) the joint applies to this rod (zero for a pin).
+    pub moment: [f64; 3],
+    /// The rod's internal moment (N m, global frame: the moment the part beyond exerts on
+    /// the part before) just before and just after the crossing; at a rod end the missing
+    /// side is zero. `moment_after − moment_before + moment = 0` is the balance of the node.
+    pub moment_before: [f64; 3],
+    pub moment_after: [f64; 3],
 }
 
 /// The shape of every rod in a state.

@@ -174,10 +174,17 @@ pub const KEYS: &[KeyDoc] = &[
     },
     KeyDoc {
         key: "boundary.joints",
-        meaning: "pin joints where a right- and a left-handed rod cross",
+        meaning: "what a crossing of a right- and a left-handed rod is: \"pin\" (positions shared, rotations free; also `true`), \"welded\" (the relative rotation of the two rods held at its natural value), \"elastic\" (the relative rotation resisted by springs, `joint_stiffness`), \"none\" (also `false`): see [theory.md](theory.md#2-helices-and-assemblies)",
         unit: "",
         default: DefaultDoc::Value("true"),
-        range: RangeDoc::Phrase("true or false"),
+        range: RangeDoc::Phrase("`true`, `false`, `\"pin\"`, `\"welded\"`, `\"elastic\"`, `\"none\"`"),
+    },
+    KeyDoc {
+        key: "boundary.joint_stiffness",
+        meaning: "the springs of elastic joints, `{ scissor = k_s, out_of_plane = k_o }`: `k_s` about the normal to the tube's surface at the crossing (the angle between the rods), `k_o` about the two axes in the surface; given exactly when `joints = \"elastic\"`",
+        unit: "N m/rad",
+        default: DefaultDoc::Phrase("none: required with elastic joints"),
+        range: RangeDoc::Phrase("each from 0 to 1e12"),
     },
     KeyDoc {
         key: "loading.parameter",

@@ -15,6 +15,8 @@ pub const PITCH_RATIO: (f64, f64) = (1e-3, 1e3);
 pub const TURNS_RANGE: (f64, f64) = (1e-2, 1e3);
 /// Stiffnesses `B1`, `B2`, `B3`, N m².
 pub const STIFFNESS_RANGE: (f64, f64) = (1e-12, 1e12);
+/// The largest stiffness (N m/rad) of an elastic joint's springs.
+pub const JOINT_STIFFNESS_MAX: f64 = 1e12;
 /// `B2/B1` and `B3/B1`.
 pub const STIFFNESS_RATIO: (f64, f64) = (1e-4, 1e4);
 /// Elements per turn of a helix (the elements per rod, joints' vertices included, over the

@@ -10,6 +10,7 @@
 
 mod error;
 mod helices;
+mod joints;
 mod keys;
 mod limits;
 mod loads;
@@ -35,7 +36,7 @@ pub use target::TargetError;
 
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::model::assembly::Assembly;
-use crate::model::boundary::BoundaryConditions;
+use crate::model::boundary::{BoundaryConditions, JointStiffness, Joints};
 use crate::model::elasticity::Elasticity;
 use crate::model::loading::{pressure_unit, Branch, Component, Control, LoadParameter, Loads};
 use crate::model::stiffness::Stiffness;
@@ -96,7 +97,10 @@ impl Case {
         let geometry = tables::geometry(&raw.geometry, &ck)?;
         let stiffness = tables::stiffness(&raw.stiffness, &geometry, &ck)?;
         let rod = tables::rod(&raw.rod, &ck)?;
-        let boundary = tables::boundary(&raw.boundary);
+        let boundary = BoundaryConditions {
+            joints: joints::joints(&raw.boundary, &ck)?,
+            ..tables::boundary(&raw.boundary)
+        };
         let loading = loads::loading(&raw.loading, &geometry, stiffness.b1, &boundary, &ck)?;
         // the tip's height is free under a dead axial load
         tables::free_motion(&boundary, &geometry, loading.tip_height_held(), &ck)?;
@@ -230,6 +234,21 @@ impl Case {
     /// (the check the case reader refuses a file's `[boundary]` by).
     pub fn free_motion(&self, bc: &BoundaryConditions) -> Option<FreeMotion> {
         motion::free_motion_of(bc, &self.geometry, self.loading.tip_height_held())
+    }
+
+    /// The springs elastic joints get on this case: the file's, or `B1/L` about every axis
+    /// (the bending stiffness of a rod over its length) when the file has none.
+    pub fn joint_springs(&self) -> JointStiffness {
+        match self.boundary.joints {
+            Joints::Elastic(k) => k,
+            _ => {
+                let k = self.stiffness.b1 / self.geometry.length;
+                JointStiffness {
+                    scissor: k,
+                    out_of_plane: k,
+                }
+            }
+        }
     }
 
     /// The size of the case's problem, estimated from its mesh without building it.

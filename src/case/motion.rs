@@ -13,8 +13,9 @@
 //! | `rotation = "pinned"` | `ω_z` |
 //! | `rotation = "free"` | nothing |
 //!
-//! and a pin joint ties the positions of its two rods at the crossing (at an end, in the
-//! directions the support leaves free, as the solver ties them). A right and a left rod
+//! and a joint ties the positions of its two rods at the crossing (at an end, in the
+//! directions the support leaves free, as the solver ties them); a welded one also their
+//! rotations, an elastic one their rotations about the axes it has springs about. A right and a left rod
 //! that cross at three points or more move as one body (three points of a helix are never
 //! on a line), so the unknowns are six per group of rods tied so; the free motions are the
 //! null space of the rows above. The check is exact for the geometry: it names a motion
@@ -23,7 +24,7 @@
 
 use super::settings::Geometry;
 use crate::model::assembly::{Assembly, Joint};
-use crate::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
+use crate::model::boundary::{BoundaryConditions, EndCondition, Joints, Rotation, Translation};
 use nalgebra::{DMatrix, Vector3};
 
 /// A rigid motion of the assembly its supports leave free: a zero-energy mode the solver
@@ -56,7 +57,7 @@ pub fn free_motion_of(
     let n = geometry.helices.max(1);
     let assembly = Assembly::new(n, geometry.radius, geometry.pitch, geometry.length);
     let rods = assembly.rods.len();
-    let joints = if b.joints && rods > 1 {
+    let joints = if b.joints.active() && rods > 1 {
         assembly.joints.as_slice()
     } else {
         &[]
@@ -246,7 +247,42 @@ impl Supports<'_> {
                 );
                 gram.add(&row);
             }
+            let (cr, cl) = (column(j.right) + 3, column(j.left) + 3);
+            for a in rotation_axes(self.b.joints, &x) {
+                let row: Vec<(usize, f64)> = (0..3)
+                    .map(|k| (cr + k, a[k]))
+                    .chain((0..3).map(|k| (cl + k, -a[k])))
+                    .collect();
+                gram.add(&row);
+            }
         }
+    }
+}
+
+/// The axes about which a joint at `x` ties the rotations of its two rods: all three for a
+/// weld, those with a spring for elastic joints (the normal to the tube's surface for the
+/// scissor spring, the two axes in the surface for the others), none for a pin.
+fn rotation_axes(joints: Joints, x: &Vector3<f64>) -> Vec<Vector3<f64>> {
+    let radial = Vector3::new(x[0], x[1], 0.0);
+    let n = if radial.norm() > 0.0 {
+        radial / radial.norm()
+    } else {
+        Vector3::x()
+    };
+    let t = n.cross(&Vector3::z()).normalize();
+    match joints {
+        Joints::Welded => vec![Vector3::x(), Vector3::y(), Vector3::z()],
+        Joints::Elastic(k) => {
+            let mut axes = Vec::new();
+            if k.scissor > 0.0 {
+                axes.push(n);
+            }
+            if k.out_of_plane > 0.0 {
+                axes.extend([t, n.cross(&t)]);
+            }
+            axes
+        }
+        Joints::Pin | Joints::None => Vec::new(),
     }
 }
 

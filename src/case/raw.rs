@@ -105,8 +105,18 @@ pub(super) enum EnergyName {
 pub(super) struct RawBoundary {
     pub base: Option<RawEnd>,
     pub tip: Option<RawEnd>,
-    /// Pin joints at the crossings.
-    pub joints: Option<bool>,
+    /// The joints at the crossings: `true`/`false` or a kind's name (checked by the tables).
+    pub joints: Option<Spanned<toml::Value>>,
+    /// The springs of elastic joints.
+    pub joint_stiffness: Option<Spanned<RawJointStiffness>>,
+}
+
+/// `joint_stiffness = { scissor = …, out_of_plane = … }` (N m/rad).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawJointStiffness {
+    pub scissor: Option<Spanned<f64>>,
+    pub out_of_plane: Option<Spanned<f64>>,
 }
 
 /// One end, `{ translation = …, rotation = … }`; a missing half keeps the thesis's value

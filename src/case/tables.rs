@@ -327,14 +327,15 @@ pub(super) fn rod(r: &RawRod, ck: &Checker) -> Result<Elasticity, CaseError> {
     })
 }
 
-/// `[boundary]`: the supports of the base and the tip, and the joints at the crossings.
-/// Every value the file can hold is admissible (serde has refused the others).
+/// `[boundary]`: the supports of the base and the tip, and pin joints at the crossings (the
+/// file's joints are read by `joints`). Every support the file can hold is admissible (serde
+/// has refused the others).
 pub(super) fn boundary(b: &RawBoundary) -> BoundaryConditions {
     let thesis = BoundaryConditions::default();
     BoundaryConditions {
         base: end_condition(&b.base, thesis.base),
         tip: end_condition(&b.tip, thesis.tip),
-        joints: b.joints.unwrap_or(thesis.joints),
+        joints: thesis.joints,
     }
 }
 

@@ -5,6 +5,7 @@
 
 use super::discrete_model::{DiscreteModel, End};
 use super::element;
+use super::joint_fields;
 use super::pressure;
 use super::shape::{self, Order, GAUSS_3, MAX_NODES};
 use super::system::System;
@@ -13,7 +14,7 @@ use crate::model::loading::{AxisLoad, SupportAxis};
 use crate::model::quaternion;
 use crate::model::symmetry::TurnZ;
 use crate::results::{
-    ModeShape, NodeState, Reaction, RodReaction, RodShape, Snapshot, SupportResponse,
+    JointState, ModeShape, NodeState, Reaction, RodReaction, RodShape, Snapshot, SupportResponse,
 };
 use nalgebra::Vector3;
 
@@ -156,6 +157,16 @@ pub fn snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> 
                 rod: k,
                 chirality: r.chirality,
                 joints: r.joints.clone(),
+                joint_states: r
+                    .joint_states
+                    .iter()
+                    .map(|j| JointState {
+                        moment: turn.apply(j.moment),
+                        moment_before: turn.apply(j.moment_before),
+                        moment_after: turn.apply(j.moment_after),
+                        ..*j
+                    })
+                    .collect(),
                 nodes: r
                     .nodes
                     .iter()
@@ -205,7 +216,7 @@ fn own_snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> 
                     };
                 }
             }
-            let joints = if system.bc.joints {
+            let joints = if system.bc.joints.active() {
                 model.assembly.joint_arc_lengths(id)
             } else {
                 vec![]
@@ -232,6 +243,7 @@ fn own_snapshot(model: &DiscreteModel, system: &System, x: &[f64], eps: f64) -> 
                 rod: id,
                 chirality: rod.helix.chirality,
                 nodes,
+                joint_states: joint_fields::joint_states(model, system, x, id, &joints),
                 joints,
             }
         })

@@ -11,7 +11,9 @@ use std::f64::consts::PI;
 
 /// Expands the state `x` of a symmetric pair (in `pair_system`'s layout) to the state of
 /// the full model in `full_system`'s layout: every rod is the image of one rod of the pair
-/// turned about z; support and joint multipliers are zero (they do not enter the Hessian).
+/// turned about z; support and pin-joint multipliers are zero (they do not enter the
+/// Hessian); a welded joint's multipliers, a moment in the right rod's frame, are those of the
+/// pair's joint at the same arc length (where it holds all three components).
 /// `out` has the length of the full system's unknowns.
 pub fn expand_state(
     pair: &DiscreteModel,
@@ -55,6 +57,28 @@ pub fn expand_state(
             out[full_row..full_row + 3].copy_from_slice(&l);
         }
     }
+    let tol = 1e-9 * pair.length();
+    for (i, rot) in full_system.rotations.iter().enumerate() {
+        let s = full.assembly.joints[rot.joint].s;
+        let source = pair_system.rotations.iter().enumerate().find(|(_, r)| {
+            (pair.assembly.joints[r.joint].s - s).abs() <= tol && r.rows() == rot.rows()
+        });
+        if let (Some((k, _)), 3) = (source, rot.rows()) {
+            // the natural relative rotations of the two may differ in sign (the quaternion
+            // fields are continuous along each rod, not across images): so may the rows
+            let same = rot
+                .deviation(out)
+                .dot(&pair_system.rotations[k].deviation(x));
+            let sign = if same < 0.0 { -1.0 } else { 1.0 };
+            let row = full_system.rotation_row(i);
+            for (o, nu) in out[row..row + 3]
+                .iter_mut()
+                .zip(pair_system.rotation_multipliers(x, k))
+            {
+                *o = sign * nu;
+            }
+        }
+    }
 }
 
 /// The Bloch (Fourier) blocks of the KKT matrix of a symmetric assembly (docs/theory.md §7).
@@ -64,8 +88,9 @@ pub fn expand_state(
 /// sectors splits it into one Hermitian block per wavenumber `p = 0 … m − 1`, each of the
 /// size of the pair: the pair's own KKT matrix, except that a joint tying the pair to the
 /// image of its left rod in sector `r` carries the phase `e^{2πipr/m}` on its coupling
-/// entries (row of the joint's multiplier × the left rod's positions) and the conjugate
-/// phase on their transposes. Blocks `p` and `m − p` are conjugate (same spectrum); `p = 0`
+/// entries (row of the joint's multiplier × the left rod's positions; for a welded or elastic
+/// joint also its rows and the right rod's quaternion × the left rod's quaternion) and the
+/// conjugate phase on their transposes. Blocks `p` and `m − p` are conjugate (same spectrum); `p = 0`
 /// (the pair itself) and `p = m/2` are real. Every block is stored in the pair's pattern:
 /// the complex ones with complex entries, factorised as `LDLᴴ`.
 #[derive(Clone, Debug)]
@@ -105,6 +130,23 @@ impl BlochBlocks {
             for &(d, _) in c.terms.iter().filter(|(d, _)| left_dofs.contains(d)) {
                 phase[entry(row, d)] = Some((1.0, r));
                 phase[entry(d, row)] = Some((-1.0, r));
+            }
+        }
+        // a welded or elastic joint couples the right rod's quaternion (and its rows) to
+        // the image's: the same phases on those entries
+        for (i, rot) in system.rotations.iter().enumerate() {
+            let turn = pair.assembly.joints[rot.joint].left_turn;
+            let r = (turn * m as f64 / (2.0 * PI)).round().rem_euclid(m as f64) as usize;
+            if r == 0 {
+                continue;
+            }
+            let first = system.rotation_row(i);
+            let rows = (first..first + rot.rows()).chain(rot.dofs[..4].iter().copied());
+            for row in rows {
+                for &d in &rot.dofs[4..] {
+                    phase[entry(row, d)] = Some((1.0, r));
+                    phase[entry(d, row)] = Some((-1.0, r));
+                }
             }
         }
         Some(BlochBlocks { m, phase })

@@ -5,7 +5,8 @@
 //! - per element, a 3-vector `λ` for `r_end − r_start − ∫ d3 ds = 0`: it is the internal
 //!   force `n` (N) carried by the element;
 //! - per quaternion node, `μ` for `|q|² − 1 = 0`;
-//! - linear constraints: supports, prescribed tip height, pin joints.
+//! - linear constraints: supports, prescribed tip height, the positions of joints;
+//! - welded joints: the relative rotation of the two rods (bilinear rows, after the linear).
 //!
 //! Stationarity of `E + Σ λ·gap + Σ μ (|q|²−1) + Σ ν (a·x − b)` gives the residual; its
 //! Jacobian is the symmetric KKT matrix `[[H, Jᵀ], [J, 0]]`, assembled into a sparse
@@ -16,14 +17,14 @@ use super::constraints::{
 };
 use super::discrete_model::{DiscreteModel, End};
 use super::element::{self, ElementLoad, ElementTerms};
+use super::joint_rotation::{self, JointRotation};
 use super::pressure;
 use super::support::SupportPose;
 use crate::model::assembly::RodId;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::loading::{AxisLoad, LineLoad, Loads, SupportAxis};
-use crate::model::quaternion::{self, Quat};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
-use nalgebra::{Vector3, Vector4};
+use nalgebra::Vector3;
 
 /// Sparse-matrix sink: either records the pattern or scatters values into it, visited in
 /// the same order by the same assembly code.
@@ -63,6 +64,11 @@ pub struct System {
     /// Linear constraints (supports, tip height, joints), in row order after the
     /// inextensibility and unit-norm rows.
     pub linear: Vec<LinearConstraint>,
+    /// The rotational parts of welded and elastic joints; the rows of welded ones follow
+    /// the linear constraints.
+    pub rotations: Vec<JointRotation>,
+    /// First row of each rotational part's constraints.
+    rotation_rows: Vec<usize>,
     /// First row of each rod's inextensibility multipliers.
     compat_rows: Vec<usize>,
     /// First row of each rod's unit-norm multipliers.
@@ -91,6 +97,7 @@ struct Frame {
     linear_row: usize,
     height0: f64,
     pcrit: f64,
+    rotations: Vec<JointRotation>,
 }
 
 /// What an evaluation of the system returns besides the residual.
@@ -143,17 +150,19 @@ impl System {
                 support_constraints(model, x, id, end, cond, tip, &mut linear);
             }
         }
-        if bc.joints {
+        if bc.joints.active() {
             for (j, joint) in model.assembly.joints.iter().enumerate() {
                 joint_constraints(model, x, &bc, j, joint, &mut linear);
             }
         }
+        let rotations = joint_rotation::of_assembly(model, x, &bc, tip);
         let frame = Frame {
             compat_rows,
             unit_rows,
             linear_row,
             height0,
             pcrit,
+            rotations,
         };
         System::with_constraints(model, bc, frame, linear, x, loads, lambda)
     }
@@ -175,6 +184,7 @@ impl System {
             linear_row: self.linear_row,
             height0: self.height0,
             pcrit: self.pcrit,
+            rotations: self.rotations.clone(),
         };
         let primal = &x[..model.n_primal];
         System::with_constraints(
@@ -191,6 +201,13 @@ impl System {
     /// The phase condition the system holds, if any.
     pub fn phase(&self) -> Option<&LinearConstraint> {
         self.linear.iter().find(|c| c.role == Role::Phase)
+    }
+
+    /// The row of the phase condition's multiplier, if the system holds one (the rows of
+    /// the joints' rotations follow it).
+    pub fn phase_row(&self) -> Option<usize> {
+        let i = self.linear.iter().position(|c| c.role == Role::Phase)?;
+        Some(self.linear_row + i)
     }
 
     /// Whether the system holds a phase condition (see [`System::with_phase`]).
@@ -215,11 +232,21 @@ impl System {
             linear_row,
             height0,
             pcrit,
+            rotations,
         } = frame;
-        let n = linear_row + linear.len();
+        // the joints' rotation rows follow the linear constraints
+        let mut row = linear_row + linear.len();
+        let mut rotation_rows = Vec::new();
+        for r in &rotations {
+            rotation_rows.push(row);
+            row += r.rows();
+        }
+        let n = row;
         let mut sys = System {
             bc,
             linear,
+            rotations,
+            rotation_rows,
             compat_rows,
             unit_rows,
             linear_row,
@@ -309,7 +336,7 @@ impl System {
     /// The dead force (N) on every rod's tip along z at the current load parameter: `−P`,
     /// `P = Pcrit · (P/Pcrit)` (compressive positive), when the tip support's z carries a
     /// dead load.
-    fn tip_force_z(&self) -> Option<f64> {
+    pub(super) fn tip_force_z(&self) -> Option<f64> {
         match self.loads.tip().axis(SupportAxis::Z) {
             AxisLoad::Force(r) => Some(-(self.pcrit * r.at(self.lambda))),
             AxisLoad::Motion(_) => None,
@@ -401,8 +428,7 @@ impl System {
     /// system holds one: zero at every solution when the symmetry the condition stands on
     /// holds.
     pub fn phase_multiplier(&self, x: &[f64]) -> Option<f64> {
-        let i = self.linear.iter().position(|c| c.role == Role::Phase)?;
-        x.get(self.linear_row + i).copied()
+        x.get(self.phase_row()?).copied()
     }
 
     /// Row of linear constraint `i`.
@@ -566,6 +592,7 @@ impl System {
         }
         potential += self.assemble_pressure(model, x, residual, sink);
         self.assemble_linear(x, residual, sink);
+        energy += self.assemble_rotations(x, residual, sink);
         Evaluation { energy, potential }
     }
 
@@ -647,6 +674,23 @@ impl System {
         }
     }
 
+    /// The joints' rotational terms ([`joint_rotation::assemble`]): the springs' energy (J).
+    fn assemble_rotations(&self, x: &[f64], residual: &mut [f64], sink: &mut dyn Sink) -> f64 {
+        let mut add = |row: usize, col: usize, v: f64| sink.add(row, col, v);
+        joint_rotation::assemble(&self.rotations, &self.rotation_rows, x, residual, &mut add)
+    }
+
+    /// The multipliers (rows) of rotational part `i` of the joints in the state `x`.
+    pub fn rotation_multipliers<'a>(&self, x: &'a [f64], i: usize) -> &'a [f64] {
+        let row = self.rotation_rows[i];
+        &x[row..row + self.rotations[i].rows()]
+    }
+
+    /// First row of rotational part `i` of the joints.
+    pub fn rotation_row(&self, i: usize) -> usize {
+        self.rotation_rows[i]
+    }
+
     /// The force per unit length (N/m) of the loads along the rods at load parameter
     /// `lambda` (their sum: every one is uniform), or its rate `d/dλ` with `rate`.
     fn line_load_of(&self, lambda: f64, rate: bool) -> ElementLoad {
@@ -666,6 +710,12 @@ impl System {
 
     fn line_load(&self, lambda: f64) -> ElementLoad {
         self.line_load_of(lambda, false)
+    }
+
+    /// The force per unit length (N/m) of the loads along the rods at the system's load
+    /// parameter.
+    pub fn element_load(&self) -> ElementLoad {
+        self.line_load(self.lambda)
     }
 
     /// `∂R/∂λ` of the loads along the rods at the state `x`, added to `out`: the gradient of
@@ -716,58 +766,6 @@ impl System {
     pub fn internal_force(&self, x: &[f64], rod: RodId, e: usize) -> Vector3<f64> {
         let row = self.compat_row(rod, e);
         Vector3::new(x[row], x[row + 1], x[row + 2])
-    }
-
-    /// Force (N) and moment (N m) that the support (and, under load control, the dead
-    /// load at the tip) applies to rod `rod` at `end`, in the global frame, from the
-    /// multipliers of its support constraints: the generalised
-    /// reaction is `−ν ∂g/∂x`, and a virtual rotation `δθ` moves `q` by `½ (δθ, 0) ∘ q`.
-    pub fn reaction(
-        &self,
-        model: &DiscreteModel,
-        x: &[f64],
-        rod: RodId,
-        end: End,
-    ) -> (Vector3<f64>, Vector3<f64>) {
-        let r = &model.rods[rod];
-        let node = r.end_node(end);
-        let vertex = r.end_vertex(end);
-        let mut force = Vector3::zeros();
-        let mut fq = Vector4::zeros();
-        for (i, c) in self.linear.iter().enumerate() {
-            let held = match c.role {
-                Role::Support { rod: rr, end: ee } => rr == rod && ee == end,
-                Role::TipHeight { rod: rr } => rr == rod && end == End::Tip,
-                Role::Joint(_) | Role::Phase => false,
-            };
-            if !held {
-                continue;
-            }
-            let nu = x[self.linear_row + i];
-            for &(d, a) in &c.terms {
-                for k in 0..3 {
-                    if d == r.r_dof(vertex, k) {
-                        force[k] -= nu * a;
-                    }
-                }
-                for k in 0..4 {
-                    if d == r.q_dof(node, k) {
-                        fq[k] -= nu * a;
-                    }
-                }
-            }
-        }
-        if let (Some(f), End::Tip) = (self.tip_force_z(), end) {
-            // under a dead axial load the tip is loaded by the dead load itself
-            force[2] += f;
-        }
-        let q = model.quaternion(x, rod, node);
-        let moment = Vector3::from_fn(|i, _| {
-            let mut e = Quat::zeros();
-            e[i] = 1.0;
-            0.5 * fq.dot(&quaternion::mul(&e, &q))
-        });
-        (force, moment)
     }
 }
 

@@ -61,14 +61,107 @@ impl EndCondition {
     }
 }
 
+/// Stiffnesses (N m/rad) of the springs of an elastic joint: `scissor` about the normal to
+/// the tube's surface at the crossing (the angle between the rods), `out_of_plane` about the
+/// two axes in the surface.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointStiffness {
+    pub scissor: f64,
+    pub out_of_plane: f64,
+}
+
+/// What the crossings of a right- and a left-handed rod are (docs/theory.md §2).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum Joints {
+    /// No joints: the rods pass through one another.
+    None,
+    /// Positions shared, rotations free.
+    #[default]
+    Pin,
+    /// Positions shared, the relative rotation of the two rods held at its natural value.
+    Welded,
+    /// Positions shared, the relative rotation resisted by springs.
+    Elastic(JointStiffness),
+}
+
+impl Joints {
+    /// Whether the crossings tie the rods' positions at all.
+    pub fn active(&self) -> bool {
+        !matches!(self, Joints::None)
+    }
+
+    /// The kind after this one in the cycle pin → welded → elastic → none → pin; elastic
+    /// joints get the springs `springs`.
+    pub fn next(&self, springs: JointStiffness) -> Joints {
+        match self {
+            Joints::Pin => Joints::Welded,
+            Joints::Welded => Joints::Elastic(springs),
+            Joints::Elastic(_) => Joints::None,
+            Joints::None => Joints::Pin,
+        }
+    }
+
+    /// Short name: `none`, `pin`, `welded`, `elastic`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Joints::None => "none",
+            Joints::Pin => "pin",
+            Joints::Welded => "welded",
+            Joints::Elastic(_) => "elastic",
+        }
+    }
+}
+
+/// How joints are written in session scripts: `true`/`false` for pin/none (as before other
+/// kinds existed), `"welded"`, or `{ elastic = { scissor, out_of_plane } }`.
+#[derive(Serialize, Deserialize)]
+#[serde(untagged)]
+enum JointsForm {
+    Flag(bool),
+    Name(JointName),
+    Elastic { elastic: JointStiffness },
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum JointName {
+    None,
+    Pin,
+    Welded,
+}
+
+impl Serialize for Joints {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Joints::None => JointsForm::Flag(false),
+            Joints::Pin => JointsForm::Flag(true),
+            Joints::Welded => JointsForm::Name(JointName::Welded),
+            Joints::Elastic(k) => JointsForm::Elastic { elastic: k },
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Joints {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Ok(match JointsForm::deserialize(d)? {
+            JointsForm::Flag(false) | JointsForm::Name(JointName::None) => Joints::None,
+            JointsForm::Flag(true) | JointsForm::Name(JointName::Pin) => Joints::Pin,
+            JointsForm::Name(JointName::Welded) => Joints::Welded,
+            JointsForm::Elastic { elastic } => Joints::Elastic(elastic),
+        })
+    }
+}
+
 /// Boundary conditions of an assembly: the same at every rod's base and tip.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundaryConditions {
     pub base: EndCondition,
     pub tip: EndCondition,
-    /// Pin joints at the crossings active.
-    pub joints: bool,
+    /// What the crossings are.
+    pub joints: Joints,
 }
 
 impl Default for BoundaryConditions {
@@ -77,7 +170,7 @@ impl Default for BoundaryConditions {
         BoundaryConditions {
             base: EndCondition::CLAMPED,
             tip: EndCondition::CLAMPED,
-            joints: true,
+            joints: Joints::Pin,
         }
     }
 }
@@ -88,7 +181,47 @@ impl BoundaryConditions {
             "base {} tip {} joints {}",
             self.base.label(),
             self.tip.label(),
-            if self.joints { "on" } else { "off" }
+            self.joints_label()
         )
+    }
+
+    /// The joints as status lines say them: `on` for pins (as before other kinds existed),
+    /// `off` without, else the kind.
+    pub fn joints_label(&self) -> &'static str {
+        match self.joints {
+            Joints::Pin => "on",
+            Joints::None => "off",
+            other => other.name(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Session scripts write the conditions as TOML: pins and none as the flags they were
+    /// before other kinds existed, and every kind reads back as itself.
+    #[test]
+    fn joints_are_written_as_flags_names_and_springs_and_read_back() {
+        let springs = JointStiffness {
+            scissor: 0.5,
+            out_of_plane: 2.0,
+        };
+        for (joints, written) in [
+            (Joints::Pin, "joints = true"),
+            (Joints::None, "joints = false"),
+            (Joints::Welded, "joints = \"welded\""),
+            (Joints::Elastic(springs), "[joints.elastic]"),
+        ] {
+            let bc = BoundaryConditions {
+                joints,
+                ..BoundaryConditions::default()
+            };
+            let text = toml::to_string(&bc).expect("conditions as TOML");
+            assert!(text.contains(written), "{text}");
+            let back: BoundaryConditions = toml::from_str(&text).expect("read back");
+            assert_eq!(back, bc);
+        }
     }
 }

@@ -516,43 +516,6 @@ pub fn bulk_csv(case: &str, steps: &[StepBulk]) -> String {
     table(&comments, rows)
 }
 
-/// A row of `joints.csv`: one pin joint on one rod.
-#[derive(Serialize, Default)]
-struct JointRow {
-    rod: usize,
-    /// Arc length of the joint on the rod (m).
-    #[serde(serialize_with = "format::e10")]
-    s: f64,
-    #[serde(serialize_with = "format::e10")]
-    s_over_l: f64,
-}
-
-/// `joints.csv`: the arc lengths of the active pin joints of every rod (a joint ties two
-/// rods, so it has a row on each), as the library reports them in [`Snapshot`]. The joints
-/// sit at fixed material points, so one table serves every state of the run.
-pub fn joints_csv(case: &str, snapshot: &Snapshot) -> String {
-    let comments = [
-        format!("spira pin joints, case {case}"),
-        "s: arc length of the joint on the rod (m), one row per rod it ties; s_over_l: s/L"
-            .to_string(),
-    ];
-    let length = snapshot
-        .rods
-        .iter()
-        .filter_map(|r| r.nodes.last())
-        .map(|n| n.s / n.s_over_l)
-        .find(|l| l.is_finite())
-        .unwrap_or(1.0);
-    let rows = snapshot.rods.iter().flat_map(|rod| {
-        rod.joints.iter().map(move |&s| JointRow {
-            rod: rod.rod,
-            s,
-            s_over_l: s / length,
-        })
-    });
-    table(&comments, rows)
-}
-
 /// `text` made safe for one `#` comment line: line breaks and other control characters
 /// (a case name may hold them) become spaces.
 pub fn comment_safe(text: &str) -> String {

@@ -8,6 +8,7 @@ pub mod chart;
 pub mod csv;
 pub mod figures;
 pub mod files;
+mod joints_table;
 pub mod precision;
 pub mod read;
 pub mod run_folder;
@@ -15,8 +16,9 @@ pub mod staging;
 pub mod vtk;
 
 pub use self::csv::{
-    bulk_csv, check_finite, comment_safe, critical_csv, joints_csv, load_csv, mode_csv,
-    reactions_csv, state_csv, with_note, NonFinite,
+    bulk_csv, check_finite, comment_safe, critical_csv, load_csv, mode_csv, reactions_csv,
+    state_csv, with_note, NonFinite,
 };
 pub use self::files::write_atomic;
+pub use self::joints_table::joints_csv;
 pub use self::run_folder::{run_files, write_run, write_run_files, RunFiles};

@@ -2,10 +2,11 @@
 //! series, figures), their names, and the headers that say which model was solved.
 
 use super::csv::{
-    bulk_csv, check_finite, critical_csv, joints_csv, load_csv, mode_csv, reactions_csv, state_csv,
-    with_note, NonFinite,
+    bulk_csv, check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
+    NonFinite,
 };
 use super::files::write_folder;
+use super::joints_table::joints_csv;
 use super::vtk;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};

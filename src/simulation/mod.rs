@@ -196,7 +196,7 @@ impl Simulation {
             .collect();
         let x = model.helix_state(&targets);
         let bc = BoundaryConditions {
-            joints: false,
+            joints: crate::model::boundary::Joints::None,
             ..Default::default()
         };
         Simulation::from_state(model, bc, Control::Displacement, x, settings)

@@ -71,8 +71,11 @@ impl Simulation {
             return Ok(());
         };
         let system = self.system().with_phase(self.model(), self.state(), phase);
+        let Some(row) = system.phase_row() else {
+            return Ok(());
+        };
         let problem = LoadedAssembly::new(self.model().clone(), system).with_threads(self.threads);
-        self.path.constrain(problem).map_err(|e| self.error(e))
+        self.path.constrain(problem, row).map_err(|e| self.error(e))
     }
 
     /// The path's error for a switch refused at the current state.
@@ -161,8 +164,11 @@ impl Simulation {
             return Ok(());
         };
         let system = self.system().with_phase(self.model(), self.state(), phase);
+        let Some(row) = system.phase_row() else {
+            return Ok(());
+        };
         let problem = LoadedAssembly::new(self.model().clone(), system).with_threads(self.threads);
-        self.path.constrain(problem).map_err(|e| self.error(e))
+        self.path.constrain(problem, row).map_err(|e| self.error(e))
     }
 
     /// Leaves the double critical point `cp` of the model solved along a direction of the

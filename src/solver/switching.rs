@@ -85,16 +85,17 @@ impl<P: Problem> Continuation<P> {
         })
     }
 
-    /// Replaces the problem by `problem`: the same one with constraints added that the
-    /// current state satisfies (a phase condition), their multipliers zero. The state is
-    /// checked where it is, and the branch goes on as it was (its step, its mode of
-    /// stepping, the previous point and tangent its predictor uses). On failure the old
-    /// problem and state are kept.
-    pub fn constrain(&mut self, problem: P) -> Result<(), ContinuationError> {
-        let (x, lambda) = (self.state.x.clone(), self.state.lambda);
-        let n = problem.unknowns();
+    /// Replaces the problem by `problem`: the same one with a constraint added that the
+    /// current state satisfies (a phase condition), its multiplier zero at row `row` (the
+    /// unknowns from there on move one row down). The state is checked where it is, and the
+    /// branch goes on as it was (its step, its mode of stepping, the previous point and
+    /// tangent its predictor uses). On failure the old problem and state are kept.
+    pub fn constrain(&mut self, problem: P, row: usize) -> Result<(), ContinuationError> {
+        let pad = |v: &mut Vec<f64>| v.insert(row.min(v.len()), 0.0);
+        let mut x = self.state.x.clone();
+        pad(&mut x);
+        let lambda = self.state.lambda;
         self.with_problem(problem, x, lambda, |this| {
-            let pad = |v: &mut Vec<f64>| v.resize(n, 0.0);
             let mut previous = this.state.previous.take();
             let mut tangent = this.state.tangent.take();
             this.correct_in_place()?;

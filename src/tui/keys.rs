@@ -129,7 +129,7 @@ pub const BINDINGS: [Binding; 22] = {
         Binding {
             label: "p",
             keys: &[(Char('p'), PinJoints)],
-            help: "pin joints on ↔ off",
+            help: "joints: pin → welded → elastic → none",
         },
         Binding {
             label: "n N",

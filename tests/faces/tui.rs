@@ -9,7 +9,7 @@ use ratatui::style::Color;
 use ratatui::Terminal;
 use spira::case::Case;
 use spira::discretisation::shape::Order;
-use spira::model::boundary::{BoundaryConditions, Rotation, Translation};
+use spira::model::boundary::{BoundaryConditions, Joints, Rotation, Translation};
 use spira::output;
 use spira::session::export::SessionEvent;
 use spira::session::script::{Action as ScriptAction, Script};
@@ -325,7 +325,7 @@ fn condition_keys_toggle_each_condition_and_ask_for_a_resolve() {
     );
     assert_eq!(app.screen.boundary, b5, "undone");
     let b7 = bc(only_request(&app.handle_key(ch('p'))));
-    assert!(!b7.joints);
+    assert_eq!(b7.joints, Joints::Welded, "pin → welded");
     // each toggle builds on the last asked-for conditions
     assert_eq!(b7.base.rotation, Rotation::Free);
     assert_eq!(b7.tip.translation, Translation::Slide);
@@ -483,7 +483,7 @@ fn a_failed_step_shows_the_reason_and_keeps_the_last_state() {
 fn a_refused_condition_change_shows_the_conditions_in_force() {
     let (mut app, _sim) = started(small_case(2));
     let r = only_request(&app.handle_key(ch('p')));
-    assert!(!app.screen.boundary.joints);
+    assert_eq!(app.screen.boundary.joints, Joints::Welded);
     app.on_worker_event(WorkerEvent::Failed {
         generation: r.generation,
         seq: r.seq,
@@ -491,7 +491,11 @@ fn a_refused_condition_change_shows_the_conditions_in_force() {
         boundary: Some(BoundaryConditions::default()),
         interrupted: None,
     });
-    assert!(app.screen.boundary.joints, "back to what the solver holds");
+    assert_eq!(
+        app.screen.boundary.joints,
+        Joints::Pin,
+        "back to what the solver holds"
+    );
 }
 
 #[test]
@@ -664,8 +668,14 @@ fn the_solver_thread_answers_every_step_and_coalesces_toggles() {
     let effects = app.handle_key(ch('p'));
     settle(&mut app, &worker, effects);
     let state = app.screen.state.as_ref().unwrap();
-    assert!(!state.boundary.joints);
+    assert_eq!(state.boundary.joints, Joints::Welded);
     assert_close(Some(state.point.compression_ratio), 0.15);
+    // the status line says the kind, within 80 columns
+    let screen = text(&draw(&app, 80, 24));
+    assert!(
+        screen.lines().any(|l| l.contains("│ joints welded")),
+        "{screen}"
+    );
     // asking again for what is in force needs no solve and adds no point
     let n = app.screen.path.len();
     let effects = app.handle_key(ch('p'));
@@ -678,7 +688,11 @@ fn the_solver_thread_answers_every_step_and_coalesces_toggles() {
         app.screen.path.len() <= n + 1,
         "the toggle back and forth coalesces"
     );
-    assert!(!app.screen.state.as_ref().unwrap().boundary.joints);
+    // welded → elastic → none
+    assert_eq!(
+        app.screen.state.as_ref().unwrap().boundary.joints,
+        Joints::None
+    );
     worker.join();
 }
 

@@ -7,7 +7,9 @@
 
 use rayon::prelude::*;
 use spira::case::{free_motion_of, Case};
-use spira::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
+use spira::model::boundary::{
+    BoundaryConditions, EndCondition, JointStiffness, Joints, Rotation, Translation,
+};
 use spira::model::loading::Control;
 
 const TRANSLATIONS: [Translation; 3] =
@@ -69,7 +71,17 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
             // the scale of the stiffness: the lowest eigenvalue with both ends clamped
             let (reference, e) = natural_state(&case, false);
             assert!(e.is_none() && reference > 0.0, "{e:?}");
-            let joints: &[bool] = if n == 1 { &[true] } else { &[true, false] };
+            // welded joints tie the rods' rotations, a scissor spring alone the rotation
+            // about the surface normal only
+            let scissor = Joints::Elastic(JointStiffness {
+                scissor: 1.0,
+                out_of_plane: 0.0,
+            });
+            let joints: &[Joints] = if n == 1 {
+                &[Joints::Pin]
+            } else {
+                &[Joints::Pin, Joints::None, Joints::Welded, scissor]
+            };
             let scenes: Vec<BoundaryConditions> = joints
                 .iter()
                 .flat_map(|&joints| {
@@ -123,8 +135,8 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
             accepted += verdicts.iter().filter(|&&v| !v).count();
         }
     }
-    // 2 controls × (81 + 2 × 81 + 2 × 81) combinations
-    assert_eq!(named + accepted, 810);
+    // 2 controls × (81 + 2 × 4 × 81) combinations
+    assert_eq!(named + accepted, 1458);
     println!("{named} named, {accepted} accepted");
 }
 
@@ -144,12 +156,12 @@ fn the_free_motion_check_follows_the_geometry() {
     let radial = BoundaryConditions {
         base: end(Translation::Radial, Rotation::Clamped),
         tip: end(Translation::Radial, Rotation::Clamped),
-        joints: true,
+        joints: Joints::Pin,
     };
     let hinged = BoundaryConditions {
         base: end(Translation::Fixed, Rotation::Free),
         tip: end(Translation::Fixed, Rotation::Free),
-        joints: true,
+        joints: Joints::Pin,
     };
     for (n, bc, turns, free) in [
         (1, radial, 1.5, true),

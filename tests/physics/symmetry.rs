@@ -132,7 +132,7 @@ fn assemblies_without_the_symmetry_are_refused_the_reduction() {
 /// At a state of the pair (not an equilibrium: perturbed), the unstable directions of the
 /// Bloch blocks — each block `0 < p < m/2` counted twice, for `p` and `m − p` — and their
 /// lowest eigenvalue, against those of the full model at the expanded state.
-fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
+pub(crate) fn blocks_against_full(case: &Case, x: &[f64]) -> (usize, usize, f64, f64) {
     use spira::discretisation::symmetry::expand_state;
     use spira::discretisation::system::System;
     use spira::model::loading::{Control, Loads};

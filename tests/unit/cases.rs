@@ -4,7 +4,7 @@
 
 use spira::case::{Case, CaseError};
 use spira::discretisation::shape::Order;
-use spira::model::boundary::{BoundaryConditions, EndCondition, Rotation, Translation};
+use spira::model::boundary::{BoundaryConditions, EndCondition, Joints, Rotation, Translation};
 use spira::solver::continuation::ContinuationSettings;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -83,7 +83,10 @@ const FIXTURES: &[&str] = &[
     "negative-b3",
     "negative-radius",
     "odd-helices",
-    "string-for-bool",
+    "unknown-joint-kind",
+    "elastic-without-springs",
+    "negative-joint-stiffness",
+    "springs-on-welded-joints",
     "string-for-number",
     "syntax-error",
     "target-at-base",
@@ -444,14 +447,78 @@ fn fraction_where_a_whole_number_is_expected() {
 }
 
 #[test]
-fn string_where_true_or_false_is_expected() {
-    let e = rejected("string-for-bool");
-    assert!(is_wrong_type(&e), "{e:?}");
+fn an_unknown_joint_kind_is_refused_with_the_kinds() {
+    let e = rejected("unknown-joint-kind");
+    assert!(is_invalid(&e), "{e:?}");
     check(
         &e,
         3,
         "boundary.joints",
-        &["\"yes\"", "expected true or false"],
+        &[
+            "\"yes\"",
+            "true (pin), false (none)",
+            "\"welded\"",
+            "\"elastic\"",
+        ],
+    );
+}
+
+#[test]
+fn elastic_joints_without_springs_are_refused() {
+    let e = rejected("elastic-without-springs");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        3,
+        "boundary.joint_stiffness",
+        &["scissor", "out_of_plane", "N m/rad"],
+    );
+}
+
+#[test]
+fn a_negative_spring_is_refused_at_its_line() {
+    let e = rejected("negative-joint-stiffness");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        5,
+        "boundary.joint_stiffness.out_of_plane",
+        &["from 0 to 1e12", "found -2"],
+    );
+}
+
+#[test]
+fn springs_on_joints_that_are_not_elastic_are_refused() {
+    let e = rejected("springs-on-welded-joints");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        5,
+        "boundary.joint_stiffness",
+        &["joints = \"elastic\"", "found joints = welded"],
+    );
+}
+
+#[test]
+fn joint_kinds_read_as_their_names_and_flags() {
+    use spira::model::boundary::JointStiffness;
+    let read = |text: &str| {
+        Case::parse(&format!("[boundary]\n{text}\n"), "j.toml", "j")
+            .unwrap_or_else(|e| panic!("{e}"))
+            .boundary
+            .joints
+    };
+    assert_eq!(read("joints = true"), Joints::Pin);
+    assert_eq!(read("joints = \"pin\""), Joints::Pin);
+    assert_eq!(read("joints = false"), Joints::None);
+    assert_eq!(read("joints = \"none\""), Joints::None);
+    assert_eq!(read("joints = \"welded\""), Joints::Welded);
+    assert_eq!(
+        read("joints = \"elastic\"\njoint_stiffness = { scissor = 0.5, out_of_plane = 0 }"),
+        Joints::Elastic(JointStiffness {
+            scissor: 0.5,
+            out_of_plane: 0.0
+        })
     );
 }
 
@@ -824,7 +891,7 @@ fn thesis_cases_have_the_thesis_values() {
         };
         assert_eq!(case.boundary.base, clamped, "{name}");
         assert_eq!(case.boundary.tip, clamped, "{name}");
-        assert!(case.boundary.joints, "{name}");
+        assert_eq!(case.boundary.joints, Joints::Pin, "{name}");
         assert_eq!(case.loading.target, 0.5, "{name}");
         assert!(case.discretisation.elements >= 48, "{name}");
         assert_eq!(case.discretisation.order, Order::Quadratic, "{name}");
@@ -840,7 +907,7 @@ fn minimal_case_takes_the_thesis_defaults() {
     assert_thesis_geometry(&case, "minimal");
     assert_eq!(case.boundary, BoundaryConditions::default());
     assert_eq!(case.boundary.base, EndCondition::CLAMPED);
-    assert!(case.boundary.joints);
+    assert_eq!(case.boundary.joints, Joints::Pin);
     assert_eq!(case.loading.target, 0.5);
     assert_eq!(case.loading.steps, 10);
     assert_eq!(case.discretisation.elements, 48);

@@ -384,8 +384,8 @@ impl App {
 
     fn toggle_joints(&mut self) -> Vec<Effect> {
         let mut bc = self.screen.boundary;
-        bc.joints = !bc.joints;
-        let what = format!("pin joints {}", if bc.joints { "on" } else { "off" });
+        bc.joints = bc.joints.next(self.case.joint_springs());
+        let what = format!("joints {}", bc.joints.name());
         self.set_boundary(bc, what)
     }
 

@@ -262,10 +262,7 @@ fn boundary_line(app: &App) -> Line<'static> {
         sep(),
         Span::raw(format!("tip {}", in_force.tip.label())),
         sep(),
-        Span::raw(format!(
-            "joints {}",
-            if in_force.joints { "on" } else { "off" }
-        )),
+        Span::raw(format!("joints {}", in_force.joints_label())),
     ];
     if let Some(m) = &app.screen.mesh {
         // the mesh an accuracy target chose, with the error estimated for it
