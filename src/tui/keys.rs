@@ -34,6 +34,7 @@ pub enum Action {
     PathCursorBack,
     PathCursorForward,
     SingleView,
+    LoadSeries,
     SaveSession,
     Help,
     Quit,
@@ -53,6 +54,7 @@ impl Action {
                 | Action::PathCursorBack
                 | Action::PathCursorForward
                 | Action::SingleView
+                | Action::LoadSeries
                 | Action::SaveSession
         )
     }
@@ -68,7 +70,7 @@ pub struct Binding {
 
 /// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
 /// help is shown any key closes it).
-pub const BINDINGS: [Binding; 22] = {
+pub const BINDINGS: [Binding; 23] = {
     use Action::*;
     [
         Binding {
@@ -189,6 +191,11 @@ pub const BINDINGS: [Binding; 22] = {
             label: "v",
             keys: &[(Char('v'), SingleView)],
             help: "views: all → X-Y → Z-Y → Z-X alone",
+        },
+        Binding {
+            label: "o",
+            keys: &[(Char('o'), LoadSeries)],
+            help: "load panel: loads → lowest eigenvalue λmin → tip sway",
         },
         Binding {
             label: "s",

@@ -72,6 +72,7 @@ fn solved(sim: &Simulation, step: usize) -> Box<Solved> {
         step_length: sim.step_length(),
         time: Duration::from_millis(42),
         critical: Vec::new(),
+        modes: Vec::new(),
         pair: sim.solves_pair(),
     })
 }

@@ -182,6 +182,14 @@ impl App {
             }
             Action::PathCursorBack => self.move_path_cursor(-1),
             Action::PathCursorForward => self.move_path_cursor(1),
+            Action::LoadSeries => {
+                self.view.load_series = self.view.load_series.next();
+                self.message = Some(Message::Info(format!(
+                    "{} (o cycles)",
+                    self.view.load_series.name()
+                )));
+                vec![]
+            }
             Action::SingleView => {
                 self.view.mode = self.view.mode.next();
                 self.message = Some(Message::Info(format!(

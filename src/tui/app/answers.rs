@@ -108,6 +108,7 @@ impl App {
         self.screen.place_events(seq);
         self.screen.path.push(state.point.clone());
         self.screen.conditions.push(state.boundary);
+        self.screen.sway.push(state.snapshot.tip_sway());
         for c in &state.critical {
             // where: ε and the axial load, or the stepped load's own parameter
             let at = if self.case.loading.parameter == Component::Axial {
@@ -126,6 +127,7 @@ impl App {
             )));
         }
         self.screen.critical.extend(state.critical.iter().cloned());
+        self.screen.modes.extend(state.modes.iter().cloned());
         if self.screen.natural_k1.is_none() {
             self.screen.natural_k1 = mean_k1(&state.snapshot);
         }

@@ -8,12 +8,13 @@ use std::path::{Path, PathBuf};
 
 impl App {
     /// File names of an export of the current state.
-    pub fn export_names(&self) -> Option<[String; 3]> {
+    pub fn export_names(&self) -> Option<Vec<String>> {
         let point = &self.screen.state.as_ref()?.point;
         Some(export::names(
             &self.case_label(),
             point.step,
             point.compression_ratio,
+            self.screen.critical.len(),
         ))
     }
 
@@ -32,11 +33,15 @@ impl App {
         let written = match self.screen.state.as_ref() {
             Some(state) => export::write(
                 &self.out_dir,
-                &self.case_label(),
-                &state.snapshot,
-                &self.screen.path,
-                &self.screen.conditions,
-                &self.screen.session_events(),
+                &export::Export {
+                    label: &self.case_label(),
+                    snapshot: &state.snapshot,
+                    path: &self.screen.path,
+                    conditions: &self.screen.conditions,
+                    events: &self.screen.session_events(),
+                    critical: &self.screen.critical,
+                    modes: &self.screen.modes,
+                },
             ),
             None => Err(std::io::Error::other("no converged state yet")),
         };

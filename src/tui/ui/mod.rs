@@ -60,7 +60,13 @@ pub fn draw(frame: &mut Frame, app: &App) {
     }
     status::draw_status(frame, status, app);
     if app.view.show_critical {
-        critical::draw_critical(frame, area, app);
+        // below the views, which show the chosen point's mode
+        let below = Rect {
+            y: plots.y,
+            height: area.bottom() - plots.y,
+            ..area
+        };
+        critical::draw_critical(frame, below, app);
     }
     if app.view.show_help {
         help::draw_help(frame, area, app);

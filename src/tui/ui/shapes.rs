@@ -1,11 +1,12 @@
 //! The three projections of the assembly (X-Y, Z-Y, Z-X): rods coloured by κ1 on a common
-//! scale, the selected rod and the joints marked.
+//! scale, the selected rod and the joints marked, and while the critical-point list is
+//! open the chosen point's mode over the state.
 
 use super::chart::placeholder;
-use super::colours::{JOINT, K1_PALETTE, SELECTED};
+use super::colours::{JOINT, K1_PALETTE, MODE, SELECTED};
 use super::numbers::fmt_num;
 use crate::case::Geometry;
-use crate::results::{NodeState, RodShape, Snapshot};
+use crate::results::{ModeShape, NodeState, RodShape, Snapshot};
 use crate::tui::app::{App, ViewMode};
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -263,7 +264,21 @@ fn draw_view(
     };
     let snapshot = &state.snapshot;
     let highlight = snapshot.rods.len() > 1;
+    let preview = mode_preview(app);
     match view {
+        View::ZY if preview.is_some() => {
+            let k = app.view.critical_cursor;
+            let mark = if app.view.no_color {
+                PREVIEW_MARK
+            } else {
+                "━"
+            };
+            block = block.title_bottom(Line::from(vec![
+                Span::raw(" "),
+                Span::styled(mark, Style::new().fg(MODE)),
+                Span::raw(format!(" mode of critical point {k} ")),
+            ]));
+        }
         View::ZY if highlight => {
             let sel = snapshot.rods.get(app.view.selected_rod);
             let chir = sel.map_or("", |r| r.chirality.name());
@@ -318,6 +333,10 @@ fn draw_view(
                 coords: &joints,
                 color: JOINT,
             });
+            if let Some(rods) = &preview {
+                ctx.layer();
+                draw_preview(ctx, rods, view, snap, app.view.no_color);
+            }
         });
     frame.render_widget(canvas, area);
 }
@@ -340,5 +359,70 @@ fn draw_rod(
             y2,
             color: color(k1),
         });
+    }
+}
+
+/// The mark of a mode's preview without colour (printed at its nodes).
+const PREVIEW_MARK: &str = "∘";
+
+/// The mode's largest centreline displacement drawn as this part of the helix radius.
+const PREVIEW_AMPLITUDE: f64 = 0.3;
+
+/// While the critical-point list is open: the chosen point's mode on the geometry of its
+/// state, scaled for the eye (its largest displacement [`PREVIEW_AMPLITUDE`] of the helix
+/// radius), as the centreline of each rod.
+fn mode_preview(app: &App) -> Option<Vec<Vec<[f64; 3]>>> {
+    if !app.view.show_critical {
+        return None;
+    }
+    let mode: &ModeShape = &app.screen.modes.get(app.view.critical_cursor)?.shape;
+    let largest = mode
+        .displacement
+        .iter()
+        .flatten()
+        .map(|d| d[0].hypot(d[1]).hypot(d[2]))
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max);
+    if largest <= 0.0 {
+        return None;
+    }
+    let amplitude = PREVIEW_AMPLITUDE * app.case().geometry.radius / largest;
+    Some(
+        mode.shape
+            .rods
+            .iter()
+            .zip(&mode.displacement)
+            .map(|(rod, d)| {
+                rod.nodes
+                    .iter()
+                    .zip(d)
+                    .map(|(n, d)| std::array::from_fn(|i| n.position[i] + amplitude * d[i]))
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
+/// The preview's rods: lines in the mode's colour, or without colour its mark at each node.
+fn draw_preview(ctx: &mut Context, rods: &[Vec<[f64; 3]>], view: View, snap: Snap, no_color: bool) {
+    for rod in rods {
+        if no_color {
+            for p in rod {
+                let (x, y) = snap.point(view.project(*p));
+                ctx.print(x, y, Span::styled(PREVIEW_MARK, Style::new().fg(MODE)));
+            }
+            continue;
+        }
+        for w in rod.windows(2) {
+            let (x1, y1) = snap.point(view.project(w[0]));
+            let (x2, y2) = snap.point(view.project(w[1]));
+            ctx.draw(&Segment {
+                x1,
+                y1,
+                x2,
+                y2,
+                color: MODE,
+            });
+        }
     }
 }

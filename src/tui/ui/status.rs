@@ -181,7 +181,11 @@ fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)
     let (dirs, lowest) = match p.stability {
         Some(st) => (
             st.unstable_directions.to_string(),
-            st.lowest_eigenvalue.map_or("–".into(), fmt_num),
+            match (st.lowest_eigenvalue, st.lowest_wavenumber) {
+                (Some(l), Some(k)) => format!("{} p{k}", fmt_num(l)),
+                (Some(l), None) => fmt_num(l),
+                (None, _) => "–".into(),
+            },
         ),
         None => ("–".into(), "–".into()),
     };
