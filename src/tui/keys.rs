@@ -70,7 +70,7 @@ pub struct Binding {
 
 /// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
 /// help is shown any key closes it).
-pub const BINDINGS: [Binding; 23] = {
+pub const BINDINGS: [Binding; 22] = {
     use Action::*;
     [
         Binding {
@@ -188,14 +188,9 @@ pub const BINDINGS: [Binding; 23] = {
             help: "move the cursor of the curvature (, .) / of the load path (< >)",
         },
         Binding {
-            label: "v",
-            keys: &[(Char('v'), SingleView)],
-            help: "views: all → X-Y → Z-Y → Z-X alone",
-        },
-        Binding {
-            label: "o",
-            keys: &[(Char('o'), LoadSeries)],
-            help: "load panel: loads → lowest eigenvalue λmin → tip sway",
+            label: "v o",
+            keys: &[(Char('v'), SingleView), (Char('o'), LoadSeries)],
+            help: "views: all → X-Y → Z-Y → Z-X alone / load panel: loads → λmin → sway",
         },
         Binding {
             label: "s",

@@ -1,7 +1,7 @@
 //! The solver's answers: each moves the requests' bookkeeping on, and a converged state or
 //! a failure changes what is on screen.
 
-use super::explorer::{App, Effect, Message, PrecisionView, CANCELLING};
+use super::explorer::{App, Effect, Message, PrecisionView, CANCELLING, STUDY_STARTED};
 use super::state::Progress;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::loading::Component;
@@ -67,6 +67,10 @@ impl App {
             }
             WorkerEvent::Precision { seq, study, .. } => {
                 if seq == self.requests.precision_seq {
+                    // the news that it started is old news now
+                    if self.message == Some(Message::Info(STUDY_STARTED.into())) {
+                        self.message = None;
+                    }
                     self.precision = match study {
                         Ok(s) => PrecisionView::Ready(s),
                         Err(e) => PrecisionView::Failed(e),

@@ -54,7 +54,7 @@ impl App {
                     .collect();
                 self.message = Some(Message::Info(format!(
                     "wrote {}{}",
-                    names.join(", "),
+                    summarise(&names),
                     self.place()
                 )));
                 files
@@ -102,5 +102,26 @@ impl App {
                 None
             }
         }
+    }
+}
+
+/// The names of an export for the message line: the tables by name, the mode files (one
+/// per critical point) by their first and last.
+fn summarise(names: &[String]) -> String {
+    let is_mode = |n: &str| {
+        n.rsplit_once("-mode-")
+            .and_then(|(_, k)| k.strip_suffix(".csv"))
+            .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+    };
+    let (modes, tables): (Vec<&String>, Vec<&String>) = names.iter().partition(|n| is_mode(n));
+    let tables: Vec<&str> = tables.iter().map(|n| n.as_str()).collect();
+    match modes.as_slice() {
+        [] => tables.join(", "),
+        [one] => format!("{} and {one}", tables.join(", ")),
+        [first, .., last] => format!(
+            "{} and {} mode files {first} … {last}",
+            tables.join(", "),
+            modes.len()
+        ),
     }
 }

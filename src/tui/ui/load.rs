@@ -84,6 +84,8 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
                 )),
                 Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {loads} ")),
                 Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {fz} ")),
+                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} ")),
+                Line::from(format!(" {CURSOR_MARK}{step} ")),
             ],
             width,
         )

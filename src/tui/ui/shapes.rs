@@ -23,7 +23,10 @@ pub(super) fn draw_views(frame: &mut Frame, area: Rect, app: &App) {
     let xy_width = (area.height.saturating_sub(2) * 2 + 2).min(area.width / 3);
     let [xy, side] =
         Layout::horizontal([Constraint::Length(xy_width), Constraint::Min(0)]).areas(area);
-    let [zy, zx] = Layout::vertical([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(side);
+    // the Z-Y view has no bottom border (the Z-X view's top one parts them) and its
+    // legend on the Z-X view's top border: rows for the drawings, the same in both
+    let zy_rows = 1 + side.height.saturating_sub(3) / 2;
+    let [zy, zx] = Layout::vertical([Constraint::Length(zy_rows), Constraint::Min(0)]).areas(side);
     let scale = app
         .screen
         .state
@@ -36,19 +39,19 @@ pub(super) fn draw_views(frame: &mut Frame, area: Rect, app: &App) {
                 [(zy, View::ZY), (zx, View::ZX)]
                     .iter()
                     .map(|&(a, v)| {
-                        let inner = Block::new().borders(Borders::ALL).inner(a);
+                        let inner = Block::new().borders(borders(v, true)).inner(a);
                         let (x, y) = view_extent(app, &s.snapshot, v);
                         dot_size(inner.width, inner.height, x, y)
                     })
                     .fold(0.0, f64::max)
             });
-            draw_view(frame, xy, app, View::XY, scale, 0.0);
-            draw_view(frame, zy, app, View::ZY, scale, per_dot);
-            draw_view(frame, zx, app, View::ZX, scale, per_dot);
+            draw_view(frame, xy, app, (View::XY, false), scale, 0.0);
+            draw_view(frame, zy, app, (View::ZY, true), scale, per_dot);
+            draw_view(frame, zx, app, (View::ZX, true), scale, per_dot);
         }
-        ViewMode::XY => draw_view(frame, area, app, View::XY, scale, 0.0),
-        ViewMode::ZY => draw_view(frame, area, app, View::ZY, scale, 0.0),
-        ViewMode::ZX => draw_view(frame, area, app, View::ZX, scale, 0.0),
+        ViewMode::XY => draw_view(frame, area, app, (View::XY, false), scale, 0.0),
+        ViewMode::ZY => draw_view(frame, area, app, (View::ZY, false), scale, 0.0),
+        ViewMode::ZX => draw_view(frame, area, app, (View::ZX, false), scale, 0.0),
     }
 }
 
@@ -245,60 +248,85 @@ impl Snap {
     }
 }
 
-/// One projection of the assembly: rods coloured by κ1, the selected rod in white on top,
-/// joints in magenta.
-fn draw_view(
-    frame: &mut Frame,
-    area: Rect,
-    app: &App,
-    view: View,
-    scale: Option<K1Scale>,
-    per_dot: f64,
-) {
-    let mut block = Block::new().borders(Borders::ALL).title(Span::styled(
-        format!(" {} ", view.title()),
-        Style::new().add_modifier(Modifier::BOLD),
-    ));
-    let (Some(state), Some(scale)) = (app.screen.state.as_ref(), scale) else {
-        return placeholder(frame, area, block, app);
-    };
-    let snapshot = &state.snapshot;
-    let highlight = snapshot.rods.len() > 1;
-    let preview = mode_preview(app);
+/// The borders of `view`'s box: the Z-Y view stacked over the Z-X one has no bottom
+/// border.
+fn borders(view: View, stacked: bool) -> Borders {
+    if stacked && view == View::ZY {
+        Borders::TOP | Borders::LEFT | Borders::RIGHT
+    } else {
+        Borders::ALL
+    }
+}
+
+/// The legend of `view`: for the Z-Y view the mode previewed, or the selected rod and the
+/// joints; for the Z-X view the κ1 colour scale (none without colour, where every rod is
+/// drawn alike).
+fn legend(app: &App, view: View, snapshot: &Snapshot, scale: K1Scale) -> Option<Line<'static>> {
     match view {
-        View::ZY if preview.is_some() => {
+        View::ZY if app.view.show_critical && mode_preview(app).is_some() => {
             let k = app.view.critical_cursor;
             let mark = if app.view.no_color {
                 PREVIEW_MARK
             } else {
                 "━"
             };
-            block = block.title_bottom(Line::from(vec![
+            Some(Line::from(vec![
                 Span::raw(" "),
                 Span::styled(mark, Style::new().fg(MODE)),
                 Span::raw(format!(" mode of critical point {k} ")),
-            ]));
+            ]))
         }
-        View::ZY if highlight => {
+        View::ZY if snapshot.rods.len() > 1 => {
             let sel = snapshot.rods.get(app.view.selected_rod);
             let chir = sel.map_or("", |r| r.chirality.name());
-            block = block.title_bottom(Line::from(vec![
+            Some(Line::from(vec![
                 Span::raw(" "),
                 Span::styled("━", Style::new().fg(SELECTED)),
                 Span::raw(format!(" rod {} ({chir}) ", app.view.selected_rod)),
                 Span::styled("•", Style::new().fg(JOINT)),
                 Span::raw(" joints "),
-            ]));
+            ]))
         }
-        View::ZY if snapshot.rods.iter().any(|r| !r.joints.is_empty()) => {
-            block = block.title_bottom(Line::from(vec![
-                Span::styled(" •", Style::new().fg(JOINT)),
-                Span::raw(" joints "),
-            ]));
+        View::ZY if snapshot.rods.iter().any(|r| !r.joints.is_empty()) => Some(Line::from(vec![
+            Span::styled(" •", Style::new().fg(JOINT)),
+            Span::raw(" joints "),
+        ])),
+        View::ZX if !app.view.no_color => Some(scale.legend()),
+        _ => None,
+    }
+}
+
+/// One projection of the assembly (`stacked`: a side view over or under the other): rods
+/// coloured by κ1, the selected rod in white on top, joints in magenta.
+fn draw_view(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    (view, stacked): (View, bool),
+    scale: Option<K1Scale>,
+    per_dot: f64,
+) {
+    let mut block = Block::new()
+        .borders(borders(view, stacked))
+        .title(Span::styled(
+            format!(" {} ", view.title()),
+            Style::new().add_modifier(Modifier::BOLD),
+        ));
+    let (Some(state), Some(scale)) = (app.screen.state.as_ref(), scale) else {
+        return placeholder(frame, area, block, app);
+    };
+    let snapshot = &state.snapshot;
+    let highlight = snapshot.rods.len() > 1;
+    let preview = mode_preview(app);
+    if stacked && view == View::ZX {
+        if let Some(l) = legend(app, View::ZY, snapshot, scale) {
+            block = block.title(l.alignment(ratatui::layout::Alignment::Right));
         }
-        // without colour every rod is drawn alike: no colour scale to read
-        View::ZX if !app.view.no_color => block = block.title_bottom(scale.legend()),
-        _ => {}
+    }
+    if !(stacked && view == View::ZY) {
+        if let Some(l) = legend(app, view, snapshot, scale) {
+            block = block.title_bottom(l);
+        }
     }
     let inner = block.inner(area);
     let (x, y) = view_extent(app, snapshot, view);
