@@ -44,7 +44,11 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     );
     let c = app.case().loading.parameter;
     // the cursor's readout on the right, the critical points' key on the left in what is
-    // left of the bottom border
+    // left of the bottom border (room kept for its shortest form, ` ×n `, and a rule)
+    let key_room = match app.screen.critical.len() {
+        0 => 0,
+        n => n.to_string().len() as u16 + 4,
+    };
     let readout = app.view.path_cursor.filter(|&k| k < path.len()).map(|k| {
         let p = &path[k];
         let (loads, fz) = match (app.view.load_series, p.support.pair(c)) {
@@ -87,7 +91,7 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
                 Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} ")),
                 Line::from(format!(" {CURSOR_MARK}{step} ")),
             ],
-            width,
+            width.saturating_sub(key_room),
         )
     });
     let used = readout.as_ref().map_or(0, Line::width);
