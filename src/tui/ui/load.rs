@@ -42,76 +42,10 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
         app.view.no_color,
         width,
     );
-    let c = app.case().loading.parameter;
-    // the cursor's readout on the right, the critical points' key on the left in what is
-    // left of the bottom border (room kept for its shortest form, ` ×n `, and a rule)
-    let key_room = match app.screen.critical.len() {
-        0 => 0,
-        n => n.to_string().len() as u16 + 4,
-    };
-    let readout = app.view.path_cursor.filter(|&k| k < path.len()).map(|k| {
-        let p = &path[k];
-        let (loads, fz) = match (app.view.load_series, p.support.pair(c)) {
-            (LoadSeries::Stability, _) => {
-                let l = values(app, k)
-                    .first()
-                    .map_or("–".to_string(), |&l| fmt_num(l));
-                (format!("λmin {l}"), format!("λmin {l}"))
-            }
-            (LoadSeries::Sway, _) => {
-                let w = values(app, k)
-                    .first()
-                    .map_or("–".to_string(), |w| format!("{w:.4}"));
-                (format!("sway/a {w}"), format!("sway/a {w}"))
-            }
-            (LoadSeries::Loads, None) => (
-                format!(
-                    "fx {} fy {} fz {}",
-                    fmt_load(p.load[0], &p.load),
-                    fmt_load(p.load[1], &p.load),
-                    fmt_load(p.load[2], &p.load)
-                ),
-                format!("fz {}", fmt_load(p.load[2], &p.load)),
-            ),
-            (LoadSeries::Loads, Some([_, (force, name)])) => {
-                let both = format!("{name} {force:.5e}");
-                (both.clone(), both)
-            }
-        };
-        let motion = app.load_parameter().motion_symbol();
-        let at = along(c, p);
-        let step = p.step;
-        first_fitting(
-            vec![
-                Line::from(format!(
-                    " {CURSOR_MARK} step {step} {motion} {at:.5}: {loads} "
-                )),
-                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {loads} ")),
-                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {fz} ")),
-                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} ")),
-                Line::from(format!(" {CURSOR_MARK}{step} ")),
-            ],
-            width.saturating_sub(key_room),
-        )
-    });
+    let readout = cursor_readout(app, width);
     let used = readout.as_ref().map_or(0, Line::width);
-    if !app.screen.critical.is_empty() {
-        let n = app.screen.critical.len();
-        let mark = Span::styled(format!(" {CRITICAL_MARK}"), Style::new().fg(Color::Yellow));
-        let key = first_fitting(
-            vec![
-                Line::from(vec![
-                    mark.clone(),
-                    Span::raw(format!("critical {n} (x lists) ")),
-                ]),
-                Line::from(vec![mark.clone(), Span::raw(format!("critical {n} "))]),
-                Line::from(vec![mark, Span::raw(format!("{n} "))]),
-            ],
-            width.saturating_sub(used as u16 + 1),
-        );
-        if key.width() + used < width as usize {
-            block = block.title_bottom(key);
-        }
+    if let Some(key) = critical_key(app, width, used) {
+        block = block.title_bottom(key);
     }
     if let Some(line) = readout {
         block = block.title_bottom(line.alignment(Alignment::Right));
@@ -148,6 +82,82 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
                 .style(Style::new().fg(DIM)),
         );
     frame.render_widget(chart, area);
+}
+
+/// The path cursor's readout for the bottom border, in `width` columns less the room the
+/// critical points' key needs in its shortest form (` ×n ` and a rule).
+fn cursor_readout(app: &App, width: u16) -> Option<Line<'static>> {
+    let (path, c) = (&app.screen.path, app.case().loading.parameter);
+    let key_room = match app.screen.critical.len() {
+        0 => 0,
+        n => n.to_string().len() as u16 + 4,
+    };
+    let k = app.view.path_cursor.filter(|&k| k < path.len())?;
+    let p = &path[k];
+    let (loads, fz) = match (app.view.load_series, p.support.pair(c)) {
+        (LoadSeries::Stability, _) => {
+            let l = values(app, k)
+                .first()
+                .map_or("–".to_string(), |&l| fmt_num(l));
+            (format!("λmin {l}"), format!("λmin {l}"))
+        }
+        (LoadSeries::Sway, _) => {
+            let w = values(app, k)
+                .first()
+                .map_or("–".to_string(), |w| format!("{w:.4}"));
+            (format!("sway/a {w}"), format!("sway/a {w}"))
+        }
+        (LoadSeries::Loads, None) => (
+            format!(
+                "fx {} fy {} fz {}",
+                fmt_load(p.load[0], &p.load),
+                fmt_load(p.load[1], &p.load),
+                fmt_load(p.load[2], &p.load)
+            ),
+            format!("fz {}", fmt_load(p.load[2], &p.load)),
+        ),
+        (LoadSeries::Loads, Some([_, (force, name)])) => {
+            let both = format!("{name} {force:.5e}");
+            (both.clone(), both)
+        }
+    };
+    let motion = app.load_parameter().motion_symbol();
+    let at = along(c, p);
+    let step = p.step;
+    Some(first_fitting(
+        vec![
+            Line::from(format!(
+                " {CURSOR_MARK} step {step} {motion} {at:.5}: {loads} "
+            )),
+            Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {loads} ")),
+            Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {fz} ")),
+            Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} ")),
+            Line::from(format!(" {CURSOR_MARK}{step} ")),
+        ],
+        width.saturating_sub(key_room),
+    ))
+}
+
+/// The critical points' key for the bottom border, in what `used` columns of the readout
+/// leave of `width`; `None` without critical points or room.
+fn critical_key(app: &App, width: u16, used: usize) -> Option<Line<'static>> {
+    let n = app.screen.critical.len();
+    if n == 0 {
+        return None;
+    }
+    let mark = Span::styled(format!(" {CRITICAL_MARK}"), Style::new().fg(Color::Yellow));
+    let key = first_fitting(
+        vec![
+            Line::from(vec![
+                mark.clone(),
+                Span::raw(format!("critical {n} (x lists) ")),
+            ]),
+            Line::from(vec![mark.clone(), Span::raw(format!("critical {n} "))]),
+            Line::from(vec![mark, Span::raw(format!("{n} "))]),
+        ],
+        width.saturating_sub(used as u16 + 1),
+    );
+    (key.width() + used < width as usize).then_some(key)
 }
 
 /// Where the chart places `p` with component `c` stepped: at the motion of what the load
