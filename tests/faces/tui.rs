@@ -1212,6 +1212,8 @@ fn w_shows_the_work_precision_chart_and_asks_for_one_study() {
 fn study_answers_fill_the_chart_and_stale_ones_are_dropped() {
     let (mut app, _sim) = started(small_case(2));
     let r = precision_request(&app.handle_key(ch('w')));
+    let started = app.message.clone();
+    assert!(matches!(&started, Some(Message::Info(m)) if m.contains("its own thread")));
     app.on_worker_event(WorkerEvent::PrecisionProgress {
         generation: r.generation,
         seq: r.seq,
@@ -1219,6 +1221,7 @@ fn study_answers_fill_the_chart_and_stale_ones_are_dropped() {
         total: 9,
     });
     assert_eq!(app.precision, PrecisionView::Running { done: 3, total: 9 });
+    assert_eq!(app.message, started, "said while the study runs");
     // an answer to an older request is of another problem
     app.on_worker_event(WorkerEvent::Precision {
         generation: r.generation,
@@ -1233,6 +1236,10 @@ fn study_answers_fill_the_chart_and_stale_ones_are_dropped() {
     });
     assert!(matches!(app.precision, PrecisionView::Ready(_)));
     assert!(!app.busy());
+    assert_eq!(
+        app.message, None,
+        "the study has finished: no word of its start"
+    );
     // new conditions make the study obsolete: a new one is asked for while shown
     let effects = app.handle_key(ch('p'));
     precision_request(&effects);

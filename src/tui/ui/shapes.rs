@@ -363,7 +363,13 @@ fn draw_view(
             });
             if let Some(rods) = &preview {
                 ctx.layer();
-                draw_preview(ctx, rods, view, snap, app.view.no_color);
+                // without colour, marks a cell apart: a dotted outline, not a blot
+                let cell = (
+                    (x_bounds[1] - x_bounds[0]) / f64::from(inner.width.max(1)),
+                    (y_bounds[1] - y_bounds[0]) / f64::from(inner.height.max(1)),
+                );
+                let apart = app.view.no_color.then_some(cell);
+                draw_preview(ctx, rods, (view, snap), apart);
             }
         });
     frame.render_widget(canvas, area);
@@ -431,12 +437,23 @@ fn mode_preview(app: &App) -> Option<Vec<Vec<[f64; 3]>>> {
     )
 }
 
-/// The preview's rods: lines in the mode's colour, or without colour its mark at each node.
-fn draw_preview(ctx: &mut Context, rods: &[Vec<[f64; 3]>], view: View, snap: Snap, no_color: bool) {
+/// The preview's rods: lines in the mode's colour, or (`apart`: the size of a cell) its
+/// mark at nodes two cells across or a row apart.
+fn draw_preview(
+    ctx: &mut Context,
+    rods: &[Vec<[f64; 3]>],
+    (view, snap): (View, Snap),
+    apart: Option<(f64, f64)>,
+) {
     for rod in rods {
-        if no_color {
+        if let Some((w, h)) = apart {
+            let mut last: Option<(f64, f64)> = None;
             for p in rod {
                 let (x, y) = snap.point(view.project(*p));
+                if last.is_some_and(|(a, b)| (x - a).abs() < 2.0 * w && (y - b).abs() < h) {
+                    continue;
+                }
+                last = Some((x, y));
                 ctx.print(x, y, Span::styled(PREVIEW_MARK, Style::new().fg(MODE)));
             }
             continue;
