@@ -126,11 +126,12 @@ pub struct Snapshot {
 }
 
 impl Snapshot {
-    /// The sway of the tip: the horizontal distance (m) from the centre of the rods' base
-    /// ends to the centre of their tip ends (each the mean over the rods). Zero to
-    /// rounding on a path that keeps the assembly's rotational symmetry; what tells a
-    /// sway branch from the fundamental path when the tip slides free of lateral forces.
-    pub fn tip_sway(&self) -> f64 {
+    /// The horizontal offset (m, x and y) of the centre of the rods' tip ends from the
+    /// centre of their base ends (each the mean over the rods). Its change from the natural
+    /// state is the sway of the tip: none to rounding on a path that keeps the assembly's
+    /// rotational symmetry, what tells a sway branch from the fundamental path when the
+    /// tip slides free of lateral forces.
+    pub fn tip_offset(&self) -> [f64; 2] {
         let centre = |end: fn(&RodShape) -> Option<&NodeState>| {
             let ends: Vec<[f64; 3]> = self
                 .rods
@@ -142,7 +143,7 @@ impl Snapshot {
             [0, 1].map(|k| ends.iter().map(|p| p[k]).sum::<f64>() / n)
         };
         let (base, tip) = (centre(|r| r.nodes.first()), centre(|r| r.nodes.last()));
-        (tip[0] - base[0]).hypot(tip[1] - base[1])
+        [tip[0] - base[0], tip[1] - base[1]]
     }
 }
 

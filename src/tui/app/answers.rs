@@ -112,7 +112,11 @@ impl App {
         self.screen.place_events(seq);
         self.screen.path.push(state.point.clone());
         self.screen.conditions.push(state.boundary);
-        self.screen.sway.push(state.snapshot.tip_sway());
+        let offset = state.snapshot.tip_offset();
+        let natural = *self.screen.natural_offset.get_or_insert(offset);
+        self.screen
+            .sway
+            .push((offset[0] - natural[0]).hypot(offset[1] - natural[1]));
         for c in &state.critical {
             // where: ε and the axial load, or the stepped load's own parameter
             let at = if self.case.loading.parameter == Component::Axial {

@@ -36,9 +36,12 @@ pub struct Screen {
     pub critical: Vec<CriticalPoint>,
     /// The mode of each of [`Screen::critical`], in the same order.
     pub modes: Vec<CriticalMode>,
-    /// The tip's sway ([`Snapshot::tip_sway`](crate::results::Snapshot::tip_sway)) at each
-    /// point of [`Screen::path`] (m): the order parameter of the load panel.
+    /// The tip's sway at each point of [`Screen::path`] (m): how far the tip's offset from
+    /// the base ([`Snapshot::tip_offset`](crate::results::Snapshot::tip_offset)) moved from
+    /// the natural state's, the order parameter of the load panel.
     pub sway: Vec<f64>,
+    /// The tip's offset from the base in the natural state of this simulation.
+    pub natural_offset: Option<[f64; 2]>,
     /// The last converged state, if any.
     pub state: Option<Solved>,
     /// Mean κ1 (1/m) of the first state of this simulation (the natural state), the centre
@@ -70,6 +73,7 @@ impl Screen {
             critical: Vec::new(),
             modes: Vec::new(),
             sway: Vec::new(),
+            natural_offset: None,
             state: None,
             natural_k1: None,
             mesh: None,
@@ -89,6 +93,7 @@ impl Screen {
         self.critical.clear();
         self.modes.clear();
         self.sway.clear();
+        self.natural_offset = None;
         self.state = None;
         self.natural_k1 = None;
         self.requested_parameter = 0.0;
