@@ -1,6 +1,6 @@
 //! What a solve reports, as plain data: load points along the path, the shape of a state,
 //! its stability and the critical points found. The solver fills these in; outputs and
-//! screens read them. Nothing here computes.
+//! screens read them. Nothing here computes beyond a mean of what a value holds.
 
 use crate::model::assembly::RodId;
 use crate::model::helix::Chirality;
@@ -144,6 +144,39 @@ pub struct Snapshot {
     /// Compression ratio `ε` of the state.
     pub compression_ratio: f64,
     pub rods: Vec<RodShape>,
+}
+
+impl Snapshot {
+    /// The horizontal offset (m, x and y) of the centre of the rods' tip ends from the
+    /// centre of their base ends (each the mean over the rods). Its change from the natural
+    /// state is the sway of the tip: none to rounding on a path that keeps the assembly's
+    /// rotational symmetry, what tells a sway branch from the fundamental path when the
+    /// tip slides free of lateral forces.
+    pub fn tip_offset(&self) -> [f64; 2] {
+        let centre = |end: fn(&RodShape) -> Option<&NodeState>| {
+            let ends: Vec<[f64; 3]> = self
+                .rods
+                .iter()
+                .filter_map(end)
+                .map(|n| n.position)
+                .collect();
+            let n = ends.len().max(1) as f64;
+            [0, 1].map(|k| ends.iter().map(|p| p[k]).sum::<f64>() / n)
+        };
+        let (base, tip) = (centre(|r| r.nodes.first()), centre(|r| r.nodes.last()));
+        [tip[0] - base[0], tip[1] - base[1]]
+    }
+}
+
+/// A critical mode's centreline displacement at one element vertex of a rod (m per unit
+/// mode): a row of `mode-<k>.csv`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModeVertex {
+    pub rod: usize,
+    /// Arc length of the vertex (m), and over the rod's length.
+    pub s: f64,
+    pub s_over_l: f64,
+    pub displacement: [f64; 3],
 }
 
 /// Stability of a converged state.

@@ -177,13 +177,13 @@ impl Case {
 
     /// The case as the explorer solves it interactively (a model no bigger than
     /// the scene): one symmetric pair standing for the assembly when it has the symmetry,
-    /// and stability as the count of unstable directions only (by the pair's Bloch blocks),
-    /// without the lowest eigenvalue. Everything shown is still of the whole assembly.
+    /// its stability judged by the pair's Bloch blocks (the count of unstable directions at
+    /// every step, the lowest eigenvalue and its wavenumber at every point of the path).
+    /// Everything shown is still of the whole assembly.
     pub fn for_explorer(&self) -> Case {
         let mut c = self.clone();
         let n = c.geometry.helices;
         c.discretisation.symmetric |= n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
-        c.solver.lowest_eigenvalue = false;
         c
     }
 

@@ -8,7 +8,7 @@
 
 use crate::discretisation::bulk::BULK_TOLERANCE;
 use crate::discretisation::discrete_model::DiscreteModel;
-use crate::results::{CriticalPoint, LoadPoint, Snapshot, StepBulk};
+use crate::results::{CriticalPoint, LoadPoint, ModeVertex, Snapshot, StepBulk};
 use serde::Serialize;
 
 /// Number formats of the cells: `{:.Ne}` scientific notation with `N` digits after the
@@ -266,6 +266,17 @@ pub fn mode_csv(
     index: usize,
     critical: &CriticalPoint,
 ) -> String {
+    mode_table(case, index, critical, &mode_vertices(model, critical))
+}
+
+/// `mode-<k>.csv` of critical point `index` from its mode's displacement at the vertices
+/// ([`mode_vertices`]).
+pub fn mode_table(
+    case: &str,
+    index: usize,
+    critical: &CriticalPoint,
+    vertices: &[ModeVertex],
+) -> String {
     let comments = [
         format!(
             "spira critical mode {index} ({}), case {case}, parameter = {:.10e}",
@@ -275,6 +286,20 @@ pub fn mode_csv(
         "dx,dy,dz: mode displacement of the centreline at element vertices (m per unit mode)"
             .to_string(),
     ];
+    let rows = vertices.iter().map(|v| ModeRow {
+        rod: v.rod,
+        s: v.s,
+        s_over_l: v.s_over_l,
+        dx: v.displacement[0],
+        dy: v.displacement[1],
+        dz: v.displacement[2],
+    });
+    table(&comments, rows)
+}
+
+/// The centreline displacement of `critical`'s mode at the element vertices of every rod
+/// of `model` (for a symmetric pair, of the whole assembly, where its mode was rebuilt).
+pub fn mode_vertices(model: &DiscreteModel, critical: &CriticalPoint) -> Vec<ModeVertex> {
     // a symmetric pair's mode is written on the whole assembly, where it was rebuilt
     // (after a switch onto a branch that breaks the symmetry the model is the full one)
     let full = match (&critical.assembly_mode, model.assembly.symmetry) {
@@ -287,21 +312,23 @@ pub fn mode_csv(
         _ => (model, critical.mode.as_slice()),
     };
     let length = model.length();
-    let rows = model.rods.iter().enumerate().flat_map(|(id, rod)| {
-        rod.mesh
-            .vertices
-            .iter()
-            .enumerate()
-            .map(move |(v, &s)| ModeRow {
-                rod: id,
-                s,
-                s_over_l: s / length,
-                dx: mode[rod.r_dof(v, 0)],
-                dy: mode[rod.r_dof(v, 1)],
-                dz: mode[rod.r_dof(v, 2)],
-            })
-    });
-    table(&comments, rows)
+    model
+        .rods
+        .iter()
+        .enumerate()
+        .flat_map(|(id, rod)| {
+            rod.mesh
+                .vertices
+                .iter()
+                .enumerate()
+                .map(move |(v, &s)| ModeVertex {
+                    rod: id,
+                    s,
+                    s_over_l: s / length,
+                    displacement: [0, 1, 2].map(|k| mode[rod.r_dof(v, k)]),
+                })
+        })
+        .collect()
 }
 
 /// A row of `reactions.csv`.

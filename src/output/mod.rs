@@ -16,8 +16,8 @@ pub mod staging;
 pub mod vtk;
 
 pub use self::csv::{
-    bulk_csv, check_finite, comment_safe, critical_csv, load_csv, mode_csv, reactions_csv,
-    state_csv, with_note, NonFinite,
+    bulk_csv, check_finite, comment_safe, critical_csv, load_csv, mode_csv, mode_table,
+    mode_vertices, reactions_csv, state_csv, with_note, NonFinite,
 };
 pub use self::files::write_atomic;
 pub use self::joints_table::joints_csv;

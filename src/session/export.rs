@@ -1,11 +1,12 @@
 //! The explorer's exports, shared with `spira replay`: the current state, the load path
-//! with the conditions of each point and the session's events, and the tip reactions, in
-//! the formats of `spira run` (the load table gains a `conditions` column and `# event`
-//! comment lines).
+//! with the conditions of each point and the session's events, the tip reactions, and the
+//! critical points crossed with their modes, in the formats of `spira run` (the load table
+//! gains a `conditions` column and `# event` comment lines).
 
+use super::worker::CriticalMode;
 use crate::model::boundary::BoundaryConditions;
 use crate::output;
-use crate::results::{LoadPoint, Snapshot};
+use crate::results::{CriticalPoint, LoadPoint, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -42,14 +43,35 @@ pub fn sanitise(name: &str) -> String {
 }
 
 /// File names of an export of the state at output step `step` and compression ratio
-/// `ratio` of case `label`: state, load path, reactions.
-pub fn names(label: &str, step: usize, ratio: f64) -> [String; 3] {
+/// `ratio` of case `label` on a path that crossed `critical` critical points: state, load
+/// path, reactions, and with critical points the table of them and one mode file each.
+pub fn names(label: &str, step: usize, ratio: f64, critical: usize) -> Vec<String> {
     let stem = format!("{}-step{step}-eps{ratio:.4}", sanitise(label));
-    [
+    let mut names = vec![
         format!("{stem}-state.csv"),
         format!("{stem}-load.csv"),
         format!("{stem}-reactions.csv"),
-    ]
+    ];
+    if critical > 0 {
+        names.push(format!("{stem}-critical.csv"));
+        names.extend((0..critical).map(|k| format!("{stem}-mode-{k}.csv")));
+    }
+    names
+}
+
+/// What an export writes: the state on screen and the path that reached it.
+#[derive(Clone, Copy, Debug)]
+pub struct Export<'a> {
+    /// The case's label, in the file names and headers.
+    pub label: &'a str,
+    pub snapshot: &'a Snapshot,
+    pub path: &'a [LoadPoint],
+    /// The conditions of each point of `path`.
+    pub conditions: &'a [BoundaryConditions],
+    pub events: &'a [SessionEvent],
+    /// The critical points crossed on the path, and the mode of each.
+    pub critical: &'a [CriticalPoint],
+    pub modes: &'a [CriticalMode],
 }
 
 /// The load table of `spira run` with the conditions of each point (`conditions[k]` for
@@ -105,34 +127,45 @@ fn asked(parameter: f64) -> String {
     }
 }
 
-/// Writes the three tables of the state on screen and the path into `dir`; returns the
-/// files written.
-pub fn write(
-    dir: &Path,
-    label: &str,
-    snapshot: &Snapshot,
-    path: &[LoadPoint],
-    conditions: &[BoundaryConditions],
-    events: &[SessionEvent],
-) -> std::io::Result<Vec<PathBuf>> {
-    let last = path
+/// Writes the tables of `export` into `dir` (those of [`names`], as `spira run` writes
+/// them); returns the files written.
+pub fn write(dir: &Path, export: &Export) -> std::io::Result<Vec<PathBuf>> {
+    let last = export
+        .path
         .last()
         .ok_or_else(|| std::io::Error::other("no converged state yet"))?;
-    let texts = [
-        output::state_csv(label, snapshot),
-        load_csv(label, path, conditions, events),
-        output::reactions_csv(label, path),
+    let label = export.label;
+    let mut texts = vec![
+        output::state_csv(label, export.snapshot),
+        load_csv(label, export.path, export.conditions, export.events),
+        output::reactions_csv(label, export.path),
     ];
+    if !export.critical.is_empty() {
+        texts.push(output::critical_csv(label, export.critical));
+        for (k, (c, m)) in export.critical.iter().zip(export.modes).enumerate() {
+            texts.push(output::mode_table(label, k, c, &m.vertices));
+        }
+    }
+    let names = names(
+        label,
+        last.step,
+        last.compression_ratio,
+        export.critical.len(),
+    );
+    if texts.len() != names.len() {
+        return Err(std::io::Error::other(format!(
+            "{} critical points but {} modes",
+            export.critical.len(),
+            export.modes.len()
+        )));
+    }
     // no table with a cell that holds no number, as `spira run` writes none
     for text in &texts {
         output::check_finite(text).map_err(std::io::Error::other)?;
     }
     std::fs::create_dir_all(dir)?;
     let mut files = Vec::new();
-    for (name, text) in names(label, last.step, last.compression_ratio)
-        .iter()
-        .zip(texts)
-    {
+    for (name, text) in names.iter().zip(texts) {
         let file = dir.join(name);
         output::write_atomic(&file, &text)?;
         files.push(file);

@@ -7,18 +7,21 @@ use super::check;
 use super::error::ScriptError;
 use super::export;
 use super::script::{Action, Session};
-use super::worker::{Runner, WorkerEvent};
+use super::worker::{CriticalMode, Runner, WorkerEvent};
 use crate::case::Case;
 use crate::model::boundary::BoundaryConditions;
-use crate::results::{LoadPoint, Snapshot};
+use crate::results::{CriticalPoint, LoadPoint, Snapshot};
 use std::path::{Path, PathBuf};
 
-/// What a replay reached: the path, the conditions of each point and the last state.
+/// What a replay reached: the path, the conditions of each point, the last state, and
+/// the critical points crossed with their modes.
 #[derive(Clone, Debug)]
 pub struct Replayed {
     pub path: Vec<LoadPoint>,
     pub conditions: Vec<BoundaryConditions>,
     pub snapshot: Snapshot,
+    pub critical: Vec<CriticalPoint>,
+    pub modes: Vec<CriticalMode>,
 }
 
 /// Runs `session` on `case` (the case its `case` names) through the solver's code, every
@@ -29,6 +32,7 @@ pub fn replay(session: &Session, case: &Case) -> Result<Replayed, ScriptError> {
     let mut path = Vec::new();
     let mut conditions = Vec::new();
     let mut snapshot = None;
+    let (mut critical, mut modes) = (Vec::new(), Vec::new());
     for (k, (action, job)) in session.script.actions.iter().zip(jobs).enumerate() {
         if let Action::Switch { index, .. } = *action {
             let found = runner.critical_points();
@@ -41,6 +45,8 @@ pub fn replay(session: &Session, case: &Case) -> Result<Replayed, ScriptError> {
                 WorkerEvent::Solved { state, .. } => {
                     path.push(state.point);
                     conditions.push(state.boundary);
+                    critical.extend(state.critical);
+                    modes.extend(state.modes);
                     snapshot = Some(state.snapshot);
                 }
                 // a part of the way ends on the interrupt raised after its steps
@@ -61,6 +67,8 @@ pub fn replay(session: &Session, case: &Case) -> Result<Replayed, ScriptError> {
         path,
         conditions,
         snapshot,
+        critical,
+        modes,
     })
 }
 
@@ -87,11 +95,15 @@ pub fn replay_into(
     let script = &session.script;
     export::write(
         dir,
-        &script.label,
-        &r.snapshot,
-        &r.path,
-        &r.conditions,
-        &script.events,
+        &export::Export {
+            label: &script.label,
+            snapshot: &r.snapshot,
+            path: &r.path,
+            conditions: &r.conditions,
+            events: &script.events,
+            critical: &r.critical,
+            modes: &r.modes,
+        },
     )
     .map_err(|source| ScriptError::Io {
         path: dir.to_path_buf(),

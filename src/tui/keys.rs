@@ -34,6 +34,7 @@ pub enum Action {
     PathCursorBack,
     PathCursorForward,
     SingleView,
+    LoadSeries,
     SaveSession,
     Help,
     Quit,
@@ -53,6 +54,7 @@ impl Action {
                 | Action::PathCursorBack
                 | Action::PathCursorForward
                 | Action::SingleView
+                | Action::LoadSeries
                 | Action::SaveSession
         )
     }
@@ -186,9 +188,9 @@ pub const BINDINGS: [Binding; 22] = {
             help: "move the cursor of the curvature (, .) / of the load path (< >)",
         },
         Binding {
-            label: "v",
-            keys: &[(Char('v'), SingleView)],
-            help: "views: all → X-Y → Z-Y → Z-X alone",
+            label: "v o",
+            keys: &[(Char('v'), SingleView), (Char('o'), LoadSeries)],
+            help: "views: all → X-Y → Z-Y → Z-X alone / load panel: loads → λmin → sway",
         },
         Binding {
             label: "s",

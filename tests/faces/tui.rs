@@ -72,6 +72,7 @@ fn solved(sim: &Simulation, step: usize) -> Box<Solved> {
         step_length: sim.step_length(),
         time: Duration::from_millis(42),
         critical: Vec::new(),
+        modes: Vec::new(),
         pair: sim.solves_pair(),
     })
 }
@@ -134,6 +135,15 @@ fn under_way(app: &mut App, r: &Request) {
         steps: 7,
         elapsed: Duration::from_millis(2500),
     });
+}
+
+/// How many files an export of `app` writes: state, load path and reactions, and with
+/// critical points their table and one mode file each.
+fn exported_files(app: &App) -> usize {
+    match app.screen.critical.len() {
+        0 => 3,
+        n => 4 + n,
+    }
 }
 
 /// The saved `session`, read back and replayed headless (on the two-helix small case) into
@@ -723,7 +733,7 @@ fn quick_key_presses_give_a_point_each_on_screen_in_the_export_and_the_session()
     }
     // the export: one row per point
     let files = app.export();
-    assert_eq!(files.len(), 3, "{:?}", app.message);
+    assert_eq!(files.len(), exported_files(&app), "{:?}", app.message);
     let load = std::fs::read_to_string(&files[1]).unwrap();
     let rows = load.lines().filter(|l| !l.starts_with('#')).skip(1).count();
     assert_eq!(rows, 5, "{load}");
@@ -1043,11 +1053,15 @@ fn k1_scale_bins_and_legend() {
 #[test]
 fn screen_help_overlay_80x24() {
     let (mut app, _sim) = started(small_case(2));
+    app.out_dir = PathBuf::from("/data/runs/./spira");
     app.handle_key(ch('?'));
     let screen = text(&draw(&app, 80, 24));
     for (k, _) in ui::KEYS {
         assert!(screen.contains(k), "help lists {k}:\n{screen}");
     }
+    // every key and the export folder's absolute path fit 80x24
+    assert!(screen.contains("exports to /data/runs/spira "), "{screen}");
+    assert!(screen.contains("q Esc"), "{screen}");
     assert_snapshot("help_80x24", &screen);
 }
 
@@ -1212,6 +1226,8 @@ fn w_shows_the_work_precision_chart_and_asks_for_one_study() {
 fn study_answers_fill_the_chart_and_stale_ones_are_dropped() {
     let (mut app, _sim) = started(small_case(2));
     let r = precision_request(&app.handle_key(ch('w')));
+    let started = app.message.clone();
+    assert!(matches!(&started, Some(Message::Info(m)) if m.contains("its own thread")));
     app.on_worker_event(WorkerEvent::PrecisionProgress {
         generation: r.generation,
         seq: r.seq,
@@ -1219,6 +1235,7 @@ fn study_answers_fill_the_chart_and_stale_ones_are_dropped() {
         total: 9,
     });
     assert_eq!(app.precision, PrecisionView::Running { done: 3, total: 9 });
+    assert_eq!(app.message, started, "said while the study runs");
     // an answer to an older request is of another problem
     app.on_worker_event(WorkerEvent::Precision {
         generation: r.generation,
@@ -1233,6 +1250,10 @@ fn study_answers_fill_the_chart_and_stale_ones_are_dropped() {
     });
     assert!(matches!(app.precision, PrecisionView::Ready(_)));
     assert!(!app.busy());
+    assert_eq!(
+        app.message, None,
+        "the study has finished: no word of its start"
+    );
     // new conditions make the study obsolete: a new one is asked for while shown
     let effects = app.handle_key(ch('p'));
     precision_request(&effects);
@@ -1294,7 +1315,7 @@ fn the_precision_thread_answers_with_a_study_of_the_case() {
     // drawn from a real study: both panels with their lines and the reference used
     app.message = None;
     let screen = text(&draw(&app, 80, 24));
-    let panels: String = screen.lines().skip(10).take(10).collect();
+    let panels: String = screen.lines().skip(11).take(8).collect();
     assert!(
         panels.contains("Fz error") && panels.contains("κ error"),
         "{screen}"
@@ -1303,7 +1324,13 @@ fn the_precision_thread_answers_with_a_study_of_the_case() {
         panels.contains("ref: Richardson quadratic 64/128"),
         "{screen}"
     );
-    assert!(braille_cells(&panels) > 20, "lines drawn:\n{screen}");
+    // the lines (braille) and the meshes' points (blocks)
+    let points = panels.chars().filter(|&c| c == '█').count();
+    assert!(points >= 9, "points drawn:\n{screen}");
+    assert!(
+        braille_cells(&panels) + points > 20,
+        "lines drawn:\n{screen}"
+    );
     worker.join();
 }
 
@@ -1669,7 +1696,7 @@ fn a_saved_session_replays_to_the_explorers_csvs() {
     let dir = temp_dir("replay");
     app.out_dir = dir.join("explorer");
     let files = app.export();
-    assert_eq!(files.len(), 3, "{:?}", app.message);
+    assert_eq!(files.len(), exported_files(&app), "{:?}", app.message);
     let load = std::fs::read_to_string(&files[1]).unwrap();
     assert!(load.contains("# event: from point 3"), "{load}");
     assert!(load.contains("tip fixed/clamped") && load.contains("tip slide/clamped"));
@@ -1941,7 +1968,7 @@ fn a_step_cancelled_part_of_the_way_replays_to_the_same_state() {
     let dir = temp_dir("partial");
     app.out_dir = dir.join("explorer");
     let files = app.export();
-    assert_eq!(files.len(), 3, "{:?}", app.message);
+    assert_eq!(files.len(), exported_files(&app), "{:?}", app.message);
     let session = app.save_session().expect("saved");
     let script = spira::session::script::Session::read(&session).expect("readable");
     let replayed = spira::session::replay::replay_into(&script, &slow_case(), &dir.join("replay"))
@@ -2028,7 +2055,7 @@ fn the_branch_switched_onto_from_the_list_is_spira_runs_switched_branch() {
     let dir = temp_dir("switch");
     app.out_dir = dir.join("explorer");
     let files = app.export();
-    assert_eq!(files.len(), 3, "{:?}", app.message);
+    assert_eq!(files.len(), exported_files(&app), "{:?}", app.message);
     let load = std::fs::read_to_string(&files[1]).unwrap();
     assert!(load.contains("# event: from point 8"), "{load}");
     let session = app.save_session().expect("saved");
@@ -2341,7 +2368,7 @@ fn the_exported_events_are_those_of_the_path_kept_in_point_order() {
     let effects = app.handle_key(key(KeyCode::Enter));
     settle(&mut app, &worker, effects);
     let files = app.export();
-    assert_eq!(files.len(), 3, "{:?}", app.message);
+    assert_eq!(files.len(), exported_files(&app), "{:?}", app.message);
     let load = std::fs::read_to_string(&files[1]).unwrap();
     let events = event_lines(&load);
     let points: Vec<usize> = events.iter().map(|(p, _)| *p).collect();
@@ -2454,4 +2481,261 @@ fn the_cancel_key_stays_whole_on_the_status_line_at_80_columns() {
         screen.contains("▶ running · ε → 0.05000… 2.5 s · c cancels · at 0.03210 (7 steps)"),
         "{screen}"
     );
+}
+
+// ---- stability on screen and in the exports ----
+
+/// The number after `λmin ` on the readout line of `screen`.
+fn readout_lowest(screen: &str) -> Option<f64> {
+    let line = screen.lines().find(|l| l.contains("fz/nPc"))?;
+    let after = line.split("λmin ").nth(1)?;
+    after.split_whitespace().next()?.parse().ok()
+}
+
+/// Runs `app` continuously (space) to its case's target on the real solver thread.
+fn run_to_target(app: &mut App, worker: &Worker) {
+    let effects = app.start();
+    settle(app, worker, effects);
+    let effects = app.handle_key(ch(' '));
+    settle(app, worker, effects);
+    assert_close(app.compression_ratio(), app.target());
+}
+
+#[test]
+fn the_readout_shows_the_lowest_eigenvalue_after_running_the_default_case() {
+    let worker = Worker::spawn().expect("thread");
+    let mut app = App::new(Case::default_case(), PathBuf::from("."));
+    run_to_target(&mut app, &worker);
+    worker.join();
+    // every state of the path has its lowest eigenvalue, of the whole assembly's blocks
+    for p in &app.screen.path {
+        let st = p.stability.expect("stability tracked");
+        assert!(st.lowest_eigenvalue.is_some_and(f64::is_finite), "{p:?}");
+        assert!(st.lowest_wavenumber.is_some(), "a pair's blocks name p");
+    }
+    let last = app.screen.path.last().unwrap().stability.unwrap();
+    let lowest = last.lowest_eigenvalue.unwrap();
+    for (width, height) in [(80, 24), (120, 40)] {
+        let screen = text(&draw(&app, width, height));
+        let shown = readout_lowest(&screen)
+            .unwrap_or_else(|| panic!("no λmin number at {width}x{height}:\n{screen}"));
+        // three significant digits (fmt_num)
+        assert!(
+            (shown - lowest).abs() <= 5e-3 * lowest.abs(),
+            "{shown} for {lowest}:\n{screen}"
+        );
+        let p = last.lowest_wavenumber.unwrap();
+        assert!(screen.contains(&format!(" p{p}")), "{screen}");
+    }
+}
+
+/// The n = 8 helices with sliding tips (fx = fy ≡ 0) run to their target: a bifurcation
+/// with p = 1, the sway, on the way.
+fn sliding_app(out: &Path) -> App {
+    let (app, worker) = sliding_app_live(out);
+    worker.join();
+    app
+}
+
+/// [`sliding_app`] with its solver thread still running.
+fn sliding_app_live(out: &Path) -> (App, Worker) {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases/hypotheses/n8-helix-slide-compression.toml");
+    let case = Case::from_file(&file).expect("valid case");
+    assert_eq!(case.boundary.tip.translation, Translation::Slide);
+    let worker = Worker::spawn().expect("thread");
+    let mut app = App::new(case, out.to_path_buf());
+    run_to_target(&mut app, &worker);
+    assert!(!app.screen.critical.is_empty(), "a critical point crossed");
+    assert_eq!(app.screen.modes.len(), app.screen.critical.len());
+    (app, worker)
+}
+
+/// The column `name` of a CSV table's data rows.
+fn column(csv: &str, name: &str) -> Vec<String> {
+    let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
+    let head: Vec<&str> = rows.next().expect("a header").split(',').collect();
+    let k = head.iter().position(|h| *h == name).expect("the column");
+    rows.map(|r| r.split(',').nth(k).unwrap_or("").to_string())
+        .collect()
+}
+
+#[test]
+fn e_exports_the_critical_points_their_modes_and_a_filled_lowest_eigenvalue() {
+    let dir = temp_dir("export-critical");
+    let mut app = sliding_app(&dir);
+    let files = app.export();
+    assert_eq!(files.len(), exported_files(&app), "{:?}", app.message);
+    let name = |f: &PathBuf| f.file_name().unwrap().to_string_lossy().into_owned();
+    let read = |suffix: &str| {
+        let f = files
+            .iter()
+            .find(|f| name(f).ends_with(suffix))
+            .unwrap_or_else(|| panic!("no {suffix} in {files:?}"));
+        std::fs::read_to_string(f).unwrap()
+    };
+    // λmin in every row of the load table, a number
+    let load = read("-load.csv");
+    let lowest = column(&load, "lowest_eig");
+    assert_eq!(lowest.len(), app.screen.path.len());
+    for (cell, p) in lowest.iter().zip(&app.screen.path) {
+        let v: f64 = cell
+            .parse()
+            .unwrap_or_else(|_| panic!("{cell:?} in\n{load}"));
+        let want = p.stability.unwrap().lowest_eigenvalue.unwrap();
+        // written to 7 significant digits
+        assert!((v - want).abs() <= 5e-7 * want.abs(), "{v} {want}");
+    }
+    // the critical points as `spira run` writes them, and a mode on the whole assembly
+    let label = app.case_label();
+    assert_eq!(
+        read("-critical.csv"),
+        output::critical_csv(&label, &app.screen.critical)
+    );
+    let mode = read("-mode-0.csv");
+    let rods: std::collections::BTreeSet<String> = column(&mode, "rod").into_iter().collect();
+    assert_eq!(rods.len(), 8, "the mode of all 8 rods");
+    let largest = ["dx", "dy", "dz"]
+        .iter()
+        .flat_map(|c| column(&mode, c))
+        .map(|v| v.parse::<f64>().unwrap().abs())
+        .fold(0.0, f64::max);
+    assert!(largest > 1e-6, "a mode that moves the rods: {largest}");
+    match &app.message {
+        Some(Message::Info(m)) => assert!(m.contains("-critical.csv") && m.contains("-mode-0")),
+        other => panic!("expected the files named, got {other:?}"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Cells of `terminal` drawn in `color` within rows `rows`.
+fn cells_in(terminal: &Terminal<TestBackend>, color: Color, rows: std::ops::Range<u16>) -> usize {
+    let buffer = terminal.backend().buffer();
+    rows.flat_map(|y| (0..buffer.area.width).map(move |x| (x, y)))
+        .filter(|&(x, y)| buffer[(x, y)].fg == color)
+        .count()
+}
+
+#[test]
+fn the_x_list_previews_the_chosen_mode_in_the_views_before_any_switch() {
+    let dir = temp_dir("preview");
+    let mut app = sliding_app(&dir);
+    // the solve's wall time, fixed so that the drawing does not depend on it
+    app.screen.state.as_mut().unwrap().time = Duration::from_millis(42);
+    let before = draw(&app, 120, 40);
+    let views_rows = 0..18;
+    assert_eq!(cells_in(&before, Color::Magenta, views_rows.clone()), 0);
+    let path = app.screen.path.len();
+    let effects = app.handle_key(ch('x'));
+    assert!(
+        requests(&effects).is_empty(),
+        "opening the list solves nothing"
+    );
+    let after = draw(&app, 120, 40);
+    let screen = text(&after);
+    assert!(screen.contains("mode of critical point 0"), "{screen}");
+    assert!(
+        cells_in(&after, Color::Magenta, views_rows.clone()) > 20,
+        "the mode drawn over the state:\n{screen}"
+    );
+    // the list is below the views
+    assert!(screen.lines().skip(18).any(|l| l.contains("bifurcation")));
+    assert!(!screen.lines().take(18).any(|l| l.contains("bifurcation")));
+    assert_eq!(app.screen.path.len(), path, "no switch yet");
+    assert_snapshot("mode_preview_120x40", &screen);
+    // without colour the preview has a mark of its own
+    app.view.no_color = true;
+    let plain = text(&draw(&app, 120, 40));
+    let marks = plain
+        .lines()
+        .take(18)
+        .map(|l| l.matches('∘').count())
+        .sum::<usize>();
+    assert!(marks > 10, "{plain}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn o_plots_the_lowest_eigenvalue_and_the_sway_that_tells_the_branches_apart() {
+    let dir = temp_dir("series");
+    let (mut app, worker) = sliding_app_live(&dir);
+    // on the fundamental path the tip does not sway
+    let radius = app.case().geometry.radius;
+    assert!(app.screen.sway.iter().all(|w| w.abs() < 1e-6 * radius));
+    app.handle_key(ch('o'));
+    let screen = text(&draw(&app, 80, 24));
+    assert!(screen.contains("λmin"), "{screen}");
+    app.handle_key(ch('o'));
+    let screen = text(&draw(&app, 120, 40));
+    assert!(screen.contains("tip sway / helix radius"), "{screen}");
+    // onto the sway branch: the tip moves off the axis
+    app.handle_key(ch('x'));
+    let effects = app.handle_key(key(KeyCode::Enter));
+    settle(&mut app, &worker, effects);
+    worker.join();
+    let sway = *app.screen.sway.last().unwrap();
+    assert!(sway > 0.1 * radius, "the sway branch sways: {sway}");
+    let screen = text(&draw(&app, 120, 40));
+    let plot: String = screen.lines().skip(19).take(15).collect();
+    assert!(braille_cells(&plot) > 0 || plot.contains('•'), "{screen}");
+    app.handle_key(ch('o'));
+    assert!(text(&draw(&app, 120, 40)).contains("load Σf/(n Pcrit)"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn nothing_that_carries_meaning_is_cut_at_80x24() {
+    let dir = temp_dir("uncut");
+    let mut app = sliding_app(&dir);
+    for _ in 0..3 {
+        app.handle_key(ch('<'));
+    }
+    let k = app.view.path_cursor.expect("the path cursor");
+    for series in ["Σf/nPc", "λmin", "sway/a"] {
+        let screen = text(&draw(&app, 80, 24));
+        let lines: Vec<&str> = screen.lines().collect();
+        let title = lines.iter().find(|l| l.contains(series)).expect(series);
+        assert!(title.contains("now"), "the legend whole: {title}");
+        assert!(title.contains("unstable"), "the legend whole: {title}");
+        // the feet of the two plots: the curvature cursor's readout, the load cursor's
+        let foot = lines
+            .iter()
+            .find(|l| l.starts_with('└') && l.contains('◆'))
+            .unwrap_or_else(|| panic!("the load cursor's readout:\n{screen}"));
+        assert!(foot.contains("s/L 0.50"), "{foot}");
+        let step = [format!("◆ step {k} ε 0."), format!("◆{k} ε 0.")];
+        assert!(step.iter().any(|s| foot.contains(s.as_str())), "{foot}");
+        assert!(foot.contains("×1 "), "the critical points' key: {foot}");
+        let curvature = lines.iter().find(|l| l.contains("━κ1")).unwrap();
+        assert!(curvature.contains("▄bulk"), "{curvature}");
+        app.handle_key(ch('o'));
+    }
+    // a branch switch under way: its cancel key and how far it got, whole or not at all
+    app.handle_key(ch('x'));
+    let switch = only_request(&app.handle_key(key(KeyCode::Enter)));
+    app.on_worker_event(WorkerEvent::Started {
+        generation: switch.generation,
+        seq: switch.seq,
+        job: switch.job.describe("ε"),
+    });
+    app.on_worker_event(WorkerEvent::Progress {
+        generation: switch.generation,
+        seq: switch.seq,
+        parameter: 0.15619,
+        steps: 2,
+        elapsed: Duration::from_millis(1300),
+    });
+    for width in [80, 120, 200] {
+        let screen = text(&draw(&app, width, 40.min(width / 3)));
+        let status = screen.lines().find(|l| l.contains("│ n 8 pair")).unwrap();
+        assert!(status.trim_end().ends_with("c cancels") || status.contains("c cancels ·"));
+        if status.contains("at 0.15") {
+            assert!(status.contains("at 0.15619 (2 steps)"), "{status}");
+        }
+        if width >= 120 {
+            let named = ["branch 0,", "branch of critical point 0,"];
+            assert!(named.iter().any(|n| status.contains(n)), "{status}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,7 +1,7 @@
 //! What the solver thread reports: converged states and how each job went.
 
 use crate::model::boundary::BoundaryConditions;
-use crate::results::{CriticalPoint, LoadPoint, Snapshot, StepBulk};
+use crate::results::{CriticalPoint, LoadPoint, ModeShape, ModeVertex, Snapshot, StepBulk};
 use crate::solver::interrupt::Interruption;
 use crate::study::{MeshChoice, Study};
 use std::time::Duration;
@@ -21,8 +21,20 @@ pub struct Solved {
     pub time: Duration,
     /// Critical points crossed on the way to this state (without their state and mode).
     pub critical: Vec<CriticalPoint>,
+    /// The mode of each of [`Solved::critical`], in the same order.
+    pub modes: Vec<CriticalMode>,
     /// Whether the state is of the symmetric pair (else of the whole assembly).
     pub pair: bool,
+}
+
+/// A critical point's mode as the screen and the export need it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CriticalMode {
+    /// The mode on the geometry of the critical state (for a symmetric pair, on the whole
+    /// assembly): what the preview draws.
+    pub shape: ModeShape,
+    /// Its centreline displacement at the element vertices: the rows of `mode-<k>.csv`.
+    pub vertices: Vec<ModeVertex>,
 }
 
 /// What the solver thread reports.

@@ -29,7 +29,7 @@ mod precision;
 mod serve;
 mod solver;
 
-pub use event::{Solved, WorkerEvent};
+pub use event::{CriticalMode, Solved, WorkerEvent};
 pub use handle::{Worker, PRECISION_THREAD_NAME, SOLVE_BUDGET, THREAD_NAME};
 pub use job::{coalesce, Job, Part, Request};
 pub use precision::PRECISION_REPEATS;

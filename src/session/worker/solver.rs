@@ -1,12 +1,13 @@
 //! The solves the solver thread runs: it owns the [`Simulation`] of the current generation
 //! and answers each job with the converged states it reached and how the job ended.
 
-use super::event::{Solved, WorkerEvent};
+use super::event::{CriticalMode, Solved, WorkerEvent};
 use super::failure::{describe_failure, interruption, Asked};
 use super::job::{Job, Part, Request};
 use crate::case::Case;
 use crate::discretisation::bulk;
 use crate::model::boundary::BoundaryConditions;
+use crate::output;
 use crate::results::CriticalPoint;
 use crate::run::BRANCH_STEP;
 use crate::simulation::{Simulation, SolveError};
@@ -181,7 +182,15 @@ impl Solver {
     fn solved(&mut self, seq: u64, done: bool, t0: Instant) -> Option<WorkerEvent> {
         let sim = self.sim.as_ref()?;
         let all = sim.critical_points();
-        let critical = all[self.critical.min(all.len())..]
+        let new = &all[self.critical.min(all.len())..];
+        let modes = new
+            .iter()
+            .map(|c| CriticalMode {
+                shape: sim.mode_shape(c),
+                vertices: output::mode_vertices(sim.model(), c),
+            })
+            .collect();
+        let critical = new
             .iter()
             .map(|c| CriticalPoint {
                 state: Vec::new(),
@@ -196,6 +205,7 @@ impl Solver {
         let snapshot = sim.snapshot();
         let state = Solved {
             critical,
+            modes,
             bulk: bulk::step_bulk(sim.model(), &snapshot, &point),
             point,
             snapshot,

@@ -3,6 +3,7 @@
 
 use super::explorer::{
     default_step, App, Effect, Message, PrecisionView, CANCELLING, CONFIRM_DISCARD, HELICES, STEPS,
+    STUDY_STARTED,
 };
 use super::state::CURSOR_STEPS;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
@@ -182,6 +183,14 @@ impl App {
             }
             Action::PathCursorBack => self.move_path_cursor(-1),
             Action::PathCursorForward => self.move_path_cursor(1),
+            Action::LoadSeries => {
+                self.view.load_series = self.view.load_series.next();
+                self.message = Some(Message::Info(format!(
+                    "{} (o cycles)",
+                    self.view.load_series.name()
+                )));
+                vec![]
+            }
             Action::SingleView => {
                 self.view.mode = self.view.mode.next();
                 self.message = Some(Message::Info(format!(
@@ -482,9 +491,7 @@ impl App {
     fn toggle_precision(&mut self) -> Vec<Effect> {
         self.view.show_precision = !self.view.show_precision;
         if self.view.show_precision && self.precision == PrecisionView::None {
-            self.message = Some(Message::Info(
-                "work-precision study of the path to the target started on its own thread; the explorer stays live".into(),
-            ));
+            self.message = Some(Message::Info(STUDY_STARTED.into()));
             vec![self.request_precision()]
         } else {
             vec![]

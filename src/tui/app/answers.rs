@@ -1,7 +1,7 @@
 //! The solver's answers: each moves the requests' bookkeeping on, and a converged state or
 //! a failure changes what is on screen.
 
-use super::explorer::{App, Effect, Message, PrecisionView, CANCELLING};
+use super::explorer::{App, Effect, Message, PrecisionView, CANCELLING, STUDY_STARTED};
 use super::state::Progress;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::loading::Component;
@@ -67,6 +67,10 @@ impl App {
             }
             WorkerEvent::Precision { seq, study, .. } => {
                 if seq == self.requests.precision_seq {
+                    // the news that it started is old news now
+                    if self.message == Some(Message::Info(STUDY_STARTED.into())) {
+                        self.message = None;
+                    }
                     self.precision = match study {
                         Ok(s) => PrecisionView::Ready(s),
                         Err(e) => PrecisionView::Failed(e),
@@ -108,6 +112,11 @@ impl App {
         self.screen.place_events(seq);
         self.screen.path.push(state.point.clone());
         self.screen.conditions.push(state.boundary);
+        let offset = state.snapshot.tip_offset();
+        let natural = *self.screen.natural_offset.get_or_insert(offset);
+        self.screen
+            .sway
+            .push((offset[0] - natural[0]).hypot(offset[1] - natural[1]));
         for c in &state.critical {
             // where: ε and the axial load, or the stepped load's own parameter
             let at = if self.case.loading.parameter == Component::Axial {
@@ -126,6 +135,7 @@ impl App {
             )));
         }
         self.screen.critical.extend(state.critical.iter().cloned());
+        self.screen.modes.extend(state.modes.iter().cloned());
         if self.screen.natural_k1.is_none() {
             self.screen.natural_k1 = mean_k1(&state.snapshot);
         }

@@ -24,6 +24,10 @@ pub const CONFIRM_DISCARD: usize = 4;
 /// The message while a cancel is on its way to the solver.
 pub(super) const CANCELLING: &str = "cancelling…";
 
+/// The message of a work-precision study asked for, until it is finished.
+pub(super) const STUDY_STARTED: &str =
+    "work-precision study of the path to the target started on its own thread; the explorer stays live";
+
 /// What a transition asks the outside world to do.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Effect {

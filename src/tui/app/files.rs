@@ -8,12 +8,13 @@ use std::path::{Path, PathBuf};
 
 impl App {
     /// File names of an export of the current state.
-    pub fn export_names(&self) -> Option<[String; 3]> {
+    pub fn export_names(&self) -> Option<Vec<String>> {
         let point = &self.screen.state.as_ref()?.point;
         Some(export::names(
             &self.case_label(),
             point.step,
             point.compression_ratio,
+            self.screen.critical.len(),
         ))
     }
 
@@ -32,11 +33,15 @@ impl App {
         let written = match self.screen.state.as_ref() {
             Some(state) => export::write(
                 &self.out_dir,
-                &self.case_label(),
-                &state.snapshot,
-                &self.screen.path,
-                &self.screen.conditions,
-                &self.screen.session_events(),
+                &export::Export {
+                    label: &self.case_label(),
+                    snapshot: &state.snapshot,
+                    path: &self.screen.path,
+                    conditions: &self.screen.conditions,
+                    events: &self.screen.session_events(),
+                    critical: &self.screen.critical,
+                    modes: &self.screen.modes,
+                },
             ),
             None => Err(std::io::Error::other("no converged state yet")),
         };
@@ -49,7 +54,7 @@ impl App {
                     .collect();
                 self.message = Some(Message::Info(format!(
                     "wrote {}{}",
-                    names.join(", "),
+                    summarise(&names),
                     self.place()
                 )));
                 files
@@ -97,5 +102,26 @@ impl App {
                 None
             }
         }
+    }
+}
+
+/// The names of an export for the message line: the tables by name, the mode files (one
+/// per critical point) by their first and last.
+fn summarise(names: &[String]) -> String {
+    let is_mode = |n: &str| {
+        n.rsplit_once("-mode-")
+            .and_then(|(_, k)| k.strip_suffix(".csv"))
+            .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+    };
+    let (modes, tables): (Vec<&String>, Vec<&String>) = names.iter().partition(|n| is_mode(n));
+    let tables: Vec<&str> = tables.iter().map(|n| n.as_str()).collect();
+    match modes.as_slice() {
+        [] => tables.join(", "),
+        [one] => format!("{} and {one}", tables.join(", ")),
+        [first, .., last] => format!(
+            "{} and {} mode files {first} … {last}",
+            tables.join(", "),
+            modes.len()
+        ),
     }
 }

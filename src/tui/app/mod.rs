@@ -17,4 +17,4 @@ pub use actions::fmt_step;
 pub use explorer::{
     App, Effect, Message, PrecisionView, CONFIRM_DISCARD, HELICES, MAX_STEP, MIN_STEP, STEPS,
 };
-pub use state::{Progress, Replay, Requests, Screen, View, ViewMode, CURSOR_STEPS};
+pub use state::{LoadSeries, Progress, Replay, Requests, Screen, View, ViewMode, CURSOR_STEPS};

@@ -5,7 +5,7 @@
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{CriticalPoint, LoadPoint};
 use crate::session::export::SessionEvent;
-use crate::session::worker::{Job, Part, Solved};
+use crate::session::worker::{CriticalMode, Job, Part, Solved};
 use crate::study::MeshChoice;
 use std::time::{Duration, Instant};
 
@@ -34,6 +34,14 @@ pub struct Screen {
     pub conditions: Vec<BoundaryConditions>,
     /// Critical points crossed on this simulation's path, in order (without state and mode).
     pub critical: Vec<CriticalPoint>,
+    /// The mode of each of [`Screen::critical`], in the same order.
+    pub modes: Vec<CriticalMode>,
+    /// The tip's sway at each point of [`Screen::path`] (m): how far the tip's offset from
+    /// the base ([`Snapshot::tip_offset`](crate::results::Snapshot::tip_offset)) moved from
+    /// the natural state's, the order parameter of the load panel.
+    pub sway: Vec<f64>,
+    /// The tip's offset from the base in the natural state of this simulation.
+    pub natural_offset: Option<[f64; 2]>,
     /// The last converged state, if any.
     pub state: Option<Solved>,
     /// Mean κ1 (1/m) of the first state of this simulation (the natural state), the centre
@@ -63,6 +71,9 @@ impl Screen {
             path: Vec::new(),
             conditions: Vec::new(),
             critical: Vec::new(),
+            modes: Vec::new(),
+            sway: Vec::new(),
+            natural_offset: None,
             state: None,
             natural_k1: None,
             mesh: None,
@@ -80,6 +91,9 @@ impl Screen {
         self.path.clear();
         self.conditions.clear();
         self.critical.clear();
+        self.modes.clear();
+        self.sway.clear();
+        self.natural_offset = None;
         self.state = None;
         self.natural_k1 = None;
         self.requested_parameter = 0.0;
@@ -158,6 +172,38 @@ impl ViewMode {
     }
 }
 
+/// What the load panel plots against the load parameter's motion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LoadSeries {
+    /// The averaged normalised tip loads (or the stepped load's conjugate force).
+    #[default]
+    Loads,
+    /// The lowest eigenvalue of each state's stability, with its sign.
+    Stability,
+    /// The tip's sway over the helix radius: the order parameter of a sway branch.
+    Sway,
+}
+
+impl LoadSeries {
+    pub(super) fn next(self) -> LoadSeries {
+        match self {
+            LoadSeries::Loads => LoadSeries::Stability,
+            LoadSeries::Stability => LoadSeries::Sway,
+            LoadSeries::Sway => LoadSeries::Loads,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            LoadSeries::Loads => "load panel: the tip loads",
+            LoadSeries::Stability => "load panel: the lowest eigenvalue λmin of each state",
+            LoadSeries::Sway => {
+                "load panel: the tip's sway over the helix radius (0 on the fundamental path)"
+            }
+        }
+    }
+}
+
 /// How the screen is shown: the overlays and panels chosen, the selections and cursors, and
 /// what the terminal allows.
 #[derive(Clone, Debug, PartialEq)]
@@ -168,6 +214,8 @@ pub struct View {
     /// The critical-point list (`x`) is over the screen.
     pub show_critical: bool,
     pub mode: ViewMode,
+    /// What the load panel plots.
+    pub load_series: LoadSeries,
     pub selected_rod: usize,
     /// Cursor of the curvature plot, in steps of `1/CURSOR_STEPS` along `s/L`.
     pub cursor: usize,
@@ -188,6 +236,7 @@ impl Default for View {
             show_precision: false,
             show_critical: false,
             mode: ViewMode::All,
+            load_series: LoadSeries::Loads,
             selected_rod: 0,
             cursor: CURSOR_STEPS / 2,
             path_cursor: None,

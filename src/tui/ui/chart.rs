@@ -89,8 +89,8 @@ pub(super) fn legend_marks(no_color: bool) -> [&'static str; 3] {
     }
 }
 
-/// How an unstable stretch of the load path is drawn, and its legend's mark: dots in
-/// colour (each curve keeps its colour), a shaded line without.
+/// How an unstable stretch of the load path is drawn, and its legend's mark: a dotted
+/// line in colour (each curve keeps its colour), a shaded line without.
 pub(super) fn unstable_style(no_color: bool) -> (GraphType, Marker, char) {
     if no_color {
         (
@@ -99,7 +99,7 @@ pub(super) fn unstable_style(no_color: bool) -> (GraphType, Marker, char) {
             UNSTABLE_MARK,
         )
     } else {
-        (GraphType::Scatter, Marker::Dot, '•')
+        (GraphType::Line, Marker::Dot, '•')
     }
 }
 

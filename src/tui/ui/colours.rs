@@ -32,3 +32,6 @@ pub(super) const FY_LINE: Color = Color::LightGreen;
 pub(super) const FZ_LINE: Color = Color::LightBlue;
 
 pub(super) const DIM: Color = Color::DarkGray;
+
+/// A critical mode's preview over the views.
+pub(super) const MODE: Color = Color::Magenta;

@@ -58,5 +58,11 @@ pub(super) fn draw_critical(frame: &mut Frame, area: Rect, app: &App) {
             Style::new().fg(DIM),
         )));
     }
-    draw_overlay(frame, area, lines, " critical points ", " x closes ");
+    draw_overlay(
+        frame,
+        area,
+        lines,
+        " critical points ",
+        (None, " x closes "),
+    );
 }

@@ -29,16 +29,18 @@ pub(super) fn draw_curvature(frame: &mut Frame, area: Rect, app: &App) {
     let at = app.view.cursor as f64 / CURSOR_STEPS as f64;
     let curves = Curves::of(rod, bulk.map(|b| [b.start_over_l(), b.end_over_l()]), at);
     let values = curvature_at(&rod.nodes, at);
+    // the cursor's readout, the unit then the spaces given up where it does not fit
+    let big = largest(&values);
+    let [k1, k2, omega] = values.map(|v| fmt_short(v, big));
     let block = block.title_bottom(
-        Line::from({
-            let big = largest(&values);
-            format!(
-                " s/L {at:.2} κ1 {} κ2 {} Ω {} 1/m ",
-                fmt_short(values[0], big),
-                fmt_short(values[1], big),
-                fmt_short(values[2], big)
-            )
-        })
+        first_fitting(
+            vec![
+                Line::from(format!(" s/L {at:.2} κ1 {k1} κ2 {k2} Ω {omega} 1/m ")),
+                Line::from(format!(" s/L {at:.2} κ1 {k1} κ2 {k2} Ω {omega} ")),
+                Line::from(format!("s/L {at:.2}:{k1} {k2} {omega}")),
+            ],
+            width,
+        )
         .alignment(Alignment::Right),
     );
     let y = curves.y;

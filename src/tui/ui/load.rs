@@ -1,16 +1,17 @@
 //! The load panel: the averaged normalised tip loads along the path against the motion the
-//! load parameter drives (the compression ratio, under either control), unstable stretches
-//! dotted, critical points and the path cursor marked.
+//! load parameter drives (the compression ratio, under either control), or (`o`) the
+//! lowest eigenvalue of each state or the tip's sway; unstable stretches dotted, critical
+//! points and the path cursor marked.
 
 use super::chart::{
     axis_labels, first_fitting, key_span, legend_marks, line_style, nice_bounds, padded_range,
     placeholder, unstable_style, CRITICAL_MARK, CURSOR_MARK, NOW_MARK,
 };
 use super::colours::{DIM, FX_LINE, FY_LINE, FZ_LINE, SELECTED};
-use super::numbers::fmt_load;
+use super::numbers::{fmt_load, fmt_num};
 use crate::model::loading::{Component, Control};
 use crate::results::{LoadPoint, SupportResponse};
-use crate::tui::app::App;
+use crate::tui::app::{App, LoadSeries};
 use crate::tui::stability;
 use ratatui::layout::{Alignment, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -36,61 +37,15 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     let width = area.width.saturating_sub(2);
     let mut block = load_block(
         app.case().loading.parameter,
+        app.view.load_series,
         stretches.iter().any(|s| s.unstable),
         app.view.no_color,
         width,
     );
-    let c = app.case().loading.parameter;
-    // the cursor's readout on the right, the critical points' key on the left in what is
-    // left of the bottom border
-    let readout = app.view.path_cursor.and_then(|k| path.get(k)).map(|p| {
-        let (loads, fz) = match p.support.pair(c) {
-            None => (
-                format!(
-                    "fx {} fy {} fz {}",
-                    fmt_load(p.load[0], &p.load),
-                    fmt_load(p.load[1], &p.load),
-                    fmt_load(p.load[2], &p.load)
-                ),
-                format!("fz {}", fmt_load(p.load[2], &p.load)),
-            ),
-            Some([_, (force, name)]) => {
-                let both = format!("{name} {force:.5e}");
-                (both.clone(), both)
-            }
-        };
-        let motion = app.load_parameter().motion_symbol();
-        let at = along(c, p);
-        let step = p.step;
-        first_fitting(
-            vec![
-                Line::from(format!(
-                    " {CURSOR_MARK} step {step} {motion} {at:.5}: {loads} "
-                )),
-                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {loads} ")),
-                Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {fz} ")),
-            ],
-            width,
-        )
-    });
+    let readout = cursor_readout(app, width);
     let used = readout.as_ref().map_or(0, Line::width);
-    if !app.screen.critical.is_empty() {
-        let n = app.screen.critical.len();
-        let mark = Span::styled(format!(" {CRITICAL_MARK}"), Style::new().fg(Color::Yellow));
-        let key = first_fitting(
-            vec![
-                Line::from(vec![
-                    mark.clone(),
-                    Span::raw(format!("critical {n} (x lists) ")),
-                ]),
-                Line::from(vec![mark.clone(), Span::raw(format!("critical {n} "))]),
-                Line::from(vec![mark, Span::raw(format!("{n} "))]),
-            ],
-            width.saturating_sub(used as u16 + 1),
-        );
-        if key.width() + used < width as usize {
-            block = block.title_bottom(key);
-        }
+    if let Some(key) = critical_key(app, width, used) {
+        block = block.title_bottom(key);
     }
     if let Some(line) = readout {
         block = block.title_bottom(line.alignment(Alignment::Right));
@@ -99,9 +54,14 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
         return placeholder(frame, area, block, app);
     }
     let x = parameter_bounds(app);
+    // a flat sway (the fundamental path) and flat loads read as a line at 0, not as noise
+    let min_span = match app.view.load_series {
+        LoadSeries::Loads | LoadSeries::Sway => 0.2,
+        LoadSeries::Stability => 1e-9,
+    };
     let y = nice_bounds(padded_range(
-        path.iter().flat_map(|p| values(c, p)).chain([0.0]),
-        0.2,
+        (0..path.len()).flat_map(|k| values(app, k)).chain([0.0]),
+        min_span,
     ));
     let series = load_series(app, &stretches);
     let marks = Marks::of(app);
@@ -124,6 +84,82 @@ pub(super) fn draw_load_path(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(chart, area);
 }
 
+/// The path cursor's readout for the bottom border, in `width` columns less the room the
+/// critical points' key needs in its shortest form (` ×n ` and a rule).
+fn cursor_readout(app: &App, width: u16) -> Option<Line<'static>> {
+    let (path, c) = (&app.screen.path, app.case().loading.parameter);
+    let key_room = match app.screen.critical.len() {
+        0 => 0,
+        n => n.to_string().len() as u16 + 4,
+    };
+    let k = app.view.path_cursor.filter(|&k| k < path.len())?;
+    let p = &path[k];
+    let (loads, fz) = match (app.view.load_series, p.support.pair(c)) {
+        (LoadSeries::Stability, _) => {
+            let l = values(app, k)
+                .first()
+                .map_or("–".to_string(), |&l| fmt_num(l));
+            (format!("λmin {l}"), format!("λmin {l}"))
+        }
+        (LoadSeries::Sway, _) => {
+            let w = values(app, k)
+                .first()
+                .map_or("–".to_string(), |w| format!("{w:.4}"));
+            (format!("sway/a {w}"), format!("sway/a {w}"))
+        }
+        (LoadSeries::Loads, None) => (
+            format!(
+                "fx {} fy {} fz {}",
+                fmt_load(p.load[0], &p.load),
+                fmt_load(p.load[1], &p.load),
+                fmt_load(p.load[2], &p.load)
+            ),
+            format!("fz {}", fmt_load(p.load[2], &p.load)),
+        ),
+        (LoadSeries::Loads, Some([_, (force, name)])) => {
+            let both = format!("{name} {force:.5e}");
+            (both.clone(), both)
+        }
+    };
+    let motion = app.load_parameter().motion_symbol();
+    let at = along(c, p);
+    let step = p.step;
+    Some(first_fitting(
+        vec![
+            Line::from(format!(
+                " {CURSOR_MARK} step {step} {motion} {at:.5}: {loads} "
+            )),
+            Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {loads} ")),
+            Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} {fz} ")),
+            Line::from(format!(" {CURSOR_MARK}{step} {motion} {at:.4} ")),
+            Line::from(format!(" {CURSOR_MARK}{step} ")),
+        ],
+        width.saturating_sub(key_room),
+    ))
+}
+
+/// The critical points' key for the bottom border, in what `used` columns of the readout
+/// leave of `width`; `None` without critical points or room.
+fn critical_key(app: &App, width: u16, used: usize) -> Option<Line<'static>> {
+    let n = app.screen.critical.len();
+    if n == 0 {
+        return None;
+    }
+    let mark = Span::styled(format!(" {CRITICAL_MARK}"), Style::new().fg(Color::Yellow));
+    let key = first_fitting(
+        vec![
+            Line::from(vec![
+                mark.clone(),
+                Span::raw(format!("critical {n} (x lists) ")),
+            ]),
+            Line::from(vec![mark.clone(), Span::raw(format!("critical {n} "))]),
+            Line::from(vec![mark, Span::raw(format!("{n} "))]),
+        ],
+        width.saturating_sub(used as u16 + 1),
+    );
+    (key.width() + used < width as usize).then_some(key)
+}
+
 /// Where the chart places `p` with component `c` stepped: at the motion of what the load
 /// parameter drives, under either control (the compression ratio for the axial load, the
 /// angle of a twist or tilt, the mean radius under pressure), so that a load's curve is the
@@ -132,27 +168,55 @@ fn along(c: Component, p: &LoadPoint) -> f64 {
     p.support.pair(c).map_or(p.compression_ratio, |[m, _]| m.0)
 }
 
-/// The curves' values at `p` with component `c` stepped: the averaged normalised tip loads
-/// fx, fy, fz for the axial load, the conjugate force (torque, moment, pressure) for the
-/// others.
-fn values(c: Component, p: &LoadPoint) -> Vec<f64> {
-    p.support
-        .pair(c)
-        .map_or(p.load.to_vec(), |[_, f]| vec![f.0])
+/// The curves' values at point `k` of the path: with the loads shown, the averaged
+/// normalised tip loads fx, fy, fz for the axial load, the conjugate force (torque, moment,
+/// pressure) for the others; else the lowest eigenvalue (none where not computed) or the
+/// tip's sway over the helix radius.
+fn values(app: &App, k: usize) -> Vec<f64> {
+    let p = &app.screen.path[k];
+    match app.view.load_series {
+        LoadSeries::Loads => p
+            .support
+            .pair(app.case().loading.parameter)
+            .map_or(p.load.to_vec(), |[_, f]| vec![f.0]),
+        LoadSeries::Stability => p
+            .stability
+            .and_then(|s| s.lowest_eigenvalue)
+            .into_iter()
+            .collect(),
+        LoadSeries::Sway => {
+            let radius = app.case().geometry.radius;
+            app.screen
+                .sway
+                .get(k)
+                .map(|w| w / radius)
+                .into_iter()
+                .collect()
+        }
+    }
+}
+
+/// How many curves the panel draws: fx, fy, fz for the axial loads, else one.
+fn curves(app: &App) -> usize {
+    match (app.view.load_series, app.case().loading.parameter) {
+        (LoadSeries::Loads, Component::Axial) => 3,
+        _ => 1,
+    }
 }
 
 /// The point of the path at load parameter `lambda`, linearly between the points either
 /// side: `(along, the last value)`, for a critical point's mark.
-fn on_path(c: Component, path: &[LoadPoint], lambda: f64) -> Option<(f64, f64)> {
-    let at = |p: &LoadPoint| (along(c, p), *values(c, p).last().unwrap_or(&0.0));
-    path.windows(2).find_map(|w| {
-        let (a, b) = (w[0].parameter, w[1].parameter);
+fn on_path(app: &App, lambda: f64) -> Option<(f64, f64)> {
+    let (c, path) = (app.case().loading.parameter, &app.screen.path);
+    let at = |k: usize| Some((along(c, &path[k]), *values(app, k).last()?));
+    (1..path.len()).find_map(|k| {
+        let (a, b) = (path[k - 1].parameter, path[k].parameter);
         let inside = (a <= lambda && lambda <= b) || (b <= lambda && lambda <= a);
         if !inside || a == b {
             return None;
         }
         let t = (lambda - a) / (b - a);
-        let ((x0, y0), (x1, y1)) = (at(&w[0]), at(&w[1]));
+        let ((x0, y0), (x1, y1)) = (at(k - 1)?, at(k)?);
         Some((x0 + t * (x1 - x0), y0 + t * (y1 - y0)))
     })
 }
@@ -168,27 +232,29 @@ struct Marks {
 impl Marks {
     fn of(app: &App) -> Marks {
         let c = app.case().loading.parameter;
-        let loads = |p: &LoadPoint| values(c, p).into_iter().map(|v| (along(c, p), v)).collect();
+        let path = &app.screen.path;
+        let loads = |k: usize| {
+            values(app, k)
+                .into_iter()
+                .map(|v| (along(c, &path[k]), v))
+                .collect()
+        };
+        let axial = c == Component::Axial && app.view.load_series == LoadSeries::Loads;
         Marks {
-            now: app
-                .screen
-                .state
-                .as_ref()
-                .map(|s| loads(&s.point))
-                .unwrap_or_default(),
+            now: path.len().checked_sub(1).map(loads).unwrap_or_default(),
             cursor: app
                 .view
                 .path_cursor
-                .and_then(|k| app.screen.path.get(k))
+                .filter(|&k| k < path.len())
                 .map(loads)
                 .unwrap_or_default(),
             critical: app
                 .screen
                 .critical
                 .iter()
-                .filter_map(|k| match c {
-                    Component::Axial => Some((k.compression_ratio, k.load[2])),
-                    _ => on_path(c, &app.screen.path, k.parameter),
+                .filter_map(|k| match axial {
+                    true => Some((k.compression_ratio, k.load[2])),
+                    false => on_path(app, k.parameter),
                 })
                 .collect(),
         }
@@ -239,12 +305,37 @@ fn datasets<'a>(series: &'a [Series], marks: &'a Marks) -> Vec<Dataset<'a>> {
 
 /// The load panel's frame: the legend of its lines (unstable stretches once there are),
 /// shortened to fit `width` columns.
-fn load_block(c: Component, any_unstable: bool, no_color: bool, width: u16) -> Block<'static> {
+fn load_block(
+    c: Component,
+    series: LoadSeries,
+    any_unstable: bool,
+    no_color: bool,
+    width: u16,
+) -> Block<'static> {
     let marks = legend_marks(no_color);
     let title = |short: bool| {
         let mut title = Vec::new();
-        match SupportResponse::default().pair(c) {
-            None => {
+        let bold = Style::new().add_modifier(Modifier::BOLD);
+        match (series, SupportResponse::default().pair(c)) {
+            (LoadSeries::Stability, _) => {
+                let name = if short {
+                    " λmin "
+                } else {
+                    " lowest eigenvalue λmin "
+                };
+                title.push(Span::styled(name, bold));
+                title.extend(key_span(marks[0], "J/m", FZ_LINE));
+            }
+            (LoadSeries::Sway, _) => {
+                let name = if short {
+                    " sway/a "
+                } else {
+                    " tip sway / helix radius "
+                };
+                title.push(Span::styled(name, bold));
+                title.extend(key_span(marks[0], "sway", FZ_LINE));
+            }
+            (LoadSeries::Loads, None) => {
                 title.push(Span::styled(
                     if short {
                         " Σf/nPc "
@@ -257,11 +348,8 @@ fn load_block(c: Component, any_unstable: bool, no_color: bool, width: u16) -> B
                 title.extend(key_span(marks[1], "fy", FY_LINE));
                 title.extend(key_span(marks[2], "fz", FZ_LINE));
             }
-            Some([_, (_, name)]) => {
-                title.push(Span::styled(
-                    format!(" {} {name} ", c.name()),
-                    Style::new().add_modifier(Modifier::BOLD),
-                ));
+            (LoadSeries::Loads, Some([_, (_, name)])) => {
+                title.push(Span::styled(format!(" {} {name} ", c.name()), bold));
             }
         }
         if any_unstable {
@@ -311,12 +399,12 @@ fn parameter_bounds(app: &App) -> [f64; 2] {
     }
 }
 
-/// fx, fy, fz along each stretch of stable or unstable states.
+/// The panel's curves along each stretch of stable or unstable states.
 fn load_series(app: &App, stretches: &[stability::Stretch]) -> Vec<Series> {
     let (path, no_color) = (&app.screen.path, app.view.no_color);
     let stepped = app.case().loading.parameter;
-    let colors = match stepped {
-        Component::Axial => vec![FX_LINE, FY_LINE, FZ_LINE],
+    let colors = match curves(app) {
+        3 => vec![FX_LINE, FY_LINE, FZ_LINE],
         _ => vec![FZ_LINE],
     };
     stretches
@@ -324,9 +412,10 @@ fn load_series(app: &App, stretches: &[stability::Stretch]) -> Vec<Series> {
         .flat_map(|s| {
             let colors = colors.clone();
             (0..colors.len()).map(move |c| Series {
-                points: path[s.points.clone()]
-                    .iter()
-                    .map(|p: &LoadPoint| (along(stepped, p), values(stepped, p)[c]))
+                points: s
+                    .points
+                    .clone()
+                    .filter_map(|k| Some((along(stepped, &path[k]), *values(app, k).get(c)?)))
                     .collect(),
                 color: colors[c],
                 unstable: s.unstable,

@@ -47,8 +47,14 @@ pub fn draw(frame: &mut Frame, app: &App) {
         Constraint::Length(4 + status::message_lines(app, area.width)),
     ])
     .areas(area);
+    // on a short screen the views take a row more than half, for four rows of each side view
+    let views_rows = if main.height < 30 {
+        main.height.div_ceil(2) + 1
+    } else {
+        main.height.div_ceil(2)
+    };
     let [views, plots] =
-        Layout::vertical([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(main);
+        Layout::vertical([Constraint::Length(views_rows), Constraint::Min(0)]).areas(main);
     let [curvature, load] =
         Layout::horizontal([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(plots);
     shapes::draw_views(frame, views, app);
@@ -60,7 +66,13 @@ pub fn draw(frame: &mut Frame, app: &App) {
     }
     status::draw_status(frame, status, app);
     if app.view.show_critical {
-        critical::draw_critical(frame, area, app);
+        // below the views, which show the chosen point's mode
+        let below = Rect {
+            y: plots.y,
+            height: area.bottom() - plots.y,
+            ..area
+        };
+        critical::draw_critical(frame, below, app);
     }
     if app.view.show_help {
         help::draw_help(frame, area, app);

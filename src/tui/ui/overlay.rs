@@ -5,15 +5,19 @@ use ratatui::text::Line;
 use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 use ratatui::Frame;
 
-/// A box of `lines` centred over the screen, titled, with how to close it at the bottom.
+/// A box of `lines` centred over the screen, titled, with how to close it at the bottom
+/// right (and `foot` at the bottom left).
 pub(super) fn draw_overlay(
     frame: &mut Frame,
     area: Rect,
     lines: Vec<Line>,
     title: &str,
-    close: &str,
+    (foot, close): (Option<Line>, &str),
 ) {
-    let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3).min(area.width);
+    let foot_width = foot.as_ref().map_or(0, |f| f.width() + 1) + close.chars().count();
+    let width = (lines.iter().map(|l| l.width()).max().unwrap_or(0) as u16 + 3)
+        .max(foot_width as u16 + 2)
+        .min(area.width);
     let height = (lines.len() as u16 + 2).min(area.height);
     let rect = Rect {
         x: area.x + (area.width - width) / 2,
@@ -22,13 +26,12 @@ pub(super) fn draw_overlay(
         height,
     };
     frame.render_widget(Clear, rect);
-    frame.render_widget(
-        Paragraph::new(lines).block(
-            Block::new()
-                .borders(Borders::ALL)
-                .title(title.to_string())
-                .title_bottom(Line::from(close.to_string()).alignment(Alignment::Right)),
-        ),
-        rect,
-    );
+    let mut block = Block::new()
+        .borders(Borders::ALL)
+        .title(title.to_string())
+        .title_bottom(Line::from(close.to_string()).alignment(Alignment::Right));
+    if let Some(foot) = foot {
+        block = block.title_bottom(foot);
+    }
+    frame.render_widget(Paragraph::new(lines).block(block), rect);
 }

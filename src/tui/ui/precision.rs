@@ -167,31 +167,34 @@ fn draw_precision_chart(
             Axis::default()
                 .title("time (s)")
                 .bounds([xb.0 as f64, xb.1 as f64])
-                .labels(decade_labels(xb.0, xb.1))
+                .labels(decade_labels(xb.0, xb.1, 3))
                 .style(Style::new().fg(DIM)),
         )
         .y_axis(
             Axis::default()
                 .bounds([yb.0 as f64, yb.1 as f64])
-                .labels(decade_labels(yb.0, yb.1))
+                .labels(decade_labels(yb.0, yb.1, 5))
                 .style(Style::new().fg(DIM)),
         );
     frame.render_widget(chart, area);
 }
 
-/// `10^k` decade labels for an axis of log10 values from `lo` to `hi` (whole numbers): at
-/// most 5, evenly spaced (a chart spaces its labels evenly).
-fn decade_labels(lo: i32, hi: i32) -> Vec<Line<'static>> {
+/// `10^k` decade labels for an axis of log10 values from `lo` to `hi` (whole numbers, an
+/// even span): at most `most` of them (2 or more), at whole decades evenly spaced. The
+/// abscissa takes 3: a chart places the first and last at the ends and, of more than 3,
+/// the others not where their values are.
+fn decade_labels(lo: i32, hi: i32, most: i32) -> Vec<Line<'static>> {
     let span = (hi - lo).max(1);
     let step = (1..=span)
-        .find(|s| span % s == 0 && span / s <= 4)
+        .find(|s| span % s == 0 && span / s < most.max(2))
         .unwrap_or(span);
     (0..=span / step)
         .map(|k| Line::from(format!("1e{}", lo + k * step)))
         .collect()
 }
 
-/// Whole decades around the log10 values `v`.
+/// Whole decades around the log10 values `v`, an even number of them (so that the middle
+/// of the axis is a decade too).
 fn decade_bounds(v: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for x in v.filter(|x| x.is_finite()) {
@@ -202,5 +205,6 @@ fn decade_bounds(v: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
         return None;
     }
     let (a, b) = (lo.floor() as i32, hi.ceil() as i32);
-    Some((a, b.max(a + 1)))
+    let b = b.max(a + 1);
+    Some((a, b + (b - a) % 2))
 }

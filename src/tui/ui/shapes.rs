@@ -1,11 +1,12 @@
 //! The three projections of the assembly (X-Y, Z-Y, Z-X): rods coloured by κ1 on a common
-//! scale, the selected rod and the joints marked.
+//! scale, the selected rod and the joints marked, and while the critical-point list is
+//! open the chosen point's mode over the state.
 
 use super::chart::placeholder;
-use super::colours::{JOINT, K1_PALETTE, SELECTED};
+use super::colours::{JOINT, K1_PALETTE, MODE, SELECTED};
 use super::numbers::fmt_num;
 use crate::case::Geometry;
-use crate::results::{NodeState, RodShape, Snapshot};
+use crate::results::{ModeShape, NodeState, RodShape, Snapshot};
 use crate::tui::app::{App, ViewMode};
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -22,7 +23,10 @@ pub(super) fn draw_views(frame: &mut Frame, area: Rect, app: &App) {
     let xy_width = (area.height.saturating_sub(2) * 2 + 2).min(area.width / 3);
     let [xy, side] =
         Layout::horizontal([Constraint::Length(xy_width), Constraint::Min(0)]).areas(area);
-    let [zy, zx] = Layout::vertical([Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)]).areas(side);
+    // the Z-Y view has no bottom border (the Z-X view's top one parts them) and its
+    // legend on the Z-X view's top border: rows for the drawings, the same in both
+    let zy_rows = 1 + side.height.saturating_sub(3) / 2;
+    let [zy, zx] = Layout::vertical([Constraint::Length(zy_rows), Constraint::Min(0)]).areas(side);
     let scale = app
         .screen
         .state
@@ -35,19 +39,19 @@ pub(super) fn draw_views(frame: &mut Frame, area: Rect, app: &App) {
                 [(zy, View::ZY), (zx, View::ZX)]
                     .iter()
                     .map(|&(a, v)| {
-                        let inner = Block::new().borders(Borders::ALL).inner(a);
+                        let inner = Block::new().borders(borders(v, true)).inner(a);
                         let (x, y) = view_extent(app, &s.snapshot, v);
                         dot_size(inner.width, inner.height, x, y)
                     })
                     .fold(0.0, f64::max)
             });
-            draw_view(frame, xy, app, View::XY, scale, 0.0);
-            draw_view(frame, zy, app, View::ZY, scale, per_dot);
-            draw_view(frame, zx, app, View::ZX, scale, per_dot);
+            draw_view(frame, xy, app, (View::XY, false), scale, 0.0);
+            draw_view(frame, zy, app, (View::ZY, true), scale, per_dot);
+            draw_view(frame, zx, app, (View::ZX, true), scale, per_dot);
         }
-        ViewMode::XY => draw_view(frame, area, app, View::XY, scale, 0.0),
-        ViewMode::ZY => draw_view(frame, area, app, View::ZY, scale, 0.0),
-        ViewMode::ZX => draw_view(frame, area, app, View::ZX, scale, 0.0),
+        ViewMode::XY => draw_view(frame, area, app, (View::XY, false), scale, 0.0),
+        ViewMode::ZY => draw_view(frame, area, app, (View::ZY, false), scale, 0.0),
+        ViewMode::ZX => draw_view(frame, area, app, (View::ZX, false), scale, 0.0),
     }
 }
 
@@ -244,46 +248,85 @@ impl Snap {
     }
 }
 
-/// One projection of the assembly: rods coloured by κ1, the selected rod in white on top,
-/// joints in magenta.
-fn draw_view(
-    frame: &mut Frame,
-    area: Rect,
-    app: &App,
-    view: View,
-    scale: Option<K1Scale>,
-    per_dot: f64,
-) {
-    let mut block = Block::new().borders(Borders::ALL).title(Span::styled(
-        format!(" {} ", view.title()),
-        Style::new().add_modifier(Modifier::BOLD),
-    ));
-    let (Some(state), Some(scale)) = (app.screen.state.as_ref(), scale) else {
-        return placeholder(frame, area, block, app);
-    };
-    let snapshot = &state.snapshot;
-    let highlight = snapshot.rods.len() > 1;
+/// The borders of `view`'s box: the Z-Y view stacked over the Z-X one has no bottom
+/// border.
+fn borders(view: View, stacked: bool) -> Borders {
+    if stacked && view == View::ZY {
+        Borders::TOP | Borders::LEFT | Borders::RIGHT
+    } else {
+        Borders::ALL
+    }
+}
+
+/// The legend of `view`: for the Z-Y view the mode previewed, or the selected rod and the
+/// joints; for the Z-X view the κ1 colour scale (none without colour, where every rod is
+/// drawn alike).
+fn legend(app: &App, view: View, snapshot: &Snapshot, scale: K1Scale) -> Option<Line<'static>> {
     match view {
-        View::ZY if highlight => {
+        View::ZY if app.view.show_critical && mode_preview(app).is_some() => {
+            let k = app.view.critical_cursor;
+            let mark = if app.view.no_color {
+                PREVIEW_MARK
+            } else {
+                "━"
+            };
+            Some(Line::from(vec![
+                Span::raw(" "),
+                Span::styled(mark, Style::new().fg(MODE)),
+                Span::raw(format!(" mode of critical point {k} ")),
+            ]))
+        }
+        View::ZY if snapshot.rods.len() > 1 => {
             let sel = snapshot.rods.get(app.view.selected_rod);
             let chir = sel.map_or("", |r| r.chirality.name());
-            block = block.title_bottom(Line::from(vec![
+            Some(Line::from(vec![
                 Span::raw(" "),
                 Span::styled("━", Style::new().fg(SELECTED)),
                 Span::raw(format!(" rod {} ({chir}) ", app.view.selected_rod)),
                 Span::styled("•", Style::new().fg(JOINT)),
                 Span::raw(" joints "),
-            ]));
+            ]))
         }
-        View::ZY if snapshot.rods.iter().any(|r| !r.joints.is_empty()) => {
-            block = block.title_bottom(Line::from(vec![
-                Span::styled(" •", Style::new().fg(JOINT)),
-                Span::raw(" joints "),
-            ]));
+        View::ZY if snapshot.rods.iter().any(|r| !r.joints.is_empty()) => Some(Line::from(vec![
+            Span::styled(" •", Style::new().fg(JOINT)),
+            Span::raw(" joints "),
+        ])),
+        View::ZX if !app.view.no_color => Some(scale.legend()),
+        _ => None,
+    }
+}
+
+/// One projection of the assembly (`stacked`: a side view over or under the other): rods
+/// coloured by κ1, the selected rod in white on top, joints in magenta.
+fn draw_view(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    (view, stacked): (View, bool),
+    scale: Option<K1Scale>,
+    per_dot: f64,
+) {
+    let mut block = Block::new()
+        .borders(borders(view, stacked))
+        .title(Span::styled(
+            format!(" {} ", view.title()),
+            Style::new().add_modifier(Modifier::BOLD),
+        ));
+    let (Some(state), Some(scale)) = (app.screen.state.as_ref(), scale) else {
+        return placeholder(frame, area, block, app);
+    };
+    let snapshot = &state.snapshot;
+    let highlight = snapshot.rods.len() > 1;
+    let preview = mode_preview(app);
+    if stacked && view == View::ZX {
+        if let Some(l) = legend(app, View::ZY, snapshot, scale) {
+            block = block.title(l.alignment(ratatui::layout::Alignment::Right));
         }
-        // without colour every rod is drawn alike: no colour scale to read
-        View::ZX if !app.view.no_color => block = block.title_bottom(scale.legend()),
-        _ => {}
+    }
+    if !(stacked && view == View::ZY) {
+        if let Some(l) = legend(app, view, snapshot, scale) {
+            block = block.title_bottom(l);
+        }
     }
     let inner = block.inner(area);
     let (x, y) = view_extent(app, snapshot, view);
@@ -318,6 +361,16 @@ fn draw_view(
                 coords: &joints,
                 color: JOINT,
             });
+            if let Some(rods) = &preview {
+                ctx.layer();
+                // without colour, marks a cell apart: a dotted outline, not a blot
+                let cell = (
+                    (x_bounds[1] - x_bounds[0]) / f64::from(inner.width.max(1)),
+                    (y_bounds[1] - y_bounds[0]) / f64::from(inner.height.max(1)),
+                );
+                let apart = app.view.no_color.then_some(cell);
+                draw_preview(ctx, rods, (view, snap), apart);
+            }
         });
     frame.render_widget(canvas, area);
 }
@@ -340,5 +393,81 @@ fn draw_rod(
             y2,
             color: color(k1),
         });
+    }
+}
+
+/// The mark of a mode's preview without colour (printed at its nodes).
+const PREVIEW_MARK: &str = "∘";
+
+/// The mode's largest centreline displacement drawn as this part of the helix radius.
+const PREVIEW_AMPLITUDE: f64 = 0.3;
+
+/// While the critical-point list is open: the chosen point's mode on the geometry of its
+/// state, scaled for the eye (its largest displacement [`PREVIEW_AMPLITUDE`] of the helix
+/// radius), as the centreline of each rod.
+fn mode_preview(app: &App) -> Option<Vec<Vec<[f64; 3]>>> {
+    if !app.view.show_critical {
+        return None;
+    }
+    let mode: &ModeShape = &app.screen.modes.get(app.view.critical_cursor)?.shape;
+    let largest = mode
+        .displacement
+        .iter()
+        .flatten()
+        .map(|d| d[0].hypot(d[1]).hypot(d[2]))
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max);
+    if largest <= 0.0 {
+        return None;
+    }
+    let amplitude = PREVIEW_AMPLITUDE * app.case().geometry.radius / largest;
+    Some(
+        mode.shape
+            .rods
+            .iter()
+            .zip(&mode.displacement)
+            .map(|(rod, d)| {
+                rod.nodes
+                    .iter()
+                    .zip(d)
+                    .map(|(n, d)| std::array::from_fn(|i| n.position[i] + amplitude * d[i]))
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
+/// The preview's rods: lines in the mode's colour, or (`apart`: the size of a cell) its
+/// mark at nodes two cells across or a row apart.
+fn draw_preview(
+    ctx: &mut Context,
+    rods: &[Vec<[f64; 3]>],
+    (view, snap): (View, Snap),
+    apart: Option<(f64, f64)>,
+) {
+    for rod in rods {
+        if let Some((w, h)) = apart {
+            let mut last: Option<(f64, f64)> = None;
+            for p in rod {
+                let (x, y) = snap.point(view.project(*p));
+                if last.is_some_and(|(a, b)| (x - a).abs() < 2.0 * w && (y - b).abs() < h) {
+                    continue;
+                }
+                last = Some((x, y));
+                ctx.print(x, y, Span::styled(PREVIEW_MARK, Style::new().fg(MODE)));
+            }
+            continue;
+        }
+        for w in rod.windows(2) {
+            let (x1, y1) = snap.point(view.project(w[0]));
+            let (x2, y2) = snap.point(view.project(w[1]));
+            ctx.draw(&Segment {
+                x1,
+                y1,
+                x2,
+                y2,
+                color: MODE,
+            });
+        }
     }
 }

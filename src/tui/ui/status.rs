@@ -76,7 +76,8 @@ fn case_line(app: &App, width: u16) -> Line<'static> {
 /// cancel key, which stays.
 fn activity(app: &App, room: usize) -> Span<'static> {
     let solving = |job: &str, running: bool| {
-        // a step, and the natural state (whose n the line shows already), drop "solving"
+        // a step, and the natural state (whose n the line shows already), drop "solving";
+        // a branch switch may be named by its critical point alone
         let what = if job.starts_with(app.symbol()) {
             job.to_string()
         } else if job.starts_with("natural state") {
@@ -84,6 +85,9 @@ fn activity(app: &App, room: usize) -> Span<'static> {
         } else {
             format!("solving {job}")
         };
+        let short = job
+            .strip_prefix("branch of critical point ")
+            .map_or(what.clone(), |rest| format!("branch {rest}"));
         let progress = app
             .requests
             .progress
@@ -92,17 +96,32 @@ fn activity(app: &App, room: usize) -> Span<'static> {
             .requests
             .elapsed
             .map(|e| format!(" {:.1} s", e.as_secs_f64()));
-        let mut texts = Vec::new();
-        for run in if running {
+        let runs = if running {
             ["▶ running · ", "▶ "]
         } else {
             ["", ""]
-        } {
-            let head = format!("{run}{what}…{}", elapsed.clone().unwrap_or_default());
-            texts.extend(progress.iter().map(|p| format!("{head} · c cancels{p}")));
-            texts.push(format!("{head} · c cancels"));
-            texts.push(format!("{run}{what}… c cancels"));
+        };
+        let heads: Vec<(String, String)> = runs
+            .iter()
+            .flat_map(|run| [&what, &short].map(|w| (run.to_string(), w.clone())))
+            .collect();
+        let elapsed = elapsed.unwrap_or_default();
+        // how far it got, then the time, then the words around the cancel key give way
+        let mut texts: Vec<String> = Vec::new();
+        if let Some(p) = &progress {
+            texts.extend(
+                heads
+                    .iter()
+                    .map(|(r, w)| format!("{r}{w}…{elapsed} · c cancels{p}")),
+            );
         }
+        texts.extend(
+            heads
+                .iter()
+                .map(|(r, w)| format!("{r}{w}…{elapsed} · c cancels")),
+        );
+        texts.extend(heads.iter().map(|(r, w)| format!("{r}{w}… c cancels")));
+        texts.push("c cancels".to_string());
         texts
             .iter()
             .find(|t| Line::from(t.as_str()).width() <= room)
@@ -181,7 +200,11 @@ fn readout_fields(app: &App, short: bool) -> Option<Vec<(u8, Vec<Span<'static>>)
     let (dirs, lowest) = match p.stability {
         Some(st) => (
             st.unstable_directions.to_string(),
-            st.lowest_eigenvalue.map_or("–".into(), fmt_num),
+            match (st.lowest_eigenvalue, st.lowest_wavenumber) {
+                (Some(l), Some(k)) => format!("{} p{k}", fmt_num(l)),
+                (Some(l), None) => fmt_num(l),
+                (None, _) => "–".into(),
+            },
         ),
         None => ("–".into(), "–".into()),
     };
