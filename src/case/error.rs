@@ -49,6 +49,15 @@ pub enum CaseError {
         key: String,
         message: String,
     },
+    /// A `--set key=value` override of the case file `file` that makes it invalid (or that
+    /// cannot be applied); `setting` is the override as given, `key` its key.
+    #[error("--set {setting}: {message}")]
+    Set {
+        file: String,
+        setting: String,
+        key: String,
+        message: String,
+    },
 }
 
 impl CaseError {
@@ -59,13 +68,14 @@ impl CaseError {
             | CaseError::Syntax { file, .. }
             | CaseError::UnknownKey { file, .. }
             | CaseError::WrongType { file, .. }
-            | CaseError::Invalid { file, .. } => file,
+            | CaseError::Invalid { file, .. }
+            | CaseError::Set { file, .. } => file,
         }
     }
     /// Line (1-based) the error points at, if any.
     pub fn line(&self) -> Option<usize> {
         match self {
-            CaseError::Io { .. } => None,
+            CaseError::Io { .. } | CaseError::Set { .. } => None,
             CaseError::Syntax { line, .. }
             | CaseError::UnknownKey { line, .. }
             | CaseError::WrongType { line, .. }
@@ -77,7 +87,8 @@ impl CaseError {
         match self {
             CaseError::UnknownKey { key, .. }
             | CaseError::WrongType { key, .. }
-            | CaseError::Invalid { key, .. } => Some(key),
+            | CaseError::Invalid { key, .. }
+            | CaseError::Set { key, .. } => Some(key),
             CaseError::Io { .. } | CaseError::Syntax { .. } => None,
         }
     }
@@ -88,7 +99,8 @@ impl CaseError {
             CaseError::Syntax { message, .. }
             | CaseError::UnknownKey { message, .. }
             | CaseError::WrongType { message, .. }
-            | CaseError::Invalid { message, .. } => message.clone(),
+            | CaseError::Invalid { message, .. }
+            | CaseError::Set { message, .. } => message.clone(),
         }
     }
 

@@ -14,6 +14,7 @@ mod keys;
 mod limits;
 mod loads;
 mod motion;
+mod overrides;
 mod raw;
 mod settings;
 mod size;
@@ -29,6 +30,7 @@ pub use limits::{
     TOLERANCE_RANGE, TURNS_RANGE,
 };
 pub use motion::{free_motion_of, FreeMotion};
+pub use overrides::{set_key, settings_line, Setting};
 pub use settings::{AccuracyTarget, Discretisation, Geometry, Loading};
 pub use size::{available_memory, SizeEstimate, TooLarge, LONG_STEP_SECONDS};
 pub use target::TargetError;

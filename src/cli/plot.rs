@@ -96,12 +96,11 @@ pub fn plot(
     let paths =
         spira::output::files::write_folder(&out, &files, |name| names.iter().any(|n| n == name))
             .with_context(|| format!("writing figures into {}", out.display()))?;
-    let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
     println!(
-        "spira plot: {} run(s) read and drawn in {:.1} ms; wrote {}",
+        "spira plot: {} run(s) read and drawn in {:.1} ms; {}",
         runs.len(),
         drawn.as_secs_f64() * 1e3,
-        shown.join(", ")
+        spira::output::written_summary(&out, &paths)
     );
     Ok(())
 }

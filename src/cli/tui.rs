@@ -1,12 +1,20 @@
 //! `spira tui` (and `spira` alone): the terminal explorer.
 
-use super::load_case;
 use anyhow::Result;
+use spira::case::{Case, Setting};
 use std::path::PathBuf;
 
 /// `spira tui`: the explorer on the case at `case` (default: the built-in thesis case,
-/// n = 8), its exported CSV files written into `out`.
-pub fn explore(case: Option<PathBuf>, out: PathBuf) -> Result<()> {
-    let loaded = load_case(case.as_deref())?;
+/// n = 8) with the overrides `set`, its exported CSV files written into `out`.
+pub fn explore(case: Option<PathBuf>, out: PathBuf, set: &[Setting]) -> Result<()> {
+    let loaded = match case.as_deref() {
+        Some(path) => Case::from_file_with(path, set)?,
+        None => Case::parse_with(
+            spira::case::DEFAULT_CASE,
+            spira::case::DEFAULT_CASE_NAME,
+            "thesis-n8",
+            set,
+        )?,
+    };
     Ok(spira::tui::run_with(loaded, out, case)?)
 }

@@ -19,4 +19,4 @@ pub use self::csv::{
     reactions_csv, state_csv, with_note, NonFinite,
 };
 pub use self::files::write_atomic;
-pub use self::run_folder::{run_files, write_run, write_run_files, RunFiles};
+pub use self::run_folder::{run_files, write_run, write_run_files, written_summary, RunFiles};

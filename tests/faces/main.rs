@@ -16,3 +16,4 @@ mod tour;
 mod tui;
 mod tui_e2e;
 mod vtk;
+mod what_if;
