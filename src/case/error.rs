@@ -50,12 +50,11 @@ pub enum CaseError {
         message: String,
     },
     /// A `--set key=value` override of the case file `file` that makes it invalid (or that
-    /// cannot be applied); `setting` is the override as given, `key` its key.
+    /// cannot be applied); `setting` is the override, `key=value`.
     #[error("--set {setting}: {message}")]
     Set {
         file: String,
         setting: String,
-        key: String,
         message: String,
     },
 }
@@ -87,8 +86,8 @@ impl CaseError {
         match self {
             CaseError::UnknownKey { key, .. }
             | CaseError::WrongType { key, .. }
-            | CaseError::Invalid { key, .. }
-            | CaseError::Set { key, .. } => Some(key),
+            | CaseError::Invalid { key, .. } => Some(key),
+            CaseError::Set { setting, .. } => setting.split_once('=').map(|(key, _)| key),
             CaseError::Io { .. } | CaseError::Syntax { .. } => None,
         }
     }

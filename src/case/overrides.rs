@@ -152,14 +152,12 @@ impl Case {
             set_key(&mut doc, &s.key, s.value.clone()).map_err(|message| CaseError::Set {
                 file: file.to_string(),
                 setting: s.as_flag(),
-                key: s.key.clone(),
                 message,
             })?;
         }
         let patched = toml::to_string(&doc).map_err(|e| CaseError::Set {
             file: file.to_string(),
             setting: settings[0].as_flag(),
-            key: settings[0].key.clone(),
             message: format!("the case with it cannot be written as TOML: {e}"),
         })?;
         Case::parse(&patched, file, stem).map_err(|e| setting_error(file, settings, &e))
@@ -185,7 +183,6 @@ fn setting_error(file: &str, settings: &[Setting], e: &CaseError) -> CaseError {
     CaseError::Set {
         file: file.to_string(),
         setting: s.as_flag(),
-        key: s.key.clone(),
         message,
     }
 }
