@@ -7,7 +7,7 @@ mod cli;
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use cli::bench::Measure;
-use spira::case::{Case, Setting};
+use spira::case::Setting;
 use spira::output::figures::{Kinds, Rods, Steps};
 use std::path::PathBuf;
 
@@ -58,9 +58,10 @@ enum Command {
         set: Vec<Setting>,
     },
     /// Draw the figures of `spira run` output folders: load.svg (the load curves of every
-    /// run), and per run and state curvature-step<k>.svg and views-step<k>.svg.
+    /// run), and per run and state curvature-step<k>.svg and views-step<k>.svg; or of a
+    /// sweep's folder: sweep-<key>.svg per swept key (critical ε and fz against it).
     Plot {
-        /// Output folders of `spira run`.
+        /// Output folders of `spira run`, or one folder of `spira sweep`.
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
         /// Folder for the figures (default: the run folder when one is given).
@@ -207,7 +208,7 @@ fn main() {
 /// Runs `command` (the explorer on the built-in case without one).
 fn dispatch(command: Option<Command>) -> Result<()> {
     let Some(command) = command else {
-        return Ok(spira::tui::run(Case::default_case())?);
+        return cli::tui::explore(None, PathBuf::from("."), &[]);
     };
     match command {
         Command::Tui { case, out, set } => cli::tui::explore(case, out, &set),

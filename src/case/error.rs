@@ -339,9 +339,9 @@ pub(super) fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())].matches('\n').count() + 1
 }
 
-/// serde names Rust types in its messages; a case file has numbers, whole numbers, arrays
-/// and tables.
-fn plain_types(message: &str) -> String {
+/// serde names Rust types in its messages; a case file (or a session file) has numbers,
+/// whole numbers, arrays and tables.
+pub(crate) fn plain_types(message: &str) -> String {
     // one line: a quoted value's line breaks written as escapes
     let message: String = message
         .chars()
@@ -349,12 +349,14 @@ fn plain_types(message: &str) -> String {
         .collect();
     let mut m = message
         .replace("expected i64", "expected a whole number")
+        .replace("expected usize", "expected a whole number")
+        .replace("expected u32", "expected a whole number")
         .replace("expected f64", "expected a number")
         .replace("expected a boolean", "expected true or false")
         .replace("invalid type: map", "invalid type: table")
         .replace("invalid type: sequence", "invalid type: array");
     // `expected struct RawGeometry` and the like
-    while let Some(at) = m.find("expected struct Raw") {
+    while let Some(at) = m.find("expected struct ") {
         let end = m[at..]
             .find(|c: char| !(c.is_alphanumeric() || c == ' '))
             .map_or(m.len(), |e| at + e);

@@ -21,6 +21,7 @@ mod size;
 mod tables;
 mod target;
 
+pub(crate) use error::plain_types;
 pub use error::CaseError;
 pub use helices::{Refused, HELICES_RANGE};
 pub use keys::{keys_markdown, DefaultDoc, KeyDoc, RangeDoc, KEYS};

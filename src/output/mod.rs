@@ -8,6 +8,7 @@ pub mod chart;
 pub mod csv;
 pub mod figures;
 pub mod files;
+pub mod legend;
 pub mod precision;
 pub mod read;
 pub mod run_folder;

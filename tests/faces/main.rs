@@ -9,6 +9,7 @@ mod cli;
 mod figures;
 mod fuzz_cli;
 mod interrupts;
+mod paper_figures;
 mod replay;
 mod sweep;
 mod sweep_input;
