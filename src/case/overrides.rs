@@ -3,9 +3,7 @@
 //! checked exactly as the same value written in the file.
 
 use super::error::CaseError;
-use super::Case;
 use std::fmt;
-use std::path::Path;
 use std::str::FromStr;
 use toml::{Table, Value};
 
@@ -113,68 +111,51 @@ pub fn set_key(doc: &mut Table, key: &str, value: Value) -> Result<(), String> {
     Ok(())
 }
 
-impl Case {
-    /// Reads and validates a case file with `settings` applied. The file is checked first
-    /// as it is (its errors said as without settings); then the settings are applied to its
-    /// document and the result is read as a case, an error of it said about the setting
-    /// its key belongs to ([`CaseError::Set`]). The case keeps the file's name.
-    pub fn from_file_with(path: &Path, settings: &[Setting]) -> Result<Case, CaseError> {
-        let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|reason| CaseError::Io {
-            file: file.clone(),
-            reason,
-        })?;
-        let stem = path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "case".into());
-        Case::parse_with(&text, &file, &stem, settings)
+/// The text of the case file `text` (named `file`, its case named `name`) with `settings`
+/// applied to its document, to be read by the case reader; the file is valid as it is.
+pub(super) fn patched(
+    text: &str,
+    file: &str,
+    name: &str,
+    settings: &[Setting],
+) -> Result<String, CaseError> {
+    let mut doc: Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| CaseError::syntax(&e, text, file))?;
+    if !doc.contains_key("name") {
+        doc.insert("name".into(), Value::String(name.to_string()));
     }
-
-    /// Parses and validates case text with `settings` applied ([`Case::from_file_with`]).
-    pub fn parse_with(
-        text: &str,
-        file: &str,
-        stem: &str,
-        settings: &[Setting],
-    ) -> Result<Case, CaseError> {
-        let plain = Case::parse(text, file, stem)?;
-        if settings.is_empty() {
-            return Ok(plain);
-        }
-        let mut doc: Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| CaseError::syntax(&e, text, file))?;
-        if !doc.contains_key("name") {
-            doc.insert("name".into(), Value::String(plain.name.clone()));
-        }
-        for s in settings {
-            set_key(&mut doc, &s.key, s.value.clone()).map_err(|message| CaseError::Set {
-                file: file.to_string(),
-                setting: s.as_flag(),
-                message,
-            })?;
-        }
-        let patched = toml::to_string(&doc).map_err(|e| CaseError::Set {
+    for s in settings {
+        set_key(&mut doc, &s.key, s.value.clone()).map_err(|message| CaseError::Set {
             file: file.to_string(),
-            setting: settings[0].as_flag(),
-            message: format!("the case with it cannot be written as TOML: {e}"),
+            setting: s.as_flag(),
+            message,
         })?;
-        Case::parse(&patched, file, stem).map_err(|e| setting_error(file, settings, &e))
     }
+    toml::to_string(&doc).map_err(|e| CaseError::Set {
+        file: file.to_string(),
+        setting: settings.first().map_or_else(String::new, Setting::as_flag),
+        message: format!("the case with it cannot be written as TOML: {e}"),
+    })
 }
 
 /// The error of the case with `settings` applied, said about the setting its key belongs
 /// to (the first setting when none does: the file alone was valid, so a setting made it
 /// invalid).
-fn setting_error(file: &str, settings: &[Setting], e: &CaseError) -> CaseError {
+pub(super) fn setting_error(file: &str, settings: &[Setting], e: &CaseError) -> CaseError {
     let key = e.key().unwrap_or("");
     let related = |s: &&Setting| {
         s.key == key
             || key.starts_with(&format!("{}.", s.key))
             || s.key.starts_with(&format!("{key}."))
     };
-    let s = settings.iter().find(related).unwrap_or(&settings[0]);
+    let Some(s) = settings.iter().find(related).or(settings.first()) else {
+        return CaseError::Set {
+            file: file.to_string(),
+            setting: String::new(),
+            message: e.message(),
+        };
+    };
     let message = if key.is_empty() || related(&s) {
         e.message()
     } else {
@@ -223,34 +204,5 @@ mod tests {
         ] {
             assert!(bad.parse::<Setting>().is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn a_setting_overrides_the_key_and_is_checked_as_the_file_would_be() {
-        let text = "[geometry]\nhelices = 8\n";
-        let case = Case::parse_with(text, "c.toml", "c", &[setting("geometry.helices=16")])
-            .expect("a valid override");
-        assert_eq!(case.geometry.helices, 16);
-        assert_eq!(case.name, "c");
-        let e = Case::parse_with(text, "c.toml", "c", &[setting("geometry.helices=3")])
-            .expect_err("3 helices");
-        let shown = e.to_string();
-        assert!(shown.starts_with("--set geometry.helices=3: "), "{shown}");
-        assert_eq!(e.key(), Some("geometry.helices"));
-        assert!(shown.contains("expected"), "{shown}");
-        let e = Case::parse_with(text, "c.toml", "c", &[setting("geometry.helix=3")])
-            .expect_err("an unknown key");
-        assert!(e.to_string().contains("geometry.helix"), "{e}");
-        let e = Case::parse_with(text, "c.toml", "c", &[setting("geometry.helices.x=3")])
-            .expect_err("a value is not a table");
-        assert!(e.to_string().contains("not a table"), "{e}");
-    }
-
-    #[test]
-    fn turns_replace_the_length_of_the_file() {
-        let text = "[geometry]\nlength = 1.0\n";
-        let case = Case::parse_with(text, "c.toml", "c", &[setting("geometry.turns=2")])
-            .expect("turns instead of the length");
-        assert!(case.geometry.length != 1.0);
     }
 }

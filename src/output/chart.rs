@@ -10,8 +10,7 @@ use super::legend::{self, Entry, Sample};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-/// Font family of every text.
-pub const FONT: &str = "sans-serif";
+pub use super::legend::FONT;
 /// Height of one caption line (px).
 pub const CAPTION_LINE: u32 = 18;
 

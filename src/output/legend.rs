@@ -2,9 +2,11 @@
 //! rows above the panels, each a sample of how its series is drawn and its text. Figures
 //! whose panels share their series get one legend, and no legend covers a curve.
 
-use super::chart::FONT;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+
+/// Font family of every text of the figures.
+pub const FONT: &str = "sans-serif";
 
 /// How an entry's series is drawn, as its sample shows it.
 #[derive(Clone, Copy, Debug)]

@@ -162,3 +162,48 @@ fn a_set_taken_from_the_file_alone_says_the_files_own_error() {
     assert!(err.contains("bad.toml:2: key `geometry.helices`"), "{err}");
     assert!(!dir.path().join("o").exists());
 }
+
+/// A session of the explorer started with `--set`: `set` holds the overrides, and the
+/// replay applies them to the case file (a bad one refused as on the command line).
+#[test]
+fn a_replayed_session_applies_its_settings() {
+    let dir = tempfile::tempdir().expect("scratch folder");
+    let case = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/thesis-n2.toml");
+    let session = |set: &str| {
+        format!(
+            "version = 2\ncase = {:?}\nset = [{set}]\nlabel = \"n2\"\n\n[[actions]]\ndo = \"start\"\nhelices = 2\nboundary = {{ base = {{ translation = \"fixed\", rotation = \"clamped\" }}, tip = {{ translation = \"fixed\", rotation = \"clamped\" }}, joints = true }}\n\n[[actions]]\ndo = \"advance\"\nparameter = 0.02\n",
+            case.display().to_string()
+        )
+    };
+    std::fs::write(dir.path().join("bad.toml"), session("\"stiffness.b1=-1\"")).expect("session");
+    let out = spira(dir.path(), &["replay", "bad.toml", "--out", "o"]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("--set stiffness.b1=-1: expected"), "{err}");
+    assert!(!dir.path().join("o").exists());
+    // a stiffer torsion (b3 = 4 for the file's 2): the same compression takes another load
+    let fz = |set: &str, name: &str| -> f64 {
+        std::fs::write(dir.path().join(name), session(set)).expect("session");
+        let out = spira(dir.path(), &["replay", name, "--out", name.trim_end_matches(".toml")]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let folder = dir.path().join(name.trim_end_matches(".toml"));
+        let load = std::fs::read_dir(&folder)
+            .expect("replay folder")
+            .map(|e| e.expect("entry").path())
+            .find(|p| p.to_string_lossy().ends_with("-load.csv"))
+            .expect("a load table");
+        let csv = std::fs::read_to_string(load).expect("load table");
+        let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+        let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+        let k = header.iter().position(|h| *h == "fz").expect("fz column");
+        let last = lines.last().expect("a row");
+        last.split(',').nth(k).expect("fz").parse().expect("a number")
+    };
+    let plain = fz("", "plain.toml");
+    let stiff = fz("\"stiffness.b3=4\"", "stiff.toml");
+    assert!(plain < 0.0, "{plain}");
+    assert!(
+        (stiff / plain - 1.0).abs() > 1e-3,
+        "{stiff} against {plain}: the setting was not applied"
+    );
+}
