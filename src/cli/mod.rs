@@ -24,6 +24,20 @@ pub fn load_case(path: Option<&Path>) -> Result<Case> {
     })
 }
 
+/// The case in the file at `path` (or the built-in thesis case) with the keys `set`
+/// overridden.
+pub fn load_case_with(path: Option<&Path>, set: &[spira::case::Setting]) -> Result<Case> {
+    Ok(match path {
+        Some(p) => Case::from_file_with(p, set)?,
+        None => Case::parse_with(
+            spira::case::DEFAULT_CASE,
+            spira::case::DEFAULT_CASE_NAME,
+            "thesis-n8",
+            set,
+        )?,
+    })
+}
+
 /// The most timed repetitions `--repeats` asks for.
 const MAX_REPEATS: u64 = 1000;
 

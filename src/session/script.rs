@@ -94,6 +94,10 @@ pub struct Script {
     pub version: u32,
     /// The case file (`None`: the built-in case).
     pub case: Option<PathBuf>,
+    /// The keys of the case overridden on the command line (`--set key=value`), applied to
+    /// the case before the actions.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set: Vec<String>,
     /// The case label the exports are named after.
     pub label: String,
     /// The session's events since the last start (for the load table's header).
@@ -195,6 +199,7 @@ impl Script {
         Script {
             version: VERSION,
             case,
+            set: Vec::new(),
             label,
             events,
             actions: ran[from..].iter().filter_map(Action::of).collect(),

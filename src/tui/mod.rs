@@ -66,6 +66,17 @@ pub fn run_in(case: Case, out_dir: PathBuf) -> Result<(), TuiError> {
 /// Opens the explorer on `case` read from `case_file` (`None`: the built-in case), exporting
 /// into `out_dir`; a saved session names the case file.
 pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Result<(), TuiError> {
+    run_with_set(case, out_dir, case_file, Vec::new())
+}
+
+/// Opens the explorer as [`run_with`] on a case whose keys `set` (`key=value`) were
+/// overridden on the command line; a saved session names them.
+pub fn run_with_set(
+    case: Case,
+    out_dir: PathBuf,
+    case_file: Option<PathBuf>,
+    set: Vec<String>,
+) -> Result<(), TuiError> {
     if !io::stdout().is_terminal() || !io::stdin().is_terminal() {
         return Err(TuiError::NotATerminal);
     }
@@ -82,6 +93,7 @@ pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Res
     let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
     app.case_file = case_file;
+    app.case_set = set;
     app.view.no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
     let result = event_loop(&mut terminal.terminal, &mut app, &worker, &stop);
     drop(terminal);

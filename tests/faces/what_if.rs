@@ -184,7 +184,10 @@ fn a_replayed_session_applies_its_settings() {
     // a stiffer torsion (b3 = 4 for the file's 2): the same compression takes another load
     let fz = |set: &str, name: &str| -> f64 {
         std::fs::write(dir.path().join(name), session(set)).expect("session");
-        let out = spira(dir.path(), &["replay", name, "--out", name.trim_end_matches(".toml")]);
+        let out = spira(
+            dir.path(),
+            &["replay", name, "--out", name.trim_end_matches(".toml")],
+        );
         assert!(out.status.success(), "{}", text(&out.stderr));
         let folder = dir.path().join(name.trim_end_matches(".toml"));
         let load = std::fs::read_dir(&folder)
@@ -197,7 +200,11 @@ fn a_replayed_session_applies_its_settings() {
         let header: Vec<&str> = lines.next().expect("header").split(',').collect();
         let k = header.iter().position(|h| *h == "fz").expect("fz column");
         let last = lines.last().expect("a row");
-        last.split(',').nth(k).expect("fz").parse().expect("a number")
+        last.split(',')
+            .nth(k)
+            .expect("fz")
+            .parse()
+            .expect("a number")
     };
     let plain = fz("", "plain.toml");
     let stiff = fz("\"stiffness.b3=4\"", "stiff.toml");
