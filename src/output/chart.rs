@@ -129,7 +129,7 @@ pub fn tick_label(v: f64, span: f64) -> String {
             s
         }
     };
-    if !(step.is_finite() && step > 0.0) || !v.is_finite() {
+    if !(step.is_finite() && step > 0.0 && v.is_finite()) {
         return zero(format!("{v}"));
     }
     if v.abs() >= 1e5 || step < 1e-5 {

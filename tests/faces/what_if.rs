@@ -199,7 +199,7 @@ fn a_replayed_session_applies_its_settings() {
         let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
         let header: Vec<&str> = lines.next().expect("header").split(',').collect();
         let k = header.iter().position(|h| *h == "fz").expect("fz column");
-        let last = lines.last().expect("a row");
+        let last = lines.next_back().expect("a row");
         last.split(',')
             .nth(k)
             .expect("fz")
