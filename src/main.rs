@@ -7,7 +7,7 @@ mod cli;
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use cli::bench::Measure;
-use spira::case::Case;
+use spira::case::Setting;
 use spira::output::figures::{Kinds, Rods, Steps};
 use std::path::PathBuf;
 
@@ -52,11 +52,16 @@ enum Command {
         /// (and mode-<k>.vtp per critical point).
         #[arg(long)]
         vtk: bool,
+        /// Override a key of the case, e.g. `--set geometry.helices=16` (repeatable); the
+        /// value is checked as in the file.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<Setting>,
     },
     /// Draw the figures of `spira run` output folders: load.svg (the load curves of every
-    /// run), and per run and state curvature-step<k>.svg and views-step<k>.svg.
+    /// run), and per run and state curvature-step<k>.svg and views-step<k>.svg; or of a
+    /// sweep's folder: sweep-<key>.svg per swept key (critical ε and fz against it).
     Plot {
-        /// Output folders of `spira run`.
+        /// Output folders of `spira run`, or one folder of `spira sweep`.
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
         /// Folder for the figures (default: the run folder when one is given).
@@ -97,6 +102,10 @@ enum Command {
         /// Folder for exported CSV files.
         #[arg(long, default_value = ".")]
         out: PathBuf,
+        /// Override a key of the case, e.g. `--set geometry.helices=16` (repeatable); the
+        /// value is checked as in the file.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<Setting>,
     },
     /// Work-precision study: solve the case's path on a ladder of meshes of linear and
     /// quadratic elements, time each and measure its error; print the table and write
@@ -113,6 +122,10 @@ enum Command {
         /// Study even a case whose size estimate exceeds the memory available.
         #[arg(long)]
         force: bool,
+        /// Override a key of the case, e.g. `--set geometry.helices=16` (repeatable); the
+        /// value is checked as in the file.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<Setting>,
     },
     /// Replay a session saved in the explorer (key `s`) headless and write the CSVs the
     /// explorer's export (`e`) would have written at its end.
@@ -195,10 +208,10 @@ fn main() {
 /// Runs `command` (the explorer on the built-in case without one).
 fn dispatch(command: Option<Command>) -> Result<()> {
     let Some(command) = command else {
-        return Ok(spira::tui::run(Case::default_case())?);
+        return cli::tui::explore(None, PathBuf::from("."), &[]);
     };
     match command {
-        Command::Tui { case, out } => cli::tui::explore(case, out),
+        Command::Tui { case, out, set } => cli::tui::explore(case, out, &set),
         Command::Replay { session, out } => cli::replay::replay(&session, &out),
         Command::Run {
             case,
@@ -209,12 +222,12 @@ fn dispatch(command: Option<Command>) -> Result<()> {
             states,
             figures,
             vtk,
+            set,
         } => cli::run::run(
             &case,
-            to,
-            steps,
+            &set,
+            cli::run::Flags { to, steps, force },
             &out,
-            force,
             cli::run::Extras {
                 states: states || figures,
                 figures,
@@ -279,7 +292,8 @@ fn dispatch(command: Option<Command>) -> Result<()> {
             out,
             repeats,
             force,
+            set,
         } => cli::repeats_flag(repeats)
-            .and_then(|r| cli::precision::precision(&case, &out, r, force)),
+            .and_then(|r| cli::precision::precision(&case, &set, &out, r, force)),
     }
 }

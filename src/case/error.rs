@@ -49,6 +49,14 @@ pub enum CaseError {
         key: String,
         message: String,
     },
+    /// A `--set key=value` override of the case file `file` that makes it invalid (or that
+    /// cannot be applied); `setting` is the override, `key=value`.
+    #[error("--set {setting}: {message}")]
+    Set {
+        file: String,
+        setting: String,
+        message: String,
+    },
 }
 
 impl CaseError {
@@ -59,13 +67,14 @@ impl CaseError {
             | CaseError::Syntax { file, .. }
             | CaseError::UnknownKey { file, .. }
             | CaseError::WrongType { file, .. }
-            | CaseError::Invalid { file, .. } => file,
+            | CaseError::Invalid { file, .. }
+            | CaseError::Set { file, .. } => file,
         }
     }
     /// Line (1-based) the error points at, if any.
     pub fn line(&self) -> Option<usize> {
         match self {
-            CaseError::Io { .. } => None,
+            CaseError::Io { .. } | CaseError::Set { .. } => None,
             CaseError::Syntax { line, .. }
             | CaseError::UnknownKey { line, .. }
             | CaseError::WrongType { line, .. }
@@ -78,6 +87,7 @@ impl CaseError {
             CaseError::UnknownKey { key, .. }
             | CaseError::WrongType { key, .. }
             | CaseError::Invalid { key, .. } => Some(key),
+            CaseError::Set { setting, .. } => setting.split_once('=').map(|(key, _)| key),
             CaseError::Io { .. } | CaseError::Syntax { .. } => None,
         }
     }
@@ -88,7 +98,8 @@ impl CaseError {
             CaseError::Syntax { message, .. }
             | CaseError::UnknownKey { message, .. }
             | CaseError::WrongType { message, .. }
-            | CaseError::Invalid { message, .. } => message.clone(),
+            | CaseError::Invalid { message, .. }
+            | CaseError::Set { message, .. } => message.clone(),
         }
     }
 
@@ -328,9 +339,9 @@ pub(super) fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())].matches('\n').count() + 1
 }
 
-/// serde names Rust types in its messages; a case file has numbers, whole numbers, arrays
-/// and tables.
-fn plain_types(message: &str) -> String {
+/// serde names Rust types in its messages; a case file (or a session file) has numbers,
+/// whole numbers, arrays and tables.
+pub(crate) fn plain_types(message: &str) -> String {
     // one line: a quoted value's line breaks written as escapes
     let message: String = message
         .chars()
@@ -338,12 +349,14 @@ fn plain_types(message: &str) -> String {
         .collect();
     let mut m = message
         .replace("expected i64", "expected a whole number")
+        .replace("expected usize", "expected a whole number")
+        .replace("expected u32", "expected a whole number")
         .replace("expected f64", "expected a number")
         .replace("expected a boolean", "expected true or false")
         .replace("invalid type: map", "invalid type: table")
         .replace("invalid type: sequence", "invalid type: array");
     // `expected struct RawGeometry` and the like
-    while let Some(at) = m.find("expected struct Raw") {
+    while let Some(at) = m.find("expected struct ") {
         let end = m[at..]
             .find(|c: char| !(c.is_alphanumeric() || c == ' '))
             .map_or(m.len(), |e| at + e);

@@ -15,12 +15,14 @@ mod keys;
 mod limits;
 mod loads;
 mod motion;
+mod overrides;
 mod raw;
 mod settings;
 mod size;
 mod tables;
 mod target;
 
+pub(crate) use error::plain_types;
 pub use error::CaseError;
 pub use helices::{Refused, HELICES_RANGE};
 pub use keys::{keys_markdown, DefaultDoc, KeyDoc, RangeDoc, KEYS};
@@ -30,6 +32,7 @@ pub use limits::{
     TOLERANCE_RANGE, TURNS_RANGE,
 };
 pub use motion::{free_motion_of, FreeMotion};
+pub use overrides::{set_key, settings_line, Setting};
 pub use settings::{AccuracyTarget, Discretisation, Geometry, Loading};
 pub use size::{available_memory, SizeEstimate, TooLarge, LONG_STEP_SECONDS};
 pub use target::TargetError;
@@ -80,6 +83,39 @@ impl Case {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "case".into());
         Case::parse(&text, &file, &stem)
+    }
+
+    /// Reads and validates a case file with `settings` (`--set key=value`) applied. The
+    /// file is checked first as it is (its errors said as without settings); then the
+    /// settings are applied to its document and the result is read by the same checks, an
+    /// error of it said about the setting its key belongs to ([`CaseError::Set`]). The case
+    /// keeps the file's name.
+    pub fn from_file_with(path: &Path, settings: &[Setting]) -> Result<Case, CaseError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|reason| CaseError::Io {
+            file: file.clone(),
+            reason,
+        })?;
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "case".into());
+        Case::parse_with(&text, &file, &stem, settings)
+    }
+
+    /// Parses and validates case text with `settings` applied ([`Case::from_file_with`]).
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        stem: &str,
+        settings: &[Setting],
+    ) -> Result<Case, CaseError> {
+        let plain = Case::parse(text, file, stem)?;
+        if settings.is_empty() {
+            return Ok(plain);
+        }
+        let patched = overrides::patched(text, file, &plain.name, settings)?;
+        Case::parse(&patched, file, stem).map_err(|e| overrides::setting_error(file, settings, &e))
     }
 
     /// The built-in default case (thesis, n = 8).

@@ -6,6 +6,8 @@ use super::signals::end_on_signal_between_writes;
 use anyhow::{bail, Context, Result};
 use spira::output::figures::{run_figures, Kinds, Rods, Steps};
 use spira::output::read::RunTables;
+use spira::sweep::figure::summary_figures;
+use spira::sweep::SweepTable;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -64,6 +66,7 @@ pub fn kinds_flag(text: &str) -> Result<Kinds, String> {
 
 /// `spira plot`: the figures of the run folders `dirs` into `out` (default: the one run
 /// folder): the states `states` of each, the curvature profiles of `rods`, the `kinds` asked.
+/// A sweep's folder alone (with `sweep.csv`) gets its summary figures instead.
 pub fn plot(
     dirs: &[PathBuf],
     out: Option<&Path>,
@@ -78,6 +81,11 @@ pub fn plot(
         (None, _) => bail!("--out DIR is needed for the figures of several runs"),
     };
     let t = Instant::now();
+    if let [dir] = dirs {
+        if dir.join("sweep.csv").is_file() && !dir.join("load.csv").exists() {
+            return sweep_summary(dir, &out, t);
+        }
+    }
     let runs = dirs
         .iter()
         .map(|d| RunTables::read(d))
@@ -96,12 +104,44 @@ pub fn plot(
     let paths =
         spira::output::files::write_folder(&out, &files, |name| names.iter().any(|n| n == name))
             .with_context(|| format!("writing figures into {}", out.display()))?;
-    let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
     println!(
-        "spira plot: {} run(s) read and drawn in {:.1} ms; wrote {}",
+        "spira plot: {} run(s) read and drawn in {:.1} ms; {}",
         runs.len(),
         drawn.as_secs_f64() * 1e3,
-        shown.join(", ")
+        spira::output::written_summary(&out, &paths)
+    );
+    Ok(())
+}
+
+/// `spira plot SWEEP_DIR`: the summary figures of the sweep whose table is in `dir`
+/// (`sweep-<key>.svg` per swept key), written into `out`; `t` the start of the command.
+fn sweep_summary(dir: &Path, out: &Path, t: Instant) -> Result<()> {
+    let table_path = dir.join("sweep.csv");
+    let text = std::fs::read_to_string(&table_path)
+        .with_context(|| format!("reading {}", table_path.display()))?;
+    let table = SweepTable::from_csv(&text, &table_path.display().to_string())?;
+    if table.rows.is_empty() {
+        bail!(
+            "{}: the sweep table has no cases to draw",
+            table_path.display()
+        );
+    }
+    let name = dir
+        .file_name()
+        .map_or_else(|| "sweep".to_string(), |n| n.to_string_lossy().into_owned());
+    let caption = [
+        format!("sweep {name}, {} cases", table.rows.len()),
+        format!("command: {}", command_line()),
+    ];
+    let files = summary_figures(&table, &caption)?;
+    let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+    let paths =
+        spira::output::files::write_folder(out, &files, |name| names.iter().any(|n| n == name))
+            .with_context(|| format!("writing figures into {}", out.display()))?;
+    println!(
+        "spira plot: sweep {name} read and drawn in {:.1} ms; {}",
+        t.elapsed().as_secs_f64() * 1e3,
+        spira::output::written_summary(out, &paths)
     );
     Ok(())
 }

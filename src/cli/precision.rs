@@ -3,20 +3,28 @@
 use super::signals::stop_on_signal;
 use super::{check_size, command_line};
 use anyhow::{anyhow, Context, Result};
-use spira::case::Case;
+use spira::case::{Case, Setting};
+use spira::output::csv::with_note;
 use spira::output::precision::StudyReport as _;
 use spira::study::{run_study_with, Ladder, StudyError, Subject};
 use std::path::Path;
 use std::time::Instant;
 
-/// `spira precision`: the study of the case at `path`, each mesh timed by the best of
+/// `spira precision`: the study of the case at `path` with the overrides `set`, each mesh timed by the best of
 /// `repeats` runs after a warm-up, its table printed and precision.csv and precision.svg
 /// written into `out`.
-pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result<()> {
+pub fn precision(
+    path: &Path,
+    set: &[Setting],
+    out: &Path,
+    repeats: usize,
+    force: bool,
+) -> Result<()> {
     // a signal stops the study after the Newton iteration under way; nothing is written
     let interrupt = stop_on_signal("spira precision: interrupted; stopping");
-    let case = Case::from_file(path)?;
+    let case = Case::from_file_with(path, set)?;
     check_size(&case, force)?;
+    let set_line = (!set.is_empty()).then(|| super::run::set_note(set));
     let problem = Subject::Path(Box::new(case.clone()));
     let ladder = Ladder::standard(&problem);
     println!(
@@ -59,6 +67,9 @@ pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result
         ),
         e => e.into(),
     })?;
+    if let Some(line) = &set_line {
+        println!("{line}");
+    }
     println!();
     for line in study.header() {
         println!("{line}");
@@ -82,7 +93,13 @@ pub fn precision(path: &Path, out: &Path, repeats: usize, force: bool) -> Result
     let csv = out.join("precision.csv");
     let svg = out.join("precision.svg");
     let files = [
-        ("precision.csv".to_string(), study.csv()),
+        (
+            "precision.csv".to_string(),
+            match &set_line {
+                Some(line) => with_note(&study.csv(), line),
+                None => study.csv(),
+            },
+        ),
         ("precision.svg".to_string(), study.svg_for(&command_line())?),
     ];
     spira::output::files::write_folder(out, &files, spira::output::precision::is_precision_file)

@@ -1,8 +1,9 @@
 //! `spira replay`: a session saved in the explorer, replayed headless.
 
-use super::load_case;
+use super::load_case_with;
 use super::signals::end_on_signal_between_writes;
 use anyhow::Result;
+use spira::case::Setting;
 use spira::session::replay::replay_into;
 use spira::session::script::Session;
 use std::path::Path;
@@ -14,7 +15,14 @@ use std::path::Path;
 pub fn replay(session: &Path, out: &Path) -> Result<()> {
     end_on_signal_between_writes();
     let read = Session::read(session)?;
-    let case = load_case(read.script.case.as_deref())?;
+    let set = read
+        .script
+        .set
+        .iter()
+        .map(|s| s.parse::<Setting>())
+        .collect::<std::result::Result<Vec<_>, String>>()
+        .map_err(|e| anyhow::anyhow!("{}: set: {e}", session.display()))?;
+    let case = load_case_with(read.script.case.as_deref(), &set)?;
     let files = replay_into(&read, &case, out)?;
     let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     println!(

@@ -5,7 +5,7 @@ use super::mesh::{resolve, response};
 use super::signals::stop_on_signal;
 use super::{check_size, command_line};
 use anyhow::{bail, Context, Result};
-use spira::case::Case;
+use spira::case::{settings_line, Case, Setting};
 use spira::model::loading::{AxialHeld, Component};
 use spira::model::stiffness::euler_load;
 use spira::output::figures::{run_figures, Kinds, Rods, Steps};
@@ -32,25 +32,31 @@ pub struct Extras {
     pub vtk: bool,
 }
 
+/// The flags of `spira run` that bound its path.
+#[derive(Clone, Copy)]
+pub struct Flags {
+    /// Target load parameter (default: the case's).
+    pub to: Option<f64>,
+    /// Output steps (default: the case's).
+    pub steps: Option<u64>,
+    /// Solve even a case too large for the memory available.
+    pub force: bool,
+}
+
 /// How long `spira run` stays silent during a step before it reports progress.
 const PROGRESS_EVERY: Duration = Duration::from_secs(2);
 
-/// `spira run`: the path of the case at `path` to `to` (default: the case's target) in
-/// `steps` output steps (default: the case's), its files written into `out`.
-pub fn run(
-    path: &Path,
-    to: Option<f64>,
-    steps: Option<u64>,
-    out: &Path,
-    force: bool,
-    extras: Extras,
-) -> Result<()> {
+/// `spira run`: the path of the case at `path` with the overrides `set`, to `flags.to`
+/// (default: the case's target) in `flags.steps` output steps (default: the case's), its
+/// files written into `out`.
+pub fn run(path: &Path, set: &[Setting], flags: Flags, out: &Path, extras: Extras) -> Result<()> {
     // Ctrl-C (or SIGTERM, SIGHUP) stops the mesh choice (nothing is written) or the path at
     // its last converged state (the files are written as after a failure). A second signal
     // ends the process, but never while the files are being written
     let interrupt = stop_on_signal("spira run: interrupted; stopping");
-    let (case, target, steps, choice) = prepare(path, to, steps, force, &interrupt)?;
-    print_heading(&case, target, steps);
+    let (case, target, steps, choice) = prepare(path, set, flags, &interrupt)?;
+    let set_line = (!set.is_empty()).then(|| set_note(set));
+    print_heading(&case, target, steps, set_line.as_deref());
     let parameters = case.output_parameters(target, steps);
     let t0 = Instant::now();
     let (last_line, observer) = still_solving(t0);
@@ -75,7 +81,11 @@ pub fn run(
     let note = choice
         .as_ref()
         .map(|c| c.note(c.estimate_with(response(&case, last))));
-    let mut files = tables(&case, note.as_deref(), &outcome, &shapes, extras)?;
+    let notes = Notes {
+        mesh: note.as_deref(),
+        set: set_line.as_deref(),
+    };
+    let mut files = tables(&case, notes, &outcome, &shapes, extras)?;
     // a figure that cannot be drawn does not cost the tables: they are written, and the
     // run fails afterwards saying why
     let mut figure_error = None;
@@ -92,7 +102,7 @@ pub fn run(
         case.loading.parameter,
         t0,
         note.as_deref(),
-        &written,
+        (out, &written),
     );
     if let Some(err) = outcome.error {
         bail!(
@@ -111,12 +121,12 @@ pub fn run(
 /// the problem with them.
 fn prepare(
     path: &Path,
-    to: Option<f64>,
-    steps: Option<u64>,
-    force: bool,
+    set: &[Setting],
+    flags: Flags,
     interrupt: &Interrupt,
 ) -> Result<(Case, f64, usize, Option<MeshChoice>)> {
-    let case = Case::from_file(path)?;
+    let Flags { to, steps, force } = flags;
+    let case = Case::from_file_with(path, set)?;
     let target = to.unwrap_or(case.loading.target);
     if to.is_some() {
         if let Err(msg) = case.check_target(target) {
@@ -147,8 +157,9 @@ fn steps_flag(steps: Option<u64>, case: &Case) -> Result<usize> {
     Ok(steps as usize)
 }
 
-/// The case, the model solved and the head of the progress table.
-fn print_heading(case: &Case, target: f64, steps: usize) {
+/// The case, the keys `--set` overrode (`set_line`), the model solved and the head of the
+/// progress table.
+fn print_heading(case: &Case, target: f64, steps: usize, set_line: Option<&str>) {
     let n = case.geometry.helices;
     let parameter = case.loading.parameter;
     let stepped = match parameter {
@@ -165,6 +176,9 @@ fn print_heading(case: &Case, target: f64, steps: usize) {
         spira::case::num(target),
         if unit.is_empty() { "" } else { " " },
     );
+    if let Some(line) = set_line {
+        println!("{line}");
+    }
     if !case.loading.hold.is_natural() || parameter != Component::Axial {
         println!("held: {}", held_line(case));
     }
@@ -313,12 +327,29 @@ fn print_critical_points(outcome: &PathOutcome) {
     }
 }
 
+/// The line that says which keys of the case `--set` overrode, for the summary and the
+/// header of every table.
+pub fn set_note(set: &[Setting]) -> String {
+    format!(
+        "case keys set on the command line (--set): {}",
+        settings_line(set)
+    )
+}
+
+/// The `#` lines of a run's tables beside the case's: the mesh an accuracy target chose,
+/// the keys `--set` overrode.
+#[derive(Clone, Copy)]
+struct Notes<'a> {
+    mesh: Option<&'a str>,
+    set: Option<&'a str>,
+}
+
 /// The tables of the run as (file name, text), with the states of the output steps and a
 /// ParaView series as `extras` asks (`shapes`: the shape of every output step, kept when
 /// either is asked).
 fn tables(
     case: &Case,
-    note: Option<&str>,
+    notes: Notes,
     outcome: &PathOutcome,
     shapes: &[Snapshot],
     extras: Extras,
@@ -333,7 +364,8 @@ fn tables(
     } else {
         Vec::new()
     };
-    let mut run_files = spira::output::RunFiles::of(&case.name, note, outcome);
+    let mut run_files = spira::output::RunFiles::of(&case.name, notes.mesh, outcome);
+    run_files.set = notes.set;
     if extras.vtk {
         run_files.series = Some((shapes, &outcome.modes));
     }
@@ -366,13 +398,14 @@ fn figures(case: &Case, out: &Path, files: &[(String, String)]) -> Result<Vec<(S
     Ok(figures)
 }
 
-/// Where the path ended, what it cost (from `t0`), the mesh's note and the files written.
+/// Where the path ended, what it cost (from `t0`), the mesh's note and the files written
+/// into `out`.
 fn print_summary(
     outcome: &PathOutcome,
     parameter: Component,
     t0: Instant,
     note: Option<&str>,
-    written: &[PathBuf],
+    (out, written): (&Path, &[PathBuf]),
 ) {
     let last = outcome.points.last().expect("step 0 is always there");
     if let Some([m, f]) = last.support.pair(parameter) {
@@ -409,8 +442,7 @@ fn print_summary(
     if let Some(n) = note {
         println!("{n}");
     }
-    let names: Vec<String> = written.iter().map(|f| f.display().to_string()).collect();
-    println!("wrote {}", names.join(", "));
+    println!("{}", spira::output::written_summary(out, written));
 }
 
 /// The peak resident memory of this process (MB), where the system tells it (Linux's

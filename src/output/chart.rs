@@ -6,11 +6,11 @@
 //!
 //! SVG only: the text is set by whatever shows the file, so no font is bundled or needed.
 
+use super::legend::{self, Entry, Sample};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-/// Font family of every text.
-pub const FONT: &str = "sans-serif";
+pub use super::legend::FONT;
 /// Height of one caption line (px).
 pub const CAPTION_LINE: u32 = 18;
 
@@ -79,29 +79,73 @@ pub fn rgb(hex: &str) -> RGBColor {
 }
 
 /// Draws `title` (bold) and `notes` as lines at the top of `root` and returns the area
-/// below them.
+/// below them. A line too long for the width is set smaller, so that it fits.
 pub fn captioned<'a>(
     root: &DrawingArea<SVGBackend<'a>, Shift>,
     title: &str,
     notes: &[String],
 ) -> Result<DrawingArea<SVGBackend<'a>, Shift>, String> {
     let lines = 1 + notes.len() as u32;
+    let (width, _) = root.dim_in_pixel();
     let (top, rest) = root.split_vertically(CAPTION_LINE * lines + 8);
+    // bold text is about a tenth wider
+    let size = fitting_size(title, 15, width, 1.1);
     top.draw(&Text::new(
         title.to_string(),
         (10, 4),
-        (FONT, 15).into_font().style(FontStyle::Bold),
+        (FONT, size).into_font().style(FontStyle::Bold),
     ))
     .map_err(|e| e.to_string())?;
     for (i, n) in notes.iter().enumerate() {
+        let size = fitting_size(n, 12, width, 1.0);
         top.draw(&Text::new(
             n.clone(),
             (10, 4 + CAPTION_LINE as i32 * (i as i32 + 1)),
-            (FONT, 12).into_font().color(&RGBColor(0x44, 0x44, 0x44)),
+            (FONT, size).into_font().color(&RGBColor(0x44, 0x44, 0x44)),
         ))
         .map_err(|e| e.to_string())?;
     }
     Ok(rest)
+}
+
+/// The font size (px, at most `size`, at least 7) at which `text` fits in `width` px
+/// less the margins, `wider` the factor of the font's weight.
+pub fn fitting_size(text: &str, size: u32, width: u32, wider: f64) -> u32 {
+    let room = width.saturating_sub(20) as f64;
+    let at = |s: u32| super::legend::text_width(text, s) as f64 * wider;
+    (7..=size).rev().find(|&s| at(s) <= room).unwrap_or(7)
+}
+
+/// A tick label of a linear axis spanning `span`: as many decimals as the ticks' spacing
+/// needs (about a tenth of the span), trailing zeros left out, and zero never signed (a
+/// tick at `-1e-17` is `0`, not `-0.0`). Values beyond 1e5 or spacings below 1e-5 are
+/// written in scientific notation.
+pub fn tick_label(v: f64, span: f64) -> String {
+    let step = (span / 10.0).abs();
+    let zero = |s: String| {
+        if s.parse::<f64>() == Ok(0.0) {
+            "0".to_string()
+        } else {
+            s
+        }
+    };
+    if !(step.is_finite() && step > 0.0 && v.is_finite()) {
+        return zero(format!("{v}"));
+    }
+    if v.abs() >= 1e5 || step < 1e-5 {
+        if v.abs() < step * 1e-6 {
+            return "0".to_string();
+        }
+        return format!("{v:.2e}").replace(".00e", "e").replace("0e", "e");
+    }
+    let decimals = ((-step.log10()).ceil().max(0.0) as usize + 1).min(8);
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    zero(s)
 }
 
 /// Marker drawn at each point of a series.
@@ -136,6 +180,24 @@ pub struct Series {
     pub label: String,
     pub points: Vec<Point>,
     pub style: Style,
+}
+
+/// The legend entries of the series of `panels`, each label once (panels share their
+/// series).
+fn series_entries(panels: &[Panel]) -> Vec<Entry> {
+    let mut entries: Vec<Entry> = Vec::new();
+    for series in panels.iter().flat_map(|p| &p.series) {
+        if series.label.is_empty() || entries.iter().any(|e| e.label == series.label) {
+            continue;
+        }
+        let color = rgb(series.style.color);
+        let sample = match series.style.marker {
+            Marker::Circle => Sample::LineCircle(color.stroke_width(2), color.filled(), 4),
+            Marker::Square => Sample::LineSquare(color.stroke_width(2), color.filled(), 4),
+        };
+        entries.push(Entry::new(series.label.clone(), sample));
+    }
+    entries
 }
 
 /// One log-log plot.
@@ -177,9 +239,12 @@ fn log_tick(v: &f64) -> String {
 /// says "no data".
 pub fn log_log_svg(title: &str, notes: &[String], panels: &[Panel]) -> Result<String, DrawError> {
     let width = PANEL_W * panels.len().max(1) as u32;
-    let height = CAPTION_LINE * (1 + notes.len() as u32) + 8 + PANEL_H;
+    let entries = series_entries(panels);
+    let height =
+        CAPTION_LINE * (1 + notes.len() as u32) + 8 + legend::height(&entries, width) + PANEL_H;
     draw_svg("work-precision chart", (width, height), |root| {
         let body = captioned(root, title, notes)?;
+        let body = legend::above(&body, &entries)?;
         let areas = body.split_evenly((1, panels.len().max(1)));
         for (p, area) in panels.iter().zip(&areas) {
             log_log_panel(area, p)?;
@@ -232,13 +297,7 @@ fn log_log_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(),
         let marker = series.style.marker;
         chart
             .draw_series(LineSeries::new(pts.iter().map(|q| (q.x, q.y)), line))
-            .map_err(|e| e.to_string())?
-            .label(&series.label)
-            .legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(0, 0), (22, 0)], line)
-                    + marker_element(marker, (11, 0), 4, color, false)
-            });
+            .map_err(|e| e.to_string())?;
         for q in &pts {
             let label = Text::new(
                 q.label.clone(),
@@ -254,14 +313,6 @@ fn log_log_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(),
                 .map_err(|e| e.to_string())?;
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerLeft)
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(0x99, 0x99, 0x99))
-        .label_font((FONT, 11))
-        .draw()
-        .map_err(|e| e.to_string())?;
     Ok(())
 }
 
@@ -295,6 +346,8 @@ pub struct Curve {
     pub points: Vec<(f64, f64)>,
     /// Drawn dashed (e.g. a reference or an unstable stretch) instead of solid.
     pub dashed: bool,
+    /// A dot at every point (a curve of few points, such as a sweep's).
+    pub marked: bool,
     /// Place in [`PALETTE`].
     pub color: usize,
 }
@@ -316,9 +369,12 @@ pub struct LinePanel {
 /// against a closed form. Points that are not finite are left out.
 pub fn lines_svg(title: &str, notes: &[String], panels: &[LinePanel]) -> Result<String, DrawError> {
     let width = PANEL_W * panels.len().max(1) as u32;
-    let height = CAPTION_LINE * (1 + notes.len() as u32) + 8 + PANEL_H;
+    let entries = curve_entries(panels);
+    let height =
+        CAPTION_LINE * (1 + notes.len() as u32) + 8 + legend::height(&entries, width) + PANEL_H;
     draw_svg(title, (width, height), |root| {
         let body = captioned(root, title, notes)?;
+        let body = legend::above(&body, &entries)?;
         let areas = body.split_evenly((1, panels.len().max(1)));
         for (p, area) in panels.iter().zip(&areas) {
             line_panel(area, p)?;
@@ -326,6 +382,37 @@ pub fn lines_svg(title: &str, notes: &[String], panels: &[LinePanel]) -> Result<
         Ok(())
     })
 }
+
+/// The legend entries of the curves and shaded intervals of `panels`, each label once.
+fn curve_entries(panels: &[LinePanel]) -> Vec<Entry> {
+    let mut entries: Vec<Entry> = Vec::new();
+    let mut add = |label: &str, sample: Sample| {
+        if !label.is_empty() && !entries.iter().any(|e| e.label == label) {
+            entries.push(Entry::new(label, sample));
+        }
+    };
+    for p in panels {
+        for (_, _, label) in &p.shaded {
+            add(label, Sample::Band(SHADE.mix(0.25).filled()));
+        }
+        for c in &p.curves {
+            let line = palette(c.color).stroke_width(2);
+            let dot = palette(c.color).filled();
+            add(
+                &c.label,
+                match (c.dashed, c.marked) {
+                    (true, _) => Sample::Dashed(line),
+                    (false, true) => Sample::LineCircle(line, dot, 3),
+                    (false, false) => Sample::Line(line),
+                },
+            );
+        }
+    }
+    entries
+}
+
+/// Colour of shaded intervals.
+const SHADE: RGBColor = RGBColor(0xff, 0xd7, 0x00);
 
 /// `[lo, hi]` of the finite values with 5 % head room (a unit wide around a single value).
 fn padded(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -361,60 +448,67 @@ fn line_panel(area: &DrawingArea<SVGBackend, Shift>, p: &LinePanel) -> Result<()
         .configure_mesh()
         .x_desc(&p.x_label)
         .y_desc(&p.y_label)
+        .x_label_formatter(&|v| tick_label(*v, x.1 - x.0))
+        .y_label_formatter(&|v| tick_label(*v, y.1 - y.0))
         .axis_desc_style((FONT, 13))
         .label_style((FONT, 11))
         .light_line_style(RGBAColor(0xff, 0xff, 0xff, 0.0))
         .bold_line_style(RGBColor(0xdd, 0xdd, 0xdd))
         .draw()
         .map_err(e)?;
-    let fill = RGBColor(0xff, 0xd7, 0x00).mix(0.25).filled();
-    for (from, to, label) in &p.shaded {
-        let a = chart
+    let fill = SHADE.mix(0.25).filled();
+    for (from, to, _) in &p.shaded {
+        chart
             .draw_series(std::iter::once(Rectangle::new(
                 [(*from, y.0), (*to, y.1)],
                 fill,
             )))
             .map_err(e)?;
-        if !label.is_empty() {
-            a.label(label.clone())
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 22, y + 5)], fill));
-        }
     }
     for c in &p.curves {
         let line = palette(c.color).stroke_width(2);
         let points: Vec<(f64, f64)> = c.points.iter().filter(finite).copied().collect();
-        let a = if c.dashed {
+        if c.marked {
+            let dot = palette(c.color).filled();
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 3, dot)))
+                .map_err(e)?;
+        }
+        if c.dashed {
             chart
                 .draw_series(DashedLineSeries::new(points, 7, 5, line))
-                .map_err(e)?
+                .map_err(e)?;
         } else {
             chart
                 .draw_series(LineSeries::new(points, line))
-                .map_err(e)?
-        };
-        if c.label.is_empty() {
-            continue;
+                .map_err(e)?;
         }
-        let a = a.label(c.label.clone());
-        if c.dashed {
-            a.legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(0, 0), (8, 0)], line)
-                    + PathElement::new(vec![(14, 0), (22, 0)], line)
-            });
-        } else {
-            a.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], line));
-        }
-    }
-    if p.curves.iter().any(|c| !c.label.is_empty()) || p.shaded.iter().any(|s| !s.2.is_empty()) {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(0x99, 0x99, 0x99))
-            .label_font((FONT, 11))
-            .draw()
-            .map_err(e)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tick_labels_have_the_decimals_of_their_spacing_and_no_signed_zero() {
+        assert_eq!(tick_label(-1e-17, 0.85), "0");
+        assert_eq!(tick_label(-0.0, 0.85), "0");
+        assert_eq!(tick_label(0.05, 0.85), "0.05");
+        assert_eq!(tick_label(0.1, 0.85), "0.1");
+        assert_eq!(tick_label(-0.35, 0.85), "-0.35");
+        assert_eq!(tick_label(-4.5, 5.2), "-4.5");
+        assert_eq!(tick_label(20.0, 120.0), "20");
+        assert_eq!(tick_label(1.5e-6, 1e-5), "1.5e-6");
+        assert_eq!(tick_label(-1e-22, 1e-5), "0");
+        assert_eq!(tick_label(2.0e5, 1e6), "2e5");
+    }
+
+    #[test]
+    fn a_long_line_is_set_smaller_to_fit() {
+        let long = "x".repeat(300);
+        assert!(fitting_size(&long, 15, 480, 1.1) < 15);
+        assert_eq!(fitting_size("short", 15, 480, 1.1), 15);
+    }
 }

@@ -16,24 +16,33 @@ use serde::Serialize;
 pub mod format {
     use serde::Serializer;
 
+    /// `v`, with a negative zero as zero (`-0.0` would be written `-0e0`).
+    pub fn unsigned_zero(v: f64) -> f64 {
+        if v == 0.0 {
+            0.0
+        } else {
+            v
+        }
+    }
+
     /// `{:.10e}`: lengths, strains, forces, energies.
     pub fn e10<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.10e}"))
+        s.collect_str(&format_args!("{:.10e}", unsigned_zero(*v)))
     }
 
     /// `{:.12e}`: a response compared at the 1e-10 level.
     pub fn e12<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.12e}"))
+        s.collect_str(&format_args!("{:.12e}", unsigned_zero(*v)))
     }
 
     /// `{:.6e}`: times, eigenvalues, relative errors and orders.
     pub fn e6<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.6e}"))
+        s.collect_str(&format_args!("{:.6e}", unsigned_zero(*v)))
     }
 
     /// `{:.3e}`: residual norms.
     pub fn e3<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.3e}"))
+        s.collect_str(&format_args!("{:.3e}", unsigned_zero(*v)))
     }
 
     /// `{:.6e}`, or an empty cell.
@@ -603,6 +612,34 @@ pub fn with_note(csv: &str, note: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_negative_zero_is_written_as_zero() {
+        #[derive(Serialize, Default)]
+        struct Row {
+            #[serde(serialize_with = "format::e10")]
+            a: f64,
+            #[serde(serialize_with = "format::e6")]
+            b: f64,
+            #[serde(serialize_with = "format::opt_e12")]
+            c: Option<f64>,
+            #[serde(serialize_with = "format::e3")]
+            d: f64,
+        }
+        let text = table(
+            &[],
+            [Row {
+                a: -0.0,
+                b: -0.0,
+                c: Some(-0.0),
+                d: -0.0,
+            }],
+        );
+        assert_eq!(
+            text,
+            "a,b,c,d\n0.0000000000e0,0.000000e0,0.000000000000e0,0.000e0\n"
+        );
+    }
 
     #[derive(Serialize, Default)]
     struct Row {

@@ -9,6 +9,7 @@ pub mod csv;
 pub mod figures;
 pub mod files;
 mod joints_table;
+pub mod legend;
 pub mod precision;
 pub mod read;
 pub mod run_folder;
@@ -21,4 +22,4 @@ pub use self::csv::{
 };
 pub use self::files::write_atomic;
 pub use self::joints_table::joints_csv;
-pub use self::run_folder::{run_files, write_run, write_run_files, RunFiles};
+pub use self::run_folder::{run_files, write_run, write_run_files, written_summary, RunFiles};

@@ -20,6 +20,9 @@ pub struct RunFiles<'a> {
     pub case: &'a str,
     /// A `#` line for the header of every CSV file (the mesh an accuracy target chose).
     pub note: Option<&'a str>,
+    /// A `#` line for the header of every CSV file: the case keys overridden on the command
+    /// line.
+    pub set: Option<&'a str>,
     pub points: &'a [LoadPoint],
     /// The last state.
     pub snapshot: &'a Snapshot,
@@ -40,6 +43,7 @@ impl<'a> RunFiles<'a> {
         RunFiles {
             case,
             note,
+            set: None,
             points: &outcome.points,
             snapshot: &outcome.snapshot,
             critical: &outcome.critical,
@@ -104,6 +108,10 @@ pub fn run_files(run: &RunFiles) -> io::Result<Vec<(String, String)>> {
         .map(|(name, text)| (name, with_note(&text, &hypotheses)))
         .map(|(name, text)| (name, with_note(&text, &solved)))
         .map(|(name, text)| match run.note {
+            Some(n) => (name, with_note(&text, n)),
+            None => (name, text),
+        })
+        .map(|(name, text)| match run.set {
             Some(n) => (name, with_note(&text, n)),
             None => (name, text),
         })
@@ -175,6 +183,58 @@ pub fn is_figure_file(name: &str) -> bool {
         || numbered(name, "views-step", ".svg")
 }
 
+/// The numbered files of a run, as the summary of what was written counts them: (prefix,
+/// suffix, what one is, what several are).
+const FAMILIES: [(&str, &str, &str, &str); 6] = [
+    ("state-", ".csv", "state", "states"),
+    ("mode-", ".csv", "mode table", "mode tables"),
+    ("step-", ".vtp", "VTK step", "VTK steps"),
+    ("mode-", ".vtp", "VTK mode", "VTK modes"),
+    (
+        "curvature-step",
+        ".svg",
+        "curvature figure",
+        "curvature figures",
+    ),
+    ("views-step", ".svg", "views figure", "views figures"),
+];
+
+/// One line on the files written into `dir`: how many, the files of their own kind by
+/// name and the numbered ones counted (`wrote 230 files to out: load.csv, …, load.svg (112
+/// states, 113 VTK steps, 2 mode tables)`).
+pub fn written_summary(dir: &Path, written: &[PathBuf]) -> String {
+    let mut named = Vec::new();
+    let mut counts = [0usize; FAMILIES.len()];
+    for path in written {
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        match FAMILIES
+            .iter()
+            .position(|(prefix, suffix, ..)| numbered(&name, prefix, suffix))
+        {
+            Some(k) => counts[k] += 1,
+            None => named.push(name),
+        }
+    }
+    let counted: Vec<String> = FAMILIES
+        .iter()
+        .zip(counts)
+        .filter(|(_, c)| *c > 0)
+        .map(|((_, _, one, many), c)| format!("{c} {}", if c == 1 { one } else { many }))
+        .collect();
+    let files = if written.len() == 1 { "file" } else { "files" };
+    let mut line = format!("wrote {} {files} to {}", written.len(), dir.display());
+    if !named.is_empty() {
+        line += &format!(": {}", named.join(", "));
+    }
+    if !counted.is_empty() {
+        line += &format!(" ({})", counted.join(", "));
+    }
+    line
+}
+
 /// Whether `name` is `<prefix><whole number><suffix>`.
 fn numbered(name: &str, prefix: &str, suffix: &str) -> bool {
     name.strip_prefix(prefix)
@@ -186,6 +246,28 @@ fn numbered(name: &str, prefix: &str, suffix: &str) -> bool {
 mod tests {
     use super::*;
     use crate::output::staging::{host_name, process_alive, remove_stale, OWNER_FILE};
+
+    #[test]
+    fn the_summary_of_a_run_folder_names_its_tables_and_counts_its_numbered_files() {
+        let mut names = vec!["load.csv", "critical.csv", "series.pvd", "load.svg"];
+        let numbered: Vec<String> = (0..3)
+            .map(|k| format!("state-{k}.csv"))
+            .chain((0..3).map(|k| format!("step-{k}.vtp")))
+            .chain(["mode-0.csv".into(), "mode-0.vtp".into()])
+            .collect();
+        names.extend(numbered.iter().map(String::as_str));
+        let dir = Path::new("out/n2");
+        let written: Vec<PathBuf> = names.iter().map(|n| dir.join(n)).collect();
+        assert_eq!(
+            written_summary(dir, &written),
+            "wrote 12 files to out/n2: load.csv, critical.csv, series.pvd, load.svg \
+             (3 states, 1 mode table, 3 VTK steps, 1 VTK mode)"
+        );
+        assert_eq!(
+            written_summary(dir, &[dir.join("state-1.csv")]),
+            "wrote 1 file to out/n2 (1 state)"
+        );
+    }
 
     #[test]
     fn a_folder_write_replaces_the_files_of_its_kind_and_keeps_others() {

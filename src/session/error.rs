@@ -13,12 +13,14 @@ pub enum ScriptError {
         source: std::io::Error,
     },
     /// Not a session: TOML syntax, a missing or unknown key, a value of the wrong type;
-    /// `action` is the action (from 1) the error is in, if it is in one.
-    #[error("{file}:{line}: not a valid session: {}{message}", in_action(*action))]
+    /// `action` is the action (from 1) the error is in, if it is in one, `key` the key
+    /// (dotted) at fault when it is known.
+    #[error("{file}:{line}: not a valid session: {}{}{message}", in_action(*action), of_key(key))]
     Parse {
         file: String,
         line: usize,
         action: Option<usize>,
+        key: Option<String>,
         message: String,
     },
     #[error("writing the session: {0}")]
@@ -57,6 +59,12 @@ pub enum ScriptError {
         kind: &'static str,
         reason: String,
     },
+}
+
+/// "key `k`: " for an error about key `k`.
+fn of_key(key: &Option<String>) -> String {
+    key.as_ref()
+        .map_or(String::new(), |k| format!("key `{k}`: "))
 }
 
 /// "action k: " for an error in action `k`.

@@ -94,6 +94,10 @@ pub struct Script {
     pub version: u32,
     /// The case file (`None`: the built-in case).
     pub case: Option<PathBuf>,
+    /// The keys of the case overridden on the command line (`--set key=value`), applied to
+    /// the case before the actions.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set: Vec<String>,
     /// The case label the exports are named after.
     pub label: String,
     /// The session's events since the last start (for the load table's header).
@@ -195,6 +199,7 @@ impl Script {
         Script {
             version: VERSION,
             case,
+            set: Vec::new(),
             label,
             events,
             actions: ran[from..].iter().filter_map(Action::of).collect(),
@@ -254,15 +259,16 @@ impl Session {
     pub fn parse(text: &str, path: &Path) -> Result<Session, ScriptError> {
         let file = path.display().to_string();
         let spans = action_spans(text);
-        let script: Script = toml::from_str(text).map_err(|e| {
+        let script: Script = read_script(text).map_err(|(e, key)| {
             let at = e.span().map_or(0, |s| s.start);
             // the place the `toml` crate gives for an error in an array of tables is the
             // array's: the action at fault is found by reading each on its own
-            let (line, action, message) = match first_bad_action(text) {
-                Some((k, message)) => (session_line(text, &spans, k), Some(k + 1), message),
+            let (line, action, key, message) = match first_bad_action(text) {
+                Some((k, message)) => (session_line(text, &spans, k), Some(k + 1), None, message),
                 None => (
                     line_of(text, at),
                     action_at(text, &spans, at).map(|k| k + 1),
+                    key,
                     e.message().trim().to_string(),
                 ),
             };
@@ -270,7 +276,8 @@ impl Session {
                 file: file.clone(),
                 line,
                 action,
-                message: comment_safe(&message),
+                key,
+                message: comment_safe(&crate::case::plain_types(&message)),
             }
         })?;
         if !(1..=VERSION).contains(&script.version) {
@@ -374,6 +381,25 @@ pub(super) fn first_bad_action(text: &str) -> Option<(usize, String)> {
             .try_into::<Action>()
             .err()
             .map(|e| (k, e.message().trim().to_string()))
+    })
+}
+
+/// The script of a session file's text, or the `toml` crate's error with the dotted key
+/// (outside the actions) it is about, when it is about one.
+fn read_script(text: &str) -> Result<Script, (toml::de::Error, Option<String>)> {
+    let document = toml::Deserializer::parse(text).map_err(|e| (e, None))?;
+    serde_path_to_error::deserialize(document).map_err(|e| {
+        use serde_path_to_error::Segment;
+        let keys: Vec<&str> = e
+            .path()
+            .iter()
+            .filter_map(|s| match s {
+                Segment::Map { key } if !key.starts_with("$__") => Some(key.as_str()),
+                _ => None,
+            })
+            .collect();
+        let key = (!keys.is_empty() && keys[0] != "actions").then(|| keys.join("."));
+        (e.into_inner(), key)
     })
 }
 

@@ -5,6 +5,7 @@
 //! complete, and writes one table ([`table`], `sweep.csv`); shard tables merge into one.
 
 pub mod error;
+pub mod figure;
 pub mod merge;
 pub mod plan;
 pub mod runner;

@@ -3,7 +3,7 @@
 //! anything runs.
 
 use super::error::{InvalidCase, SweepError};
-use crate::case::{Case, CaseError};
+use crate::case::{set_key, Case, CaseError};
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -263,7 +263,7 @@ fn generated_cases(
             doc.insert("name".into(), Value::String(id.clone()));
         }
         for (axis, value) in axes.iter().zip(&values) {
-            set(&mut doc, &axis.key, value.clone()).map_err(|message| SweepError::Key {
+            set_key(&mut doc, &axis.key, value.clone()).map_err(|message| SweepError::Key {
                 file: file.into(),
                 line: axis.line,
                 key: axis.key.clone(),
@@ -400,41 +400,6 @@ fn merge(base: &mut Table, over: &Table) {
             }
         }
     }
-}
-
-/// Sets the dotted `key` of a document to `value`, creating the tables on the way. Setting
-/// `geometry.turns` removes `geometry.length` and the other way round (a case gives one).
-fn set(doc: &mut Table, key: &str, value: Value) -> Result<(), String> {
-    let parts: Vec<&str> = key.split('.').collect();
-    let (last, path) = parts.split_last().expect("split gives one part at least");
-    let mut table = doc;
-    for (i, part) in path.iter().enumerate() {
-        let entry = table
-            .entry(part.to_string())
-            .or_insert_with(|| Value::Table(Table::new()));
-        table = match entry {
-            Value::Table(t) => t,
-            other => {
-                return Err(format!(
-                    "`{}` is {} in the base case, not a table",
-                    parts[..=i].join("."),
-                    other.type_str()
-                ))
-            }
-        };
-    }
-    if parts.len() == 2 && parts[0] == "geometry" {
-        let other = match *last {
-            "turns" => Some("length"),
-            "length" => Some("turns"),
-            _ => None,
-        };
-        if let Some(other) = other {
-            table.remove(other);
-        }
-    }
-    table.insert(last.to_string(), value);
-    Ok(())
 }
 
 /// The error of a generated case, said about the axis its key belongs to.

@@ -451,7 +451,7 @@ fn row(
     wall: Duration,
     empty: &SweepTable,
 ) -> Vec<String> {
-    let num = |v: f64| format!("{v}");
+    let num = |v: f64| format!("{}", crate::output::csv::format::unsigned_zero(v));
     let mut r = vec![
         c.id.clone(),
         if reason.is_some() { "failed" } else { "done" }.to_string(),

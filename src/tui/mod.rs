@@ -19,7 +19,7 @@ use ratatui::Terminal;
 use std::fmt;
 use std::io::{self, IsTerminal};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::mpsc::{RecvTimeoutError, TryRecvError};
 use std::sync::Arc;
 use std::sync::Once;
@@ -66,6 +66,17 @@ pub fn run_in(case: Case, out_dir: PathBuf) -> Result<(), TuiError> {
 /// Opens the explorer on `case` read from `case_file` (`None`: the built-in case), exporting
 /// into `out_dir`; a saved session names the case file.
 pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Result<(), TuiError> {
+    run_with_set(case, out_dir, case_file, Vec::new())
+}
+
+/// Opens the explorer as [`run_with`] on a case whose keys `set` (`key=value`) were
+/// overridden on the command line; a saved session names them.
+pub fn run_with_set(
+    case: Case,
+    out_dir: PathBuf,
+    case_file: Option<PathBuf>,
+    set: Vec<String>,
+) -> Result<(), TuiError> {
     if !io::stdout().is_terminal() || !io::stdin().is_terminal() {
         return Err(TuiError::NotATerminal);
     }
@@ -82,6 +93,7 @@ pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Res
     let worker = Worker::spawn().map_err(TuiError::SolverThread)?;
     let mut app = App::new(case, out_dir);
     app.case_file = case_file;
+    app.case_set = set;
     app.view.no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
     let result = event_loop(&mut terminal.terminal, &mut app, &worker, &stop);
     drop(terminal);
@@ -96,21 +108,31 @@ pub fn run_with(case: Case, out_dir: PathBuf, case_file: Option<PathBuf>) -> Res
 /// thread restores the terminal and ends the process.
 const SIGNAL_GRACE: Duration = Duration::from_millis(500);
 
+/// The signal that ended the explorer (0: none), for [`ended_by_signal`].
+static ENDED_BY: AtomicI32 = AtomicI32::new(0);
+
+/// The signal (SIGTERM or SIGHUP) that ended the last explorer, if one did: the command
+/// then exits with 128 + its number, as a shell expects of a process a signal ended.
+pub fn ended_by_signal() -> Option<i32> {
+    Some(ENDED_BY.load(Ordering::Relaxed)).filter(|&s| s != 0)
+}
+
 /// SIGTERM and SIGHUP raise `stop`, which the event loop checks between polls. A hung-up
 /// terminal can keep the loop from getting there: after a dropped connection every read
 /// of the terminal fails, and crossterm's reader retries such a read for ever (a core
 /// busy, seen after `tmux kill-session`). So a thread of its own waits for the signals and,
 /// if the loop has not ended (`done`) within [`SIGNAL_GRACE`], restores the terminal as
-/// far as it still can and exits the process.
+/// far as it still can and exits the process (status 128 + the signal).
 fn watch_signals(stop: Arc<AtomicBool>, done: Arc<AtomicBool>) -> io::Result<()> {
     use signal_hook::consts::{SIGHUP, SIGTERM};
     let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP])?;
     std::thread::Builder::new()
         .name("spira-signals".into())
         .spawn(move || {
-            if signals.forever().next().is_none() {
+            let Some(signal) = signals.forever().next() else {
                 return;
-            }
+            };
+            ENDED_BY.store(signal, Ordering::Relaxed);
             stop.store(true, Ordering::Relaxed);
             let t0 = Instant::now();
             while t0.elapsed() < SIGNAL_GRACE {
@@ -126,7 +148,7 @@ fn watch_signals(stop: Arc<AtomicBool>, done: Arc<AtomicBool>) -> io::Result<()>
             unsafe {
                 libc::write(libc::STDOUT_FILENO, restore.as_ptr().cast(), restore.len());
             }
-            std::process::exit(0);
+            std::process::exit(128 + signal);
         })?;
     Ok(())
 }

@@ -194,7 +194,7 @@ fn a_malformed_session_is_said_once_naming_its_action_and_line() {
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert_eq!(err.matches("invalid type").count(), 1, "said once: {err}");
     assert!(
-        err.starts_with("spira: error: s.toml:23: not a valid session: action 3: invalid type: string \"x\", expected f64"),
+        err.starts_with("spira: error: s.toml:23: not a valid session: action 3: invalid type: string \"x\", expected a number"),
         "{err}"
     );
     assert_eq!(err.trim().lines().count(), 1, "no caret diagram: {err}");

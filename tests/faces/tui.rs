@@ -2136,6 +2136,7 @@ fn every_action_session() -> Script {
     Script {
         version: spira::session::script::VERSION,
         case: Some(PathBuf::from("cases/thesis.toml")),
+        set: Vec::new(),
         label: "thesis".into(),
         events: vec![SessionEvent {
             from_point: 2,

@@ -61,9 +61,9 @@ fn column(header: &[String], name: &str) -> usize {
         .unwrap_or_else(|| panic!("no column {name}"))
 }
 
-/// `x` as state.csv prints it (`{:.10e}`).
+/// `x` as state.csv prints it (`{:.10e}`, a zero unsigned).
 fn e10(x: f64) -> String {
-    format!("{x:.10e}")
+    format!("{:.10e}", if x == 0.0 { 0.0 } else { x })
 }
 
 #[test]

@@ -5,6 +5,7 @@
 mod common;
 
 mod architecture;
+mod case_settings;
 mod cases;
 mod continuation;
 mod docs;

@@ -2,7 +2,10 @@
 //! with optional shaded intervals of `s/L` (e.g. a measured bulk).
 
 use super::style::{range, Caption, GRID_BOLD, GRID_LIGHT, MARK};
-use crate::output::chart::{captioned, draw_svg, palette, DrawError, CAPTION_LINE, FONT};
+use crate::output::chart::{
+    captioned, draw_svg, palette, tick_label, DrawError, CAPTION_LINE, FONT,
+};
+use crate::output::legend::{self, Entry, Sample};
 use crate::output::read::{RunTables, StateNode, StateTable};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -69,15 +72,53 @@ pub fn curvature_figure(
         "curvature profiles, {which}, step {} (ε = {:.4})",
         state.step, state.eps
     );
-    let (w, h) = (820u32, 3 * 250 + CAPTION_LINE * caption.len() as u32);
+    let entries = curvature_entries(run, &chosen, shaded);
+    let w = 820u32;
+    let h = 3 * 250 + CAPTION_LINE * caption.len() as u32 + legend::height(&entries, w);
     draw_svg("curvature profiles", (w, h), |root| {
         let body = captioned(root, &title, caption)?;
+        let body = legend::above(&body, &entries)?;
         let panels = body.split_evenly((3, 1));
         for (k, area) in panels.iter().enumerate() {
             curvature_panel(area, run, &chosen, k, shaded)?;
         }
         Ok(())
     })
+}
+
+/// Fill of the shaded intervals of `s/L`.
+const SHADE: ShapeStyle = ShapeStyle {
+    color: RGBAColor(0xff, 0xd7, 0x00, 0.25),
+    filled: true,
+    stroke_width: 0,
+};
+
+/// The legend the three panels share: the shaded intervals, the rods when there are
+/// several, the joints when a rod has some.
+fn curvature_entries(
+    run: &RunTables,
+    rods: &[&(usize, Vec<StateNode>)],
+    shaded: &[Shade],
+) -> Vec<Entry> {
+    let mut entries = Vec::new();
+    if let Some(s) = shaded.first() {
+        entries.push(Entry::new(s.label.clone(), Sample::Band(SHADE)));
+    }
+    if rods.len() > 1 {
+        for (i, (id, _)) in rods.iter().enumerate() {
+            entries.push(Entry::new(
+                format!("rod {id}"),
+                Sample::Line(palette(i).stroke_width(2)),
+            ));
+        }
+    }
+    if rods
+        .iter()
+        .any(|(id, _)| run.joints.get(id).is_some_and(|j| !j.is_empty()))
+    {
+        entries.push(Entry::new("joints", Sample::Circle(MARK.filled(), 3)));
+    }
+    entries
 }
 
 fn curvature_panel(
@@ -102,39 +143,32 @@ fn curvature_panel(
         .configure_mesh()
         .x_desc("arc length s/L (–)")
         .y_desc(CURVATURE_NAMES[k])
+        .x_label_formatter(&|v| tick_label(*v, 1.0))
+        .y_label_formatter(&|v| tick_label(*v, y.1 - y.0))
         .axis_desc_style((FONT, 13))
         .label_style((FONT, 11))
         .bold_line_style(GRID_BOLD)
         .light_line_style(GRID_LIGHT)
         .draw()
         .map_err(e)?;
-    for (i, s) in shaded.iter().enumerate() {
-        let fill = RGBColor(0xff, 0xd7, 0x00).mix(0.25).filled();
-        let a = chart
+    for s in shaded {
+        chart
             .draw_series(std::iter::once(Rectangle::new(
                 [(s.from, y.0), (s.to, y.1)],
-                fill,
+                SHADE,
             )))
             .map_err(e)?;
-        if i == 0 {
-            a.label(s.label.clone())
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 22, y + 5)], fill));
-        }
     }
     let single = rods.len() == 1;
     for (i, (id, nodes)) in rods.iter().enumerate() {
         let color = if single { palette(0) } else { palette(i) };
         let line = color.stroke_width(2);
-        let a = chart
+        chart
             .draw_series(LineSeries::new(
                 nodes.iter().map(|p| (p.s_over_l, p.curvature[k])),
                 line,
             ))
             .map_err(e)?;
-        if !single {
-            a.label(format!("rod {id}"))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], line));
-        }
         let joints = run.joints.get(id).map(Vec::as_slice).unwrap_or(&[]);
         chart
             .draw_series(
@@ -143,26 +177,6 @@ fn curvature_panel(
                     .filter_map(|&s| node_at(nodes, s))
                     .map(|p| Circle::new((p.s_over_l, p.curvature[k]), 3, MARK.filled())),
             )
-            .map_err(e)?;
-    }
-    if rods
-        .iter()
-        .any(|(id, _)| run.joints.get(id).is_some_and(|j| !j.is_empty()))
-    {
-        chart
-            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-            .map_err(e)?
-            .label("joints")
-            .legend(move |(x, y)| Circle::new((x + 11, y), 3, MARK.filled()));
-    }
-    if !single || !shaded.is_empty() || rods.iter().any(|(id, _)| run.joints.contains_key(id)) {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(0x99, 0x99, 0x99))
-            .label_font((FONT, 11))
-            .draw()
             .map_err(e)?;
     }
     Ok(())

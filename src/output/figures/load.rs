@@ -3,7 +3,10 @@
 //! convention of continuation tools), critical points marked (thesis Figs. 4.17–4.19).
 
 use super::style::{range, Caption, DASH, GRID_BOLD, GRID_LIGHT, MARK};
-use crate::output::chart::{captioned, draw_svg, palette, DrawError, CAPTION_LINE, FONT};
+use crate::output::chart::{
+    captioned, draw_svg, palette, tick_label, DrawError, CAPTION_LINE, FONT,
+};
+use crate::output::legend::{self, Entry, Sample};
 use crate::output::read::{CriticalMark, PathPoint, RunTables};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -93,17 +96,93 @@ fn load_label(k: usize) -> String {
 
 const EPS_LABEL: &str = "compression ratio ε = (h0 − h)/h0 (–)";
 
+/// Whether a run steps a dead axial load (load control, `P/Pcrit`): its load parameter
+/// is not its compression ratio and balances the axial tip load, `fz/(n Pcrit) = −P/Pcrit`,
+/// at every point.
+pub fn load_controlled(run: &RunTables) -> bool {
+    let moves = run.path.iter().any(|p| (p.parameter - p.eps).abs() > 1e-12);
+    let balanced = run
+        .path
+        .iter()
+        .all(|p| (p.parameter + p.load[2]).abs() <= 1e-6 * p.parameter.abs().max(1.0));
+    moves && balanced && !run.path.is_empty()
+}
+
+/// A load-controlled run as its curve of the end-shortening against the load: every point
+/// at `(P/Pcrit, [ε, 0, 0])`, the critical points likewise.
+fn against_load(run: &RunTables) -> RunTables {
+    RunTables {
+        path: run
+            .path
+            .iter()
+            .map(|p| PathPoint {
+                eps: p.parameter,
+                load: [p.eps, 0.0, 0.0],
+                ..p.clone()
+            })
+            .collect(),
+        critical: run
+            .critical
+            .iter()
+            .map(|c| CriticalMark {
+                eps: c.parameter,
+                load: [c.eps, 0.0, 0.0],
+                ..c.clone()
+            })
+            .collect(),
+        label: run.label.clone(),
+        case: run.case.clone(),
+        states: Vec::new(),
+        joints: Default::default(),
+    }
+}
+
+/// The legend of load curves: one entry per run, and the marks any of them has
+/// (bifurcations, limit points, unstable stretches).
+pub(super) fn legend_entries(runs: &[&RunTables]) -> Vec<Entry> {
+    let mut entries: Vec<Entry> = runs
+        .iter()
+        .enumerate()
+        .map(|(i, r)| Entry::new(run_legend(r), Sample::Line(palette(i).stroke_width(2))))
+        .collect();
+    let any = |kind: &str| {
+        runs.iter()
+            .any(|r| r.critical.iter().any(|c| c.kind == kind))
+    };
+    let mark = MARK.stroke_width(2);
+    if any("bifurcation") {
+        entries.push(Entry::new("bifurcation", Sample::Circle(mark, 5)));
+    }
+    if any("limit-point") {
+        entries.push(Entry::new("limit point", Sample::Square(mark, 5)));
+    }
+    if runs
+        .iter()
+        .any(|r| r.path.iter().any(|p| p.stable == Some(false)))
+    {
+        entries.push(Entry::new("unstable (dashed)", Sample::Dashed(mark)));
+    }
+    entries
+}
+
 /// The load curves of `runs`: three panels side by side, `Σ Fx`, `Σ Fy`, `Σ Fz` over
 /// `n Pcrit` against `ε`, one colour per run, dashed where unstable, critical points as
-/// rings (bifurcations) and squares (limit points).
+/// rings (bifurcations) and squares (limit points), one legend above the panels. When every
+/// run steps a dead axial load, one panel instead: the end-shortening `ε` against `P/Pcrit`.
 pub fn load_figure(runs: &[&RunTables], caption: &Caption) -> Result<String, DrawError> {
-    let (w, h) = (1260u32, 440 + CAPTION_LINE * caption.len() as u32);
+    if runs.iter().all(|r| load_controlled(r)) {
+        return load_controlled_figure(runs, caption);
+    }
+    let entries = legend_entries(runs);
+    let w = 1260u32;
+    let h = 440 + CAPTION_LINE * caption.len() as u32 + legend::height(&entries, w);
     draw_svg("load curves", (w, h), |root| {
         let body = captioned(
             root,
             "averaged normalised tip loads against compression",
             caption,
         )?;
+        let body = legend::above(&body, &entries)?;
         let panels = body.split_evenly((1, 3));
         let curves: Vec<Vec<Stretch>> = runs
             .iter()
@@ -125,12 +204,38 @@ pub fn load_figure(runs: &[&RunTables], caption: &Caption) -> Result<String, Dra
     })
 }
 
+/// The load curves of load-controlled `runs`: the end-shortening `ε` against the dead load
+/// `P/Pcrit`, one panel.
+fn load_controlled_figure(runs: &[&RunTables], caption: &Caption) -> Result<String, DrawError> {
+    let moved: Vec<RunTables> = runs.iter().map(|r| against_load(r)).collect();
+    let all: Vec<&RunTables> = moved.iter().collect();
+    let entries = legend_entries(&all);
+    let w = 760u32;
+    let h = 480 + CAPTION_LINE * caption.len() as u32 + legend::height(&entries, w);
+    draw_svg("load curves", (w, h), |root| {
+        let body = captioned(root, "end-shortening against the axial load", caption)?;
+        let body = legend::above(&body, &entries)?;
+        let curves: Vec<Vec<Stretch>> = all
+            .iter()
+            .map(|r| stretches(&r.path, &r.critical))
+            .collect();
+        let points = || all.iter().flat_map(|r| r.path.iter());
+        let x = range(points().map(|p| p.eps).chain([0.0]), 0.05);
+        let y = range(points().map(|p| p.load[0]).chain([0.0]), 0.05);
+        let labels = (P_LABEL, SHORTENING_LABEL.to_string());
+        load_panel(&body, &all, &curves, 0, (x.0.max(0.0), x.1), y, labels)
+    })
+}
+
+const P_LABEL: &str = "dead axial load on every tip P / Pcrit (–)";
+const SHORTENING_LABEL: &str = "end-shortening ε = (h0 − h)/h0 (–)";
+
 /// A panel's chart: `ε` across, a normalised load up.
 type LoadChart<'a, 'b> =
     ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
-/// The panel of load component `k` (x, y, z): every run's curve and critical points, and
-/// the legend; `x` and `y` the ranges of `ε` and of the load, `labels` the axes'.
+/// The panel of load component `k` (x, y, z): every run's curve and critical points (the
+/// legend is the figure's); `x` and `y` the ranges of `ε` and of the load, `labels` the axes'.
 pub(super) fn load_panel(
     area: &DrawingArea<SVGBackend, Shift>,
     runs: &[&RunTables],
@@ -151,6 +256,8 @@ pub(super) fn load_panel(
         .configure_mesh()
         .x_desc(labels.0)
         .y_desc(labels.1)
+        .x_label_formatter(&|v| tick_label(*v, x.1 - x.0))
+        .y_label_formatter(&|v| tick_label(*v, y.1 - y.0))
         .axis_desc_style((FONT, 13))
         .label_style((FONT, 11))
         .bold_line_style(GRID_BOLD)
@@ -160,24 +267,11 @@ pub(super) fn load_panel(
     for (i, (run, stretches)) in runs.iter().zip(curves).enumerate() {
         run_curve(&mut chart, run, stretches, palette(i), k)?;
     }
-    legend_of_marks(&mut chart, runs)?;
-    chart
-        .configure_series_labels()
-        .position(if k == 2 {
-            SeriesLabelPosition::LowerLeft
-        } else {
-            SeriesLabelPosition::UpperLeft
-        })
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(0x99, 0x99, 0x99))
-        .label_font((FONT, 11))
-        .draw()
-        .map_err(e)?;
     Ok(())
 }
 
-/// The curve of load component `k` of one run in `color`, dashed where unstable, with its
-/// legend entry, and its critical points: rings (bifurcations) and squares (limit points).
+/// The curve of load component `k` of one run in `color`, dashed where unstable, and its
+/// critical points: rings (bifurcations) and squares (limit points).
 fn run_curve<'a, 'b: 'a>(
     chart: &mut LoadChart<'a, 'b>,
     run: &RunTables,
@@ -187,21 +281,14 @@ fn run_curve<'a, 'b: 'a>(
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
     let line = color.stroke_width(2);
-    let mut labelled = false;
     for s in stretches {
         let pts = s.vertices.iter().map(|(eps, f)| (*eps, f[k]));
-        let annotation = if s.unstable {
+        if s.unstable {
             chart
                 .draw_series(DashedLineSeries::new(pts, DASH.0, DASH.1, line))
-                .map_err(e)?
+                .map_err(e)?;
         } else {
-            chart.draw_series(LineSeries::new(pts, line)).map_err(e)?
-        };
-        if !labelled {
-            labelled = true;
-            annotation
-                .label(run_legend(run))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], line));
+            chart.draw_series(LineSeries::new(pts, line)).map_err(e)?;
         }
     }
     // a neutral direction is not a point of the path where stability changes
@@ -218,49 +305,6 @@ fn run_curve<'a, 'b: 'a>(
                 .draw_series(std::iter::once(Circle::new(at, 5, line)))
                 .map_err(e)?;
         }
-    }
-    Ok(())
-}
-
-/// Legend entries of the marks any of `runs` has: bifurcations, limit points, unstable
-/// (dashed) stretches.
-fn legend_of_marks<'a, 'b: 'a>(
-    chart: &mut LoadChart<'a, 'b>,
-    runs: &[&RunTables],
-) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
-    let any = |kind: &str| {
-        runs.iter()
-            .any(|r| r.critical.iter().any(|c| c.kind == kind))
-    };
-    let mark = MARK.stroke_width(2);
-    if any("bifurcation") {
-        chart
-            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-            .map_err(e)?
-            .label("bifurcation")
-            .legend(move |(x, y)| Circle::new((x + 11, y), 5, mark));
-    }
-    if any("limit-point") {
-        chart
-            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-            .map_err(e)?
-            .label("limit point")
-            .legend(move |(x, y)| Rectangle::new([(x + 6, y - 5), (x + 16, y + 5)], mark));
-    }
-    if runs
-        .iter()
-        .any(|r| r.path.iter().any(|p| p.stable == Some(false)))
-    {
-        chart
-            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-            .map_err(e)?
-            .label("unstable (dashed)")
-            .legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(0, 0), (8, 0)], mark)
-                    + PathElement::new(vec![(14, 0), (22, 0)], mark)
-            });
     }
     Ok(())
 }

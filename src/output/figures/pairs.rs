@@ -4,9 +4,10 @@
 //! moment against the tube's curvature. A figure is drawn for a load only when some run
 //! moves it.
 
-use super::load::{load_panel, stretches, Stretch};
+use super::load::{legend_entries, load_panel, stretches, Stretch};
 use super::style::{range, Caption};
 use crate::output::chart::{captioned, draw_svg, DrawError, CAPTION_LINE};
+use crate::output::legend;
 use crate::output::read::{CriticalMark, PathPoint, RunTables, SupportColumns};
 
 /// One figure: its file name, title, axes, and the pair it plots from a row of `load.csv`.
@@ -128,9 +129,12 @@ pub fn pair_figures(
             continue;
         }
         let all: Vec<&RunTables> = moved.iter().collect();
-        let (w, h) = (720u32, 480 + CAPTION_LINE * caption.len() as u32);
+        let entries = legend_entries(&all);
+        let w = 720u32;
+        let h = 480 + CAPTION_LINE * caption.len() as u32 + legend::height(&entries, w);
         let svg = draw_svg(pair.title, (w, h), |root| {
             let body = captioned(root, pair.title, caption)?;
+            let body = legend::above(&body, &entries)?;
             let curves: Vec<Vec<Stretch>> = all
                 .iter()
                 .map(|r| stretches(&r.path, &r.critical))

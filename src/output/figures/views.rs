@@ -2,7 +2,7 @@
 //! rods coloured by `κ1`, with a colour bar.
 
 use super::style::{range, Caption, GRID_BOLD, GRID_LIGHT};
-use crate::output::chart::{captioned, draw_svg, DrawError, CAPTION_LINE, FONT};
+use crate::output::chart::{captioned, draw_svg, tick_label, DrawError, CAPTION_LINE, FONT};
 use crate::output::read::StateTable;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -169,6 +169,8 @@ fn view_panel(
         .configure_mesh()
         .x_desc(AXIS_NAMES[hc])
         .y_desc(AXIS_NAMES[vc])
+        .x_label_formatter(&|v| tick_label(*v, x.1 - x.0))
+        .y_label_formatter(&|v| tick_label(*v, y.1 - y.0))
         .x_labels(6)
         .y_labels(5)
         .axis_desc_style((FONT, 12))
@@ -234,6 +236,7 @@ fn colour_bar(
         .disable_x_mesh()
         .disable_y_mesh()
         .x_desc("κ1 (1/m)")
+        .x_label_formatter(&|v| tick_label(*v, k1.1 - k1.0))
         .x_labels(5)
         .axis_desc_style((FONT, 12))
         .label_style((FONT, 10))

@@ -80,6 +80,8 @@ pub struct App {
     pub(super) case: Case,
     /// Where the case came from (`None`: the built-in case), for a saved session.
     pub case_file: Option<PathBuf>,
+    /// The case keys overridden on the command line (`key=value`), for a saved session.
+    pub case_set: Vec<String>,
     /// Where exports go.
     pub out_dir: PathBuf,
     /// What is on screen.
@@ -109,6 +111,7 @@ impl App {
         App {
             case,
             case_file: None,
+            case_set: Vec::new(),
             out_dir,
             screen,
             view: View::default(),

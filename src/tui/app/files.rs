@@ -73,12 +73,14 @@ impl App {
             .as_ref()
             .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()));
         // the events are those of the path on screen, as the jobs since its start are
-        Script::of(
+        let mut script = Script::of(
             case,
             self.case_label(),
             self.screen.session_events(),
             &self.replay.ran(),
-        )
+        );
+        script.set = self.case_set.clone();
+        script
     }
 
     /// Writes [`App::script`] to `<case>-session.toml` in [`App::out_dir`].
