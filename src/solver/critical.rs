@@ -147,6 +147,15 @@ impl<P: Problem> Continuation<P> {
                 None => self.classify(x0, l0, saved.tangent.clone(), &probe_settings),
             }
         };
+        // a point is a fold only if the path turns in its parameter there: a step that
+        // passes it monotonically (a natural step, or an arclength one with the point
+        // strictly between its ends) crossed a bifurcation, whatever the mode's test of the
+        // load's work said (on a coarse mesh it may read a symmetric pitchfork as a fold)
+        let monotone = !arclength || (lc - l0) * (saved.lambda - lc) > 0.0;
+        let kind = match kind {
+            CriticalKind::LimitPoint if monotone => CriticalKind::Bifurcation,
+            kind => kind,
+        };
         self.problem.clear_focus();
         if let Some(mode) = mode {
             self.critical.push(Critical {

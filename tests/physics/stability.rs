@@ -486,3 +486,31 @@ fn the_full_model_reports_a_double_point_with_multiplicity_two() {
         first.parameter
     );
 }
+
+/// A point is a fold only if the path turns in its parameter: n = 2 with sliding tips,
+/// compressed under displacement control in steps of Δε = 0.05 (a path monotone in ε),
+/// changes its count at ε ≈ 0.0842 — never a fold, at any mesh (the mode's test of the
+/// load's work once called it a limit point at 24 and 96 elements, not at 48).
+#[test]
+fn the_same_point_has_the_same_kind_at_24_48_and_96_elements() {
+    let mut found = Vec::new();
+    for elements in [24, 48, 96] {
+        let mut c = Case::from_file(Path::new("cases/thesis-n8.toml"))
+            .unwrap()
+            .with_helices(2);
+        c.boundary.tip.translation = spira::model::boundary::Translation::Slide;
+        c.discretisation.elements = elements;
+        let out = run_path(&c, &c.output_parameters(0.1, 2), |_, _| {}).expect("path");
+        assert!(out.error.is_none(), "{:?}", out.error);
+        let first = out.critical.first().expect("a critical point").clone();
+        assert_eq!(first.kind, CriticalKind::Bifurcation, "{elements} elements");
+        assert_eq!((first.unstable_before, first.unstable_after), (0, 1));
+        found.push(first.compression_ratio);
+    }
+    // the same point, converging with the mesh
+    assert!((found[0] - found[2]).abs() < 1e-4, "{found:?}");
+    assert!(
+        (found[1] - found[2]).abs() < (found[0] - found[2]).abs(),
+        "{found:?}"
+    );
+}
