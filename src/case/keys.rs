@@ -244,7 +244,7 @@ pub const KEYS: &[KeyDoc] = &[
     },
     KeyDoc {
         key: "discretisation.accuracy",
-        meaning: "target relative accuracy of fz/(n Pcrit) at the target, instead of `elements`: the order and mesh are chosen to meet it at the least predicted time",
+        meaning: "target relative accuracy of fz/(n Pcrit) at the target and of the first critical point's load parameter, instead of `elements`: the order and mesh are chosen to meet it at the least predicted time",
         unit: "",
         default: DefaultDoc::Phrase("none (`elements`)"),
         range: RangeDoc::Phrase("above 0, below 1"),

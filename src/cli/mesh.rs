@@ -16,7 +16,7 @@ pub fn resolve(case: Case, interrupt: &Interrupt) -> Result<(Case, Option<MeshCh
         return Ok((case, None));
     };
     println!(
-        "choosing the mesh for accuracy {:e} on the response ({}) from two coarse solves per element order:",
+        "choosing the mesh for accuracy {:e} on the response ({}) and the first critical point from two coarse solves per element order:",
         acc.target,
         Subject::Path(Box::new(case.clone())).response_label()
     );

@@ -368,8 +368,14 @@ impl ChoiceReport for MeshChoice {
                     ),
                     _ => format!("needs more than {MAX_ELEMENTS} per rod"),
                 };
+                let critical = p.critical.as_ref().map_or(String::new(), |c| {
+                    format!(
+                        ", first critical point's {:.2e} (order {})",
+                        c.error, c.exponent
+                    )
+                });
                 format!(
-                    "{}: {} and {} elements/rod in {:.1} and {:.1} ms, estimated error {:.2e} (order {}): {need}",
+                    "{}: {} and {} elements/rod in {:.1} and {:.1} ms, estimated error {:.2e} (order {}){critical}: {need}",
                     p.order.name(),
                     p.elements[0],
                     p.elements[1],

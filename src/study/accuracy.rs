@@ -31,17 +31,48 @@ pub struct Pilot {
     pub error: f64,
     /// Exponent `k` of the response error, [`Measure::theoretical_order`].
     pub exponent: f64,
+    /// The first critical point's load parameter on the two solves and its estimated
+    /// relative error, when both solves meet one: the accuracy bounds it as it bounds the
+    /// response.
+    pub critical: Option<CriticalPilot>,
     /// Elements per rod predicted to meet `SAFETY · target`, if within [`MAX_ELEMENTS`].
     pub needed: Option<usize>,
     /// Predicted wall time at `needed`.
     pub predicted_time: Option<Duration>,
 }
 
+/// What the two coarse solves of a pilot say of its first critical point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CriticalPilot {
+    /// Load parameter of the first critical point on each solve.
+    pub parameter: [f64; 2],
+    /// Estimated relative error of the finer solve's, `|c2 − c1| / (2^k − 1) / |c2|`.
+    pub error: f64,
+    /// Exponent `k` of its error ([`Measure::Critical`]).
+    pub exponent: f64,
+}
+
 impl Pilot {
-    /// Estimated relative error at `elements` per rod: `e2 (N2/N)^k`.
+    /// Estimated relative error at `elements` per rod, `e2 (N2/N)^k`, of the response or,
+    /// where larger, of the first critical point's load parameter.
     pub fn error_at(&self, elements: usize) -> f64 {
-        self.error * (self.elements[1] as f64 / elements as f64).powf(self.exponent)
+        let at = |error: f64, exponent: f64| {
+            error * (self.elements[1] as f64 / elements as f64).powf(exponent)
+        };
+        let critical = self
+            .critical
+            .as_ref()
+            .map_or(0.0, |c| at(c.error, c.exponent));
+        at(self.error, self.exponent).max(critical)
     }
+}
+
+/// `|q2 − q1| / (2^k − 1) / |q2|`, the estimated relative error of the finer of two solves
+/// of `q` whose error falls as `h^k`; below roundoff the difference says nothing, and it
+/// counts as the Newton floor.
+fn two_mesh_error(q1: f64, q2: f64, exponent: f64) -> f64 {
+    let scale = if q2 != 0.0 { q2.abs() } else { 1.0 };
+    ((q2 - q1).abs() / (2f64.powf(exponent) - 1.0) / scale).max(1e-14)
 }
 
 /// The mesh chosen for an accuracy target.
@@ -226,9 +257,15 @@ fn pilot(
     let second = solve(2 * n1)?;
     let exponent = subject.theoretical_order(Measure::Response, order);
     let (q1, q2) = (first.0.response, second.0.response);
-    let scale = if q2 != 0.0 { q2.abs() } else { 1.0 };
-    // below roundoff the difference says nothing; count it as the Newton floor
-    let error = ((q2 - q1).abs() / (2f64.powf(exponent) - 1.0) / scale).max(1e-14);
+    let error = two_mesh_error(q1, q2, exponent);
+    let critical = first.0.critical.zip(second.0.critical).map(|(c1, c2)| {
+        let exponent = subject.theoretical_order(Measure::Critical, order);
+        CriticalPilot {
+            parameter: [c1, c2],
+            error: two_mesh_error(c1, c2, exponent),
+            exponent,
+        }
+    });
     let mut pilot = Pilot {
         order,
         elements: [first.0.elements, second.0.elements],
@@ -236,6 +273,7 @@ fn pilot(
         time: [first.1, second.1],
         error,
         exponent,
+        critical,
         needed: None,
         predicted_time: None,
     };
@@ -249,11 +287,19 @@ impl Pilot {
     /// time there, when within [`MAX_ELEMENTS`].
     fn predict(&mut self, goal: f64, m: usize) {
         let (elements, time) = (self.elements, self.time);
+        // the mesh that brings an error `e2` at the finer solve, falling as `h^k`, to `goal`
+        let for_error = |error: f64, exponent: f64| {
+            let n = elements[1] as f64 * (error / goal).powf(1.0 / exponent);
+            (((n / m as f64).ceil() as usize) * m).max(elements[0])
+        };
         let needed = if self.error_at(elements[0]) <= goal {
             elements[0]
         } else {
-            let n = elements[1] as f64 * (self.error / goal).powf(1.0 / self.exponent);
-            (((n / m as f64).ceil() as usize) * m).max(elements[0])
+            let critical = self
+                .critical
+                .as_ref()
+                .map_or(0, |c| for_error(c.error, c.exponent));
+            for_error(self.error, self.exponent).max(critical)
         };
         if needed <= MAX_ELEMENTS {
             let growth = (time[1].as_secs_f64() / time[0].as_secs_f64().max(1e-9))

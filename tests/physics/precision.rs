@@ -368,6 +368,39 @@ fn meshes_chosen_for_an_accuracy_meet_it_on_the_thesis_helix() {
     }
 }
 
+/// The accuracy bounds the critical point as it bounds the load: n = 8 with sliding tips
+/// (its pair, Bloch blocks) asked for 1e-6 places its double sway point within 1e-6 of the
+/// continuum's ε = 0.1482645 (Richardson on 56, 112 and 224 elements, order 4). Chosen on
+/// the load alone, the mesh of 56 elements had it 1.2e-4 off.
+#[test]
+fn an_accuracy_bounds_the_first_critical_point_too() {
+    let text = "[geometry]\nhelices = 8\n[boundary]\ntip = { translation = \"slide\" }\n\
+                [loading]\ntarget = 0.2\nsteps = 4\n[discretisation]\naccuracy = 1e-6\n\
+                symmetric = true\n";
+    let asked = Case::parse(text, "acc.toml", "acc").expect("valid case");
+    let (resolved, choice) = resolve_accuracy(&asked).expect("a mesh");
+    let choice = choice.expect("the case gives an accuracy");
+    let pilot = choice
+        .pilots
+        .iter()
+        .find(|p| p.order == choice.order)
+        .expect("the chosen order's pilot");
+    assert!(pilot.critical.is_some(), "both pilot solves meet the point");
+    let eps = resolved.output_parameters(0.2, 4);
+    let outcome = spira::run::run_path(&resolved, &eps, |_, _| {}).expect("path");
+    let first = outcome.critical.first().expect("the sway point");
+    let continuum = 0.148_264_5;
+    let error = ((first.compression_ratio - continuum) / continuum).abs();
+    assert!(
+        error <= 1e-6,
+        "{:?} {} elements/rod: critical ε {} is {error:e} off\n{}",
+        choice.order,
+        choice.elements,
+        first.compression_ratio,
+        choice.pilot_lines().join("\n")
+    );
+}
+
 #[test]
 fn an_accuracy_out_of_reach_is_an_error_not_a_huge_mesh() {
     let problem = Subject::Love(LoveHelix::thesis(0.0125));
