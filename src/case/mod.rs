@@ -73,16 +73,7 @@ pub struct Case {
 impl Case {
     /// Reads and validates a case file.
     pub fn from_file(path: &Path) -> Result<Case, CaseError> {
-        let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|reason| CaseError::Io {
-            file: file.clone(),
-            reason,
-        })?;
-        let stem = path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "case".into());
-        Case::parse(&text, &file, &stem)
+        Case::from_file_with(path, &[])
     }
 
     /// Reads and validates a case file with `settings` (`--set key=value`) applied. The

@@ -43,7 +43,7 @@ impl Drop for Scratch {
 }
 
 /// Runs `spira` with `args` inside `dir` (so that nothing lands in the source tree).
-fn spira(dir: &Path, args: &[&str]) -> Output {
+pub(crate) fn spira(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_spira"))
         .args(args)
         .current_dir(dir)

@@ -2,22 +2,12 @@
 //! overriding a key of the case file, checked as the case reader checks the file, said in
 //! the summary and recorded in the `#` lines of every table.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use super::cli::spira;
+use std::path::PathBuf;
 
 /// The shipped case with 8 helices.
 fn thesis_n8() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/thesis-n8.toml")
-}
-
-/// Runs `spira` with `args` inside `dir` (so that nothing lands in the source tree).
-fn spira(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_spira"))
-        .args(args)
-        .current_dir(dir)
-        .env("NO_COLOR", "1")
-        .output()
-        .expect("run the spira binary")
 }
 
 fn text(bytes: &[u8]) -> String {
