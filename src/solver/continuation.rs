@@ -153,11 +153,19 @@ pub(super) struct Before {
 /// Arclength steps after which a path that has turned back is given up.
 const MAX_ARCLENGTH_STEPS: usize = 2000;
 
+/// The largest move of the corrector from the predicted state, relative to the predictor's
+/// length, that a step may take; a smooth path's is of the order of the step times its
+/// curvature.
+const MAX_CORRECTION: f64 = 0.5;
+
 /// A trial step's outcome (not yet accepted).
 pub(super) struct Trial {
     pub x: Vec<f64>,
     pub lambda: f64,
     pub report: NewtonReport,
+    /// How far the corrector moved the primal unknowns from the predicted state, relative
+    /// to the predictor's length (0 where there was no predictor).
+    pub correction: f64,
 }
 
 /// A problem at a converged point of its path, that can be moved along it.
@@ -326,7 +334,12 @@ impl<P: Problem> Continuation<P> {
         self.problem.restore(&self.state.x, self.state.lambda);
         out.map(|report| {
             self.stats.iterations += report.iterations;
-            Trial { x, lambda, report }
+            Trial {
+                x,
+                lambda,
+                report,
+                correction: 0.0,
+            }
         })
     }
 
@@ -420,7 +433,9 @@ impl<P: Problem> Continuation<P> {
                 l0: self.state.lambda,
                 ds: h,
             };
-            self.correct(x, lambda, &step, &settings)
+            let predicted = x.clone();
+            let trial = self.correct(x, lambda, &step, &settings);
+            trial.map(|t| self.with_correction(t, &x0, &predicted))
         } else {
             if self.state.tangent.is_none() {
                 self.state.tangent = self.compute_tangent(settings.singular_threshold);
@@ -434,7 +449,33 @@ impl<P: Problem> Continuation<P> {
             }
             let x0 = self.state.x.clone();
             let step = StepEquation::natural(&x0, self.state.lambda, d);
-            self.correct(x, self.state.lambda + d, &step, &settings)
+            let predicted = x.clone();
+            let trial = self.correct(x, self.state.lambda + d, &step, &settings);
+            trial.map(|t| self.with_correction(t, &x0, &predicted))
+        }
+    }
+
+    /// `trial` with its [`Trial::correction`]: the corrector's move from `predicted` over
+    /// the predictor's length from `x0`, both over the primal unknowns.
+    fn with_correction(&self, trial: Trial, x0: &[f64], predicted: &[f64]) -> Trial {
+        let np = self.problem.primal_unknowns();
+        let distance = |a: &[f64], b: &[f64]| {
+            a[..np]
+                .iter()
+                .zip(&b[..np])
+                .map(|(u, v)| (u - v) * (u - v))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let predictor = distance(predicted, x0);
+        let correction = if predictor > 0.0 {
+            distance(&trial.x, predicted) / predictor
+        } else {
+            0.0
+        };
+        Trial {
+            correction,
+            ..trial
         }
     }
 
@@ -475,7 +516,19 @@ impl<P: Problem> Continuation<P> {
             } else {
                 nominal.min(remaining)
             };
-            match self.try_step(h, dir) {
+            let trial = self.try_step(h, dir).and_then(|t| {
+                // a corrector that moved the state further than the predictor did has
+                // left the path it predicted (onto another branch, or across a fold):
+                // the step is retried shorter, as a failed one
+                if t.correction > MAX_CORRECTION && h > s.min_step * 1.000001 {
+                    Err(NewtonError::LeftPath {
+                        correction: t.correction,
+                    })
+                } else {
+                    Ok(t)
+                }
+            });
+            match trial {
                 Ok(t) => {
                     // an arclength step that overshoots the target: land on it exactly
                     let overshoot = self.state.arclength && (t.lambda - target) * dir > 0.0;

@@ -47,6 +47,10 @@ pub enum NewtonError {
     },
     #[error("interrupted at Newton iteration {iteration}: {why}")]
     Interrupted { iteration: usize, why: Interruption },
+    /// A converged corrector that moved the state from the predicted one by more than half
+    /// the predictor's length: it left the path it was predicted on (onto another branch).
+    #[error("the corrector moved the state {correction:.2} times the predictor's length off the path predicted")]
+    LeftPath { correction: f64 },
     #[error("at Newton iteration {iteration}: {source}")]
     Linear {
         iteration: usize,

@@ -8,6 +8,10 @@ use super::linear::least_squares_multipliers;
 use super::newton::{Newton, NewtonSettings, StepEquation};
 use super::problem::Problem;
 
+/// How many times the first step off a critical point is halved before the switch fails
+/// (a step of 0.05 becomes 0.003125 at the last try).
+pub const SWITCH_HALVINGS: usize = 4;
+
 impl<P: Problem> Continuation<P> {
     /// Leaves the path at critical point `index` along its mode, in the direction `sign`
     /// (±1), by an arclength step of `h` measured along the mode; continuation then goes on
@@ -27,9 +31,35 @@ impl<P: Problem> Continuation<P> {
 
     /// Leaves the critical state `(state, λ)` along `mode` (its primal unknowns at least;
     /// unit norm over them), in the direction `sign` (±1), by an arclength step of `h`
-    /// measured along the mode; continuation then goes on in arclength steps along the new
-    /// branch. On failure the current state is kept.
+    /// measured along the mode — halved up to [`SWITCH_HALVINGS`] times where Newton's
+    /// method fails from the predicted state, as a step of the path would be; continuation
+    /// then goes on in arclength steps along the new branch. On failure the current state
+    /// is kept and the error quotes the first step tried.
     pub fn switch_onto(
+        &mut self,
+        state: &[f64],
+        parameter: f64,
+        mode: &[f64],
+        sign: f64,
+        h: f64,
+    ) -> Result<(), ContinuationError> {
+        let mut first = None;
+        let mut step = h;
+        for _ in 0..=SWITCH_HALVINGS {
+            match self.switch_step(state, parameter, mode, sign, step) {
+                Ok(()) => return Ok(()),
+                Err(e) => {
+                    self.stats.rejected += 1;
+                    first.get_or_insert(e);
+                }
+            }
+            step *= 0.5;
+        }
+        Err(first.expect("at least one step tried"))
+    }
+
+    /// One try of [`Continuation::switch_onto`] with the step `h`.
+    fn switch_step(
         &mut self,
         state: &[f64],
         parameter: f64,

@@ -487,20 +487,49 @@ fn the_full_model_reports_a_double_point_with_multiplicity_two() {
     );
 }
 
-/// A point is a fold only if the path turns in its parameter: n = 2 with sliding tips,
-/// compressed under displacement control in steps of Δε = 0.05 (a path monotone in ε),
-/// changes its count at ε ≈ 0.0842 — never a fold, at any mesh (the mode's test of the
-/// load's work once called it a limit point at 24 and 96 elements, not at 48).
+/// A path does not jump between branches, whatever its steps: n = 2 with sliding tips,
+/// compressed under displacement control, turns smoothly near ε ≈ 0.08 from the nearly
+/// linear path onto one that bulges (the sliding tip breaks the symmetry that makes the
+/// clamped pair's point at 0.342 a pitchfork, so here the branches do not meet): its lowest
+/// eigenvalue dips to a seventh of its value at ε = 0.058 and rises again, and the count of
+/// unstable directions never changes. Output steps of Δε = 0.05 once let the corrector land
+/// on the other, disconnected branch (fz/(n Pcrit) = −1.034 at ε = 0.1 instead of −0.849,
+/// one unstable direction, and a "bifurcation" at 0.0842 whose kind changed with the mesh).
 #[test]
-fn the_same_point_has_the_same_kind_at_24_48_and_96_elements() {
-    let mut found = Vec::new();
+fn a_path_does_not_jump_branches_whatever_its_steps() {
     for elements in [24, 48, 96] {
         let mut c = Case::from_file(Path::new("cases/thesis-n8.toml"))
             .unwrap()
             .with_helices(2);
         c.boundary.tip.translation = spira::model::boundary::Translation::Slide;
         c.discretisation.elements = elements;
-        let out = run_path(&c, &c.output_parameters(0.1, 2), |_, _| {}).expect("path");
+        let mut ends = Vec::new();
+        for steps in [2, 20] {
+            let out = run_path(&c, &c.output_parameters(0.1, steps), |_, _| {}).expect("path");
+            assert!(out.error.is_none(), "{:?}", out.error);
+            assert!(out.critical.is_empty(), "{elements}: {:?}", out.critical);
+            for p in &out.points {
+                let stability = p.stability.expect("stability tracked");
+                assert!(stability.is_stable(), "{elements} elements, {steps} steps");
+            }
+            ends.push(out.points.last().expect("points").load[2]);
+        }
+        // the same state at ε = 0.1, on the bulging branch: the load has levelled off
+        assert!((ends[0] - ends[1]).abs() < 1e-8, "{elements}: {ends:?}");
+        assert!((ends[1] + 0.849).abs() < 2e-3, "{elements}: {ends:?}");
+    }
+}
+
+/// The same point has the same kind at every mesh: the clamped pair's pitchfork (exact by
+/// the half-turn that swaps its ends) is a bifurcation 0 → 1 at 24, 48 and 96 elements,
+/// converging with the mesh, on a path passed in output steps of Δε = 0.175.
+#[test]
+fn the_same_point_has_the_same_kind_at_24_48_and_96_elements() {
+    let mut found = Vec::new();
+    for elements in [24, 48, 96] {
+        let mut c = Case::from_file(Path::new("cases/thesis-n2.toml")).unwrap();
+        c.discretisation.elements = elements;
+        let out = run_path(&c, &c.output_parameters(0.35, 2), |_, _| {}).expect("path");
         assert!(out.error.is_none(), "{:?}", out.error);
         let first = out.critical.first().expect("a critical point").clone();
         assert_eq!(first.kind, CriticalKind::Bifurcation, "{elements} elements");
@@ -508,7 +537,7 @@ fn the_same_point_has_the_same_kind_at_24_48_and_96_elements() {
         found.push(first.compression_ratio);
     }
     // the same point, converging with the mesh
-    assert!((found[0] - found[2]).abs() < 1e-4, "{found:?}");
+    assert!((found[0] - found[2]).abs() < 1e-3, "{found:?}");
     assert!(
         (found[1] - found[2]).abs() < (found[0] - found[2]).abs(),
         "{found:?}"
