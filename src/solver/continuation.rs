@@ -379,8 +379,12 @@ impl<P: Problem> Continuation<P> {
             .ok()
     }
 
-    /// Unit tangent `(t_x, t_λ)` over the primal unknowns and `λ`, and the full-length
-    /// predictor direction, for an arclength step heading towards increasing `dir · λ`.
+    /// Unit tangent `(t_x, t_λ)` over the primal unknowns and `λ` in the arclength metric
+    /// `ds² = ‖dx‖²/n_p + dλ²` (the root mean square of the primal unknowns, as AUTO
+    /// measures a path: a step then moves `λ` by about as much whatever the size of the
+    /// model — the whole assembly of n = 16 rods as its symmetric pair), `t_x` weighted
+    /// by `1/n_p` for the step equation, and the full-length predictor direction, for an
+    /// arclength step heading towards increasing `dir · λ`.
     fn arclength_direction(&mut self, dir: f64) -> Option<(Vec<f64>, f64, Vec<f64>)> {
         let np = self.problem.primal_unknowns();
         let (full, dl) = match &self.state.previous {
@@ -397,12 +401,14 @@ impl<P: Problem> Continuation<P> {
                 (t.iter().map(|v| v * dir).collect(), dir)
             }
         };
-        let norm = ((0..np).map(|i| full[i] * full[i]).sum::<f64>() + dl * dl).sqrt();
+        let weight = 1.0 / np.max(1) as f64;
+        let norm = (weight * (0..np).map(|i| full[i] * full[i]).sum::<f64>() + dl * dl).sqrt();
         if norm.is_nan() || norm <= 0.0 {
             return None;
         }
         let full: Vec<f64> = full.iter().map(|v| v / norm).collect();
-        Some((full[..np].to_vec(), dl / norm, full))
+        let tx = full[..np].iter().map(|v| v * weight).collect();
+        Some((tx, dl / norm, full))
     }
 
     /// One step of length `h` (natural: in `λ` towards `dir`; arclength: along the path).

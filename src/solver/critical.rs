@@ -8,6 +8,9 @@ use super::newton::{NewtonSettings, StepEquation};
 use super::problem::Problem;
 use crate::results::{CriticalKind, Stability};
 
+/// The first span of the secant that refines a located point, as a fraction of the step.
+const SECANT_SPAN: f64 = 0.02;
+
 /// The segment of an accepted step from `(x0, λ0)` to `(x1, λ1)` on which the critical point
 /// lies, and the step equation that puts a probe at a fraction `f` of it.
 struct Segment<'a> {
@@ -236,21 +239,31 @@ impl<P: Problem> Continuation<P> {
             Some((mu, p))
         };
         let mu_l = self.problem.eigenvalue_nearest_zero(&xl, ll);
-        let fb = (fl - 0.02).max(0.0);
+        let fb = (fl - SECANT_SPAN).max(0.0);
         let (Some(mu_a), Some((mu_b, _))) = (mu_l, probe(self, fb)) else {
             return None;
         };
+        // the probe whose eigenvalue is nearest zero, if nearer than the bracket's; a secant
+        // thrown beyond twice its first span from the bracket (where the eigenvalue found is
+        // another one than the crossing's) ends the refinement
         let mut best = None;
+        let mut nearest = mu_a.abs();
         let (mut fa, mut ma, mut fb, mut mb) = (fl, mu_a, fb, mu_b);
         for _ in 0..6 {
             if (ma - mb).abs() <= f64::EPSILON * ma.abs() || fa == fb {
                 break;
             }
             let f = (fa - ma * (fa - fb) / (ma - mb)).clamp(0.0, 1.0);
+            if (f - fl).abs() > 2.0 * SECANT_SPAN {
+                break;
+            }
             let Some((mu, p)) = probe(self, f) else {
                 break;
             };
-            best = Some((p.x, p.lambda));
+            if mu.abs() <= nearest {
+                nearest = mu.abs();
+                best = Some((p.x, p.lambda));
+            }
             let converged = (f - fa).abs() <= 1e-13;
             (fb, mb, fa, ma) = (fa, ma, f, mu);
             if converged {

@@ -37,9 +37,14 @@ impl<P: Problem> Continuation<P> {
         }
     }
 
-    /// Makes `(x, λ)` the path's converged state, its stability counted there (or, where
-    /// the count fails on the critical point itself, `fallback`).
+    /// Makes `(x, λ)` the path's converged state, with its own energy and residual, its
+    /// stability counted there (or, where the count fails on the critical point itself,
+    /// `fallback`).
     fn end_at(&mut self, x: Vec<f64>, lambda: f64, fallback: Option<Stability>) {
+        let mut residual = vec![0.0; x.len()];
+        let energy = self.problem.residual(&x, lambda, &mut residual);
+        self.state.solve.energy = energy;
+        self.state.solve.residual = residual.iter().fold(0.0f64, |m, r| m.max(r.abs()));
         self.state.x = x;
         self.state.lambda = lambda;
         self.state.previous = None;

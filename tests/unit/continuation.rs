@@ -200,7 +200,10 @@ fn on_the_trivial_branch_a_pitchfork_is_found_at_each_mode() {
 
 #[test]
 fn switching_at_the_first_pitchfork_follows_the_known_branch() {
-    let mut path = Continuation::new(Pitchfork::new(), vec![0.0; 2], 0.0, settings()).unwrap();
+    // states to 1e-9 where the Jacobian is 2(λ − 1) = 0.4 need residuals below 4e-10
+    let mut settings = settings();
+    settings.newton.tolerance = 1e-12;
+    let mut path = Continuation::new(Pitchfork::new(), vec![0.0; 2], 0.0, settings).unwrap();
     path.advance_to(1.2).unwrap();
     assert_eq!(path.critical_points().len(), 1);
     path.switch_branch(0, 1.0, 0.05).unwrap();
