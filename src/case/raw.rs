@@ -29,6 +29,7 @@ pub(super) struct RawCase {
     pub discretisation: RawDiscretisation,
     #[serde(default)]
     pub solver: RawSolver,
+    pub imperfection: Option<Spanned<super::imperfection::RawImperfection>>,
 }
 
 impl RawCase {

@@ -5,7 +5,9 @@
 //! ([`reduction`]).
 
 pub mod blocks;
+pub mod imperfection;
 pub mod judge;
+pub mod normal_form;
 pub mod problem;
 pub mod reduction;
 mod switch;
@@ -63,6 +65,8 @@ pub struct Simulation {
     reduced: Option<Box<(DiscreteModel, System)>>,
     /// Threads of the block work of every problem solved (at least one).
     threads: usize,
+    /// The flaw of the natural state, for an imperfect case.
+    flaw: Option<imperfection::Flaw>,
 }
 
 impl Simulation {
@@ -100,10 +104,26 @@ impl Simulation {
     }
 
     /// The case's simulation at its natural state, solved.
+    /// An imperfect case's model is flawed along its imperfection's shape (the perfect
+    /// path is followed first, to the critical point whose mode it is).
     fn start_case(case: &Case, start: Start) -> Result<Simulation, SolveError> {
-        let model = case.model();
+        let (model, flaw) = match case.imperfection {
+            None => (case.model(), None),
+            Some(imp) => {
+                let (model, flaw) =
+                    imperfection::flawed_model(case, imp, &start.interrupt, start.threads)?;
+                (model, Some(flaw))
+            }
+        };
         let x0 = model.natural_state();
-        Simulation::start(model, case.boundary, case.loads(), x0, start)
+        let mut sim = Simulation::start(model, case.boundary, case.loads(), x0, start)?;
+        sim.flaw = flaw;
+        Ok(sim)
+    }
+
+    /// The flaw of the natural state of an imperfect case (`None`: a perfect structure).
+    pub fn flaw(&self) -> Option<&imperfection::Flaw> {
+        self.flaw.as_ref()
     }
 
     /// Starts from the natural state at `ε = 0` under displacement control and solves it.
@@ -173,6 +193,7 @@ impl Simulation {
             critical: Vec::new(),
             reduced: None,
             threads,
+            flaw: None,
         })
     }
 
