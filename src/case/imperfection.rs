@@ -46,6 +46,17 @@ pub struct Imperfection {
     pub amplitude: f64,
 }
 
+impl Imperfection {
+    /// The flaw in a phrase: `mode 0 of the perfect path, amplitude 1e-3 L`.
+    pub fn describe(&self) -> String {
+        let shape = match self.shape {
+            ImperfectionShape::Mode(k) => format!("mode {k} of the perfect path"),
+            ImperfectionShape::Bow => "half sine bow".into(),
+        };
+        format!("{shape}, amplitude {} L", num(self.amplitude))
+    }
+}
+
 /// `[imperfection]` as serde reads it.
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]

@@ -58,6 +58,30 @@ pub struct ImperfectPath {
 }
 
 impl ImperfectPath {
+    /// One line: the flaw, the perfect critical point, where the imperfect path turns (or
+    /// that it does not) and the drop.
+    pub fn summary(&self) -> String {
+        let flaw = self.flaw.imperfection.describe();
+        let perfect = match &self.flaw.perfect {
+            Some(p) => format!(
+                "perfect {} {} at parameter {:.8}",
+                p.kind.name(),
+                p.index,
+                p.parameter
+            ),
+            None => "no perfect critical point".into(),
+        };
+        let turn = match (self.limit_parameter, self.drop) {
+            (Some(l), Some(d)) => format!("the path turns at parameter {l:.8} (drop {d:.4e})"),
+            (Some(l), None) => format!("the path turns at parameter {l:.8}"),
+            (None, _) => "the path does not turn (no limit point)".into(),
+        };
+        format!(
+            "imperfection: {flaw}; {perfect}; {turn}; max |fz|/(n Pcrit) = {:.6} at parameter {:.6}",
+            self.max_load, self.max_load_parameter
+        )
+    }
+
     /// The summary of a path run with `flaw`, from its critical points and output points.
     pub fn of(flaw: &Flaw, critical: &[CriticalPoint], points: &[LoadPoint]) -> ImperfectPath {
         let limit = critical.iter().find(|c| c.kind == CriticalKind::LimitPoint);
