@@ -408,6 +408,11 @@ impl Simulation {
     pub fn advance_to(&mut self, target: f64) -> Result<(), SolveError> {
         let prescribed = prescribes_axial_motion(self.loads());
         self.path.set_stop_at_folds(prescribed);
+        if self.flaw.is_some() {
+            // near the perfect bifurcation a flawed path bends sharply: it is followed by its
+            // arclength, not carried by a natural step's predictor onto a nearby branch
+            self.path.set_arclength(true);
+        }
         let outcome = self.path.advance_to(target);
         self.record_critical();
         outcome.map_err(|e| self.error(e))

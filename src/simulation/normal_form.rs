@@ -127,3 +127,46 @@ fn fit(samples: &[(f64, f64)], parameter: f64) -> (f64, f64) {
         None => (0.0, 0.0),
     }
 }
+
+/// Koiter's law fitted to a sweep of flaws: `drop ≈ C |δ|^p` by least squares of
+/// `log drop` against `log |δ|`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KoiterFit {
+    /// `p`.
+    pub exponent: f64,
+    /// `C`.
+    pub coefficient: f64,
+    /// The samples fitted.
+    pub samples: usize,
+    /// `log10` of the largest over the smallest `|δ|`: the decades spanned.
+    pub decades: f64,
+}
+
+/// The fit of `drop ≈ C |δ|^p` through the samples `(δ, drop)` whose drop is positive and
+/// finite; `None` with fewer than two such samples or a single amplitude.
+pub fn koiter_fit(samples: &[(f64, f64)]) -> Option<KoiterFit> {
+    let logs: Vec<(f64, f64)> = samples
+        .iter()
+        .filter(|(d, drop)| d.is_finite() && *d != 0.0 && drop.is_finite() && *drop > 0.0)
+        .map(|(d, drop)| (d.abs().ln(), drop.ln()))
+        .collect();
+    let n = logs.len() as f64;
+    let (mx, my) = logs
+        .iter()
+        .fold((0.0, 0.0), |(x, y), (a, b)| (x + a / n, y + b / n));
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx).powi(2)).sum();
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    if logs.len() < 2 || sxx <= 0.0 {
+        return None;
+    }
+    let exponent = sxy / sxx;
+    let (lo, hi) = logs.iter().fold((f64::MAX, f64::MIN), |(lo, hi), (x, _)| {
+        (lo.min(*x), hi.max(*x))
+    });
+    Some(KoiterFit {
+        exponent,
+        coefficient: (my - exponent * mx).exp(),
+        samples: logs.len(),
+        decades: (hi - lo) / std::f64::consts::LN_10,
+    })
+}
