@@ -6,7 +6,7 @@ use crate::discretisation::bulk;
 use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
-use crate::simulation::imperfection::ImperfectPath;
+use crate::simulation::flaw::ImperfectPath;
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::Observer;

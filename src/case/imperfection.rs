@@ -3,9 +3,9 @@
 
 use super::error::CaseError;
 use super::limits::num;
+use super::raw::RawImperfection;
 use super::settings::Geometry;
 use super::tables::{span, Checker};
-use serde::Deserialize;
 use toml::Spanned;
 
 /// Largest `|imperfection.amplitude|` (in rod lengths): a small flaw.
@@ -55,18 +55,6 @@ impl Imperfection {
         };
         format!("{shape}, amplitude {} L", num(self.amplitude))
     }
-}
-
-/// `[imperfection]` as serde reads it.
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawImperfection {
-    /// Index of the perfect path's critical point whose mode the flaw follows.
-    pub mode: Option<Spanned<i64>>,
-    /// A named shape (`"bow"`), checked here so that the names can be offered.
-    pub shape: Option<Spanned<toml::Value>>,
-    /// `δ`, in rod lengths.
-    pub amplitude: Option<Spanned<f64>>,
 }
 
 /// Checks `[imperfection]` (`None`: no table, a perfect structure). Each value is checked

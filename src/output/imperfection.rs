@@ -1,7 +1,7 @@
 //! `imperfection.csv`: what the flaw of an imperfect case did to its path.
 
 use super::csv::{format, table};
-use crate::simulation::imperfection::ImperfectPath;
+use crate::simulation::flaw::ImperfectPath;
 use serde::Serialize;
 
 /// The row of `imperfection.csv`.

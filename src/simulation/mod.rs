@@ -5,7 +5,8 @@
 //! ([`reduction`]).
 
 pub mod blocks;
-pub mod imperfection;
+pub mod flaw;
+mod imperfection;
 pub mod judge;
 pub mod normal_form;
 pub mod problem;
@@ -66,7 +67,7 @@ pub struct Simulation {
     /// Threads of the block work of every problem solved (at least one).
     threads: usize,
     /// The flaw of the natural state, for an imperfect case.
-    flaw: Option<imperfection::Flaw>,
+    flaw: Option<flaw::Flaw>,
 }
 
 impl Simulation {
@@ -111,7 +112,7 @@ impl Simulation {
             None => (case.model(), None),
             Some(imp) => {
                 let (model, flaw) =
-                    imperfection::flawed_model(case, imp, &start.interrupt, start.threads)?;
+                    Simulation::flawed_model(case, imp, &start.interrupt, start.threads)?;
                 (model, Some(flaw))
             }
         };
@@ -119,11 +120,6 @@ impl Simulation {
         let mut sim = Simulation::start(model, case.boundary, case.loads(), x0, start)?;
         sim.flaw = flaw;
         Ok(sim)
-    }
-
-    /// The flaw of the natural state of an imperfect case (`None`: a perfect structure).
-    pub fn flaw(&self) -> Option<&imperfection::Flaw> {
-        self.flaw.as_ref()
     }
 
     /// Starts from the natural state at `ε = 0` under displacement control and solves it.
@@ -408,11 +404,9 @@ impl Simulation {
     pub fn advance_to(&mut self, target: f64) -> Result<(), SolveError> {
         let prescribed = prescribes_axial_motion(self.loads());
         self.path.set_stop_at_folds(prescribed);
-        if self.flaw.is_some() {
-            // near the perfect bifurcation a flawed path bends sharply: it is followed by its
-            // arclength, not carried by a natural step's predictor onto a nearby branch
-            self.path.set_arclength(true);
-        }
+        // a flawed path bends sharply near the perfect bifurcation: followed by arclength
+        self.path
+            .set_arclength(self.flaw.is_some() || self.path.state().arclength);
         let outcome = self.path.advance_to(target);
         self.record_critical();
         outcome.map_err(|e| self.error(e))

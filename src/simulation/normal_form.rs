@@ -4,9 +4,9 @@
 //! points of it reached by a switch at a few small amplitudes either side, `a` and `b`
 //! fitted to them.
 
-use super::imperfection::{max_displacement, mode_on_model, perfect_until};
+use super::flaw::max_displacement;
 use super::judge::all_cores;
-use super::SolveError;
+use super::{Simulation, SolveError};
 use crate::case::Case;
 use nalgebra::{DMatrix, DVector};
 
@@ -75,10 +75,10 @@ pub fn normal_form(case: &Case, index: usize, xi: f64) -> Result<NormalForm, Sol
     let mut parameter = 0.0;
     for m in MULTIPLES {
         for sign in [1.0, -1.0] {
-            let mut sim = perfect_until(case, index, &None, all_cores())?;
+            let mut sim = Simulation::perfect_until(case, index, &None, all_cores())?;
             let cp = sim.critical_points()[index].clone();
             parameter = cp.parameter;
-            let on = mode_on_model(&sim, &cp);
+            let on = sim.mode_on_model(&cp);
             let largest = max_displacement(&on.model, &on.mode);
             let length = on.model.length();
             sim.switch_branch(index, sign, m * xi * length / largest)?;

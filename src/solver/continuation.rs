@@ -252,18 +252,6 @@ impl<P: Problem> Continuation<P> {
         self.stop_at_folds = stop;
     }
 
-    /// Takes pseudo-arclength steps from now on (`true`), as after a failed natural step:
-    /// for a path that bends sharply in its parameter, which a natural step's predictor
-    /// could carry onto a nearby branch (an imperfect structure near the perfect one's
-    /// bifurcation).
-    pub fn set_arclength(&mut self, on: bool) {
-        if on && !self.state.arclength {
-            self.state.step = self.settings.initial_step.min(self.settings.max_step);
-        }
-        self.state.arclength = on;
-        self.state.tangent = None;
-    }
-
     /// `observer` is told of every accepted step from now on.
     pub fn set_observer(&mut self, observer: Option<Observer>) {
         self.observer = observer;
