@@ -6,6 +6,7 @@ use crate::discretisation::bulk;
 use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
+use crate::simulation::flaw::ImperfectPath;
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::Observer;
@@ -37,6 +38,8 @@ pub struct PathOutcome {
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
+    /// For an imperfect case: where its path turns, against the perfect critical point.
+    pub imperfection: Option<ImperfectPath>,
 }
 
 /// Solves `case` from the natural state through the output values `targets` of its load
@@ -164,7 +167,11 @@ pub fn run_path_steps(
         .iter()
         .map(|c| sim.mode_shape(c))
         .collect();
+    let imperfection = sim
+        .flaw()
+        .map(|f| ImperfectPath::of(f, sim.critical_points(), &points));
     Ok(PathOutcome {
+        imperfection,
         bulk: bulks,
         modes,
         points,

@@ -298,6 +298,27 @@ pub const KEYS: &[KeyDoc] = &[
         default: DefaultDoc::Value("12"),
         range: RangeDoc::Whole(1, 1000),
     },
+    KeyDoc {
+        key: "imperfection.mode",
+        meaning: "a flaw of the natural (stress-free) state along the mode of critical point k of the perfect structure's path (numbered as in `critical.csv`), scaled so that its largest centreline displacement is 1; not with `shape`",
+        unit: "",
+        default: DefaultDoc::Phrase("none (the perfect structure)"),
+        range: RangeDoc::Whole(0, super::imperfection::MAX_MODE),
+    },
+    KeyDoc {
+        key: "imperfection.shape",
+        meaning: "a flaw of a named shape: `\"bow\"`, the half sine x(s) = sin(π s/L) of a straight rod (largest displacement 1, at mid-length); not with `mode`",
+        unit: "",
+        default: DefaultDoc::Phrase("none (the perfect structure)"),
+        range: RangeDoc::Names(&super::imperfection::SHAPES),
+    },
+    KeyDoc {
+        key: "imperfection.amplitude",
+        meaning: "δ: the flaw's largest displacement over the rod length L; its sign chooses the side of the shape. Needed with `mode` or `shape`",
+        unit: "L",
+        default: DefaultDoc::Phrase("none (needed with `mode` or `shape`)"),
+        range: RangeDoc::Phrase("−0.1 to 0.1, not 0"),
+    },
 ];
 
 /// The keys as a Markdown table: key, meaning, unit, default, range.

@@ -10,6 +10,7 @@
 
 mod error;
 mod helices;
+mod imperfection;
 mod joints;
 mod keys;
 mod limits;
@@ -25,6 +26,7 @@ mod target;
 pub(crate) use error::plain_types;
 pub use error::CaseError;
 pub use helices::{Refused, HELICES_RANGE};
+pub use imperfection::{Imperfection, ImperfectionShape, MAX_AMPLITUDE, SHAPES};
 pub use keys::{keys_markdown, DefaultDoc, KeyDoc, RangeDoc, KEYS};
 pub use limits::{
     num, LENGTH_RANGE, MAX_ELEMENTS_PER_TURN, MAX_JOINTS, MAX_LOAD, MAX_STEPS,
@@ -68,6 +70,8 @@ pub struct Case {
     pub loading: Loading,
     pub discretisation: Discretisation,
     pub solver: ContinuationSettings,
+    /// A flaw of the natural state (`[imperfection]`); `None`: the perfect structure.
+    pub imperfection: Option<Imperfection>,
 }
 
 impl Case {
@@ -151,6 +155,7 @@ impl Case {
             discretisation.symmetric = false;
         }
         let solver = tables::solver(&raw.solver, &ck)?;
+        let imperfection = imperfection::imperfection(&raw.imperfection, &geometry, &ck)?;
         Ok(Case {
             name: raw.name.unwrap_or_else(|| stem.to_string()),
             geometry,
@@ -160,6 +165,7 @@ impl Case {
             loading,
             discretisation,
             solver,
+            imperfection,
         })
     }
 

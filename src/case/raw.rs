@@ -29,6 +29,7 @@ pub(super) struct RawCase {
     pub discretisation: RawDiscretisation,
     #[serde(default)]
     pub solver: RawSolver,
+    pub imperfection: Option<Spanned<RawImperfection>>,
 }
 
 impl RawCase {
@@ -212,4 +213,16 @@ pub(super) struct RawSolver {
     pub min_step: Option<Spanned<f64>>,
     /// Newton iterations per step.
     pub max_iterations: Option<Spanned<i64>>,
+}
+
+/// `[imperfection]`.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawImperfection {
+    /// Index of the perfect path's critical point whose mode the flaw follows.
+    pub mode: Option<Spanned<i64>>,
+    /// A named shape (`"bow"`), checked here so that the names can be offered.
+    pub shape: Option<Spanned<toml::Value>>,
+    /// `δ`, in rod lengths.
+    pub amplitude: Option<Spanned<f64>>,
 }

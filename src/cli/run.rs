@@ -76,6 +76,9 @@ pub fn run(path: &Path, set: &[Setting], flags: Flags, out: &Path, extras: Extra
     )
     .with_context(|| format!("case {}: no equilibrium at eps = 0", path.display()))?;
     print_critical_points(&outcome);
+    if let Some(imperfect) = &outcome.imperfection {
+        println!("{}", imperfect.summary());
+    }
     let last = outcome.points.last().expect("step 0 is always there");
     // the a-posteriori estimate needs the response of the run itself
     let note = choice
@@ -178,6 +181,9 @@ fn print_heading(case: &Case, target: f64, steps: usize, set_line: Option<&str>)
     );
     if let Some(line) = set_line {
         println!("{line}");
+    }
+    if let Some(imp) = &case.imperfection {
+        println!("imperfection: {}", imp.describe());
     }
     if !case.loading.hold.is_natural() || parameter != Component::Axial {
         println!("held: {}", held_line(case));

@@ -74,6 +74,9 @@ pub fn sweep(path: &Path, flags: SweepFlags) -> Result<()> {
     if terminal {
         println!();
     }
+    if report.table.column("imperfection.amplitude").is_some() {
+        println!("{}", koiter_line(&report.table));
+    }
     conclude(&report)
 }
 
@@ -141,6 +144,18 @@ fn print_progress(p: &CaseFinished, terminal: bool) {
             p.case.id,
             p.elapsed.as_secs_f64()
         );
+    }
+}
+
+/// Koiter's law over a sweep of flaws, in a line: the fitted exponent, or that no path
+/// turned.
+fn koiter_line(table: &spira::sweep::SweepTable) -> String {
+    match table.koiter() {
+        Some(fit) => format!(
+            "Koiter: drop of the limit parameter ≈ {:.4e} |δ|^{:.4} (least squares of log drop on log |δ|, {} amplitudes over {:.1} decades)",
+            fit.coefficient, fit.exponent, fit.samples, fit.decades
+        ),
+        None => "Koiter: fewer than two imperfect paths turned below the perfect critical point: no drop to fit (a stable symmetric point, or the flaw's sign on the stable side of an asymmetric one)".into(),
     }
 }
 

@@ -8,6 +8,7 @@ pub mod chart;
 pub mod csv;
 pub mod figures;
 pub mod files;
+pub mod imperfection;
 mod joints_table;
 pub mod legend;
 pub mod precision;

@@ -6,11 +6,13 @@ use super::csv::{
     NonFinite,
 };
 use super::files::write_folder;
+use super::imperfection::imperfection_csv;
 use super::joints_table::joints_csv;
 use super::vtk;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::run::PathOutcome;
+use crate::simulation::flaw::ImperfectPath;
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -35,6 +37,8 @@ pub struct RunFiles<'a> {
     pub series: Option<(&'a [Snapshot], &'a [ModeShape])>,
     /// For `state-<step>.csv` files (`--states`, `--figures`): `(output step, shape)`.
     pub states: &'a [(usize, Snapshot)],
+    /// For an imperfect case: `imperfection.csv`.
+    pub imperfection: Option<&'a ImperfectPath>,
 }
 
 impl<'a> RunFiles<'a> {
@@ -51,6 +55,7 @@ impl<'a> RunFiles<'a> {
             bulk: &outcome.bulk,
             series: None,
             states: &[],
+            imperfection: outcome.imperfection.as_ref(),
         }
     }
 }
@@ -79,7 +84,8 @@ pub fn model_solved(model: &DiscreteModel) -> String {
 }
 
 /// The files of a run as (name, text): load, reactions, state, joints and bulk, and when
-/// there are critical points, `critical.csv` and one `mode-<k>.csv` each; the per-step
+/// there are critical points, `critical.csv` and one `mode-<k>.csv` each; for an imperfect
+/// case `imperfection.csv`; the per-step
 /// states when given; with a series, `series.pvd`, one `step-<k>.vtp` per output step and
 /// one `mode-<k>.vtp` per critical point. Every CSV names the model solved and the note in
 /// its header. A series holding a value that is not finite is refused.
@@ -97,6 +103,9 @@ pub fn run_files(run: &RunFiles) -> io::Result<Vec<(String, String)>> {
         for (i, c) in run.critical.iter().enumerate() {
             files.push((format!("mode-{i}.csv"), mode_csv(case, run.model, i, c)));
         }
+    }
+    if let Some(path) = run.imperfection {
+        files.push(("imperfection.csv".to_string(), imperfection_csv(case, path)));
     }
     for (step, snapshot) in run.states {
         files.push((format!("state-{step}.csv"), state_csv(case, snapshot)));

@@ -5,7 +5,10 @@
 //! ([`reduction`]).
 
 pub mod blocks;
+pub mod flaw;
+mod imperfection;
 pub mod judge;
+pub mod normal_form;
 pub mod problem;
 pub mod reduction;
 mod switch;
@@ -63,6 +66,8 @@ pub struct Simulation {
     reduced: Option<Box<(DiscreteModel, System)>>,
     /// Threads of the block work of every problem solved (at least one).
     threads: usize,
+    /// The flaw of the natural state, for an imperfect case.
+    flaw: Option<flaw::Flaw>,
 }
 
 impl Simulation {
@@ -100,10 +105,21 @@ impl Simulation {
     }
 
     /// The case's simulation at its natural state, solved.
+    /// An imperfect case's model is flawed along its imperfection's shape (the perfect
+    /// path is followed first, to the critical point whose mode it is).
     fn start_case(case: &Case, start: Start) -> Result<Simulation, SolveError> {
-        let model = case.model();
+        let (model, flaw) = match case.imperfection {
+            None => (case.model(), None),
+            Some(imp) => {
+                let (model, flaw) =
+                    Simulation::flawed_model(case, imp, &start.interrupt, start.threads)?;
+                (model, Some(flaw))
+            }
+        };
         let x0 = model.natural_state();
-        Simulation::start(model, case.boundary, case.loads(), x0, start)
+        let mut sim = Simulation::start(model, case.boundary, case.loads(), x0, start)?;
+        sim.flaw = flaw;
+        Ok(sim)
     }
 
     /// Starts from the natural state at `ε = 0` under displacement control and solves it.
@@ -173,6 +189,7 @@ impl Simulation {
             critical: Vec::new(),
             reduced: None,
             threads,
+            flaw: None,
         })
     }
 
@@ -387,6 +404,9 @@ impl Simulation {
     pub fn advance_to(&mut self, target: f64) -> Result<(), SolveError> {
         let prescribed = prescribes_axial_motion(self.loads());
         self.path.set_stop_at_folds(prescribed);
+        // a flawed path bends sharply near the perfect bifurcation: followed by arclength
+        self.path
+            .set_arclength(self.flaw.is_some() || self.path.state().arclength);
         let outcome = self.path.advance_to(target);
         self.record_critical();
         outcome.map_err(|e| self.error(e))

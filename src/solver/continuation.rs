@@ -91,6 +91,13 @@ pub enum StopReason {
     /// A path asked to switch branch at its first bifurcation met none on the way.
     #[error("the case asks to switch branch at the first bifurcation (loading.branch), but the path met none on its way to the target")]
     NoBifurcation,
+    /// A flaw along the mode of critical point `index` of the perfect path, which located
+    /// only `found` on its way to the target.
+    #[error("the imperfection follows the mode of critical point {index} of the perfect path, but that path locates {found} critical point(s) on its way to the target (imperfection.mode counts from 0)")]
+    NoImperfectionMode { index: usize, found: usize },
+    /// A flaw along a mode that moves no point of the centreline (a pure twist).
+    #[error("the mode of critical point {index} moves no point of the centreline: it cannot be scaled to an amplitude in rod lengths")]
+    FlatImperfectionMode { index: usize },
     #[error("the solve was interrupted: {0}")]
     Interrupted(Interruption),
     /// The count of unstable directions changed more often than a path has critical

@@ -13,6 +13,22 @@ use super::problem::Problem;
 pub const SWITCH_HALVINGS: usize = 4;
 
 impl<P: Problem> Continuation<P> {
+    /// Takes pseudo-arclength steps from now on (`true`), as after a failed natural step:
+    /// for a path that bends sharply in its parameter, which a natural step's predictor
+    /// could carry onto a nearby branch (an imperfect structure near the perfect one's
+    /// bifurcation).
+    /// Nothing changes when the steps are of that kind already.
+    pub fn set_arclength(&mut self, on: bool) {
+        if on == self.state.arclength {
+            return;
+        }
+        if on {
+            self.state.step = self.settings.initial_step.min(self.settings.max_step);
+        }
+        self.state.arclength = on;
+        self.state.tangent = None;
+    }
+
     /// Leaves the path at critical point `index` along its mode, in the direction `sign`
     /// (±1), by an arclength step of `h` measured along the mode; continuation then goes on
     /// in arclength steps along the new branch.

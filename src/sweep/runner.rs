@@ -469,6 +469,7 @@ fn row(
             let o = &s.outcome;
             let last = o.points.last().expect("step 0 is always there");
             let first = o.critical.first();
+            let imperfect = o.imperfection.as_ref();
             let stab = last.stability;
             rest.extend([
                 o.unknowns.to_string(),
@@ -489,6 +490,10 @@ fn row(
                 }),
                 first.map_or(String::new(), |f| num(f.load[2])),
                 o.critical.len().to_string(),
+                imperfect
+                    .and_then(|i| i.limit_parameter)
+                    .map_or(String::new(), num),
+                imperfect.and_then(|i| i.drop).map_or(String::new(), num),
                 o.stats.steps.to_string(),
                 o.stats.iterations.to_string(),
             ]);
@@ -497,7 +502,7 @@ fn row(
             // unknowns, then the target, then nothing found up to the steps
             rest.push(String::new());
             rest.push(num(case.loading.target));
-            rest.extend(std::iter::repeat_n(String::new(), 13));
+            rest.extend(std::iter::repeat_n(String::new(), 15));
         }
     }
     rest.push(format!("{:.3}", wall.as_secs_f64()));

@@ -3,9 +3,10 @@
 
 use super::error::SweepError;
 use super::plan::Axis;
+use crate::simulation::normal_form::{koiter_fit, KoiterFit};
 
 /// The columns after `case`, `status` and the axes.
-pub const RESULT_COLUMNS: [&str; 20] = [
+pub const RESULT_COLUMNS: [&str; 22] = [
     "model",
     "order",
     "elements",
@@ -22,6 +23,8 @@ pub const RESULT_COLUMNS: [&str; 20] = [
     "critical_change",
     "critical_fz",
     "critical_points",
+    "limit_parameter",
+    "drop",
     "steps",
     "iterations",
     "wall_s",
@@ -29,7 +32,7 @@ pub const RESULT_COLUMNS: [&str; 20] = [
 ];
 
 /// The columns of [`RESULT_COLUMNS`] that hold numbers (or nothing).
-pub const NUMBER_COLUMNS: [&str; 15] = [
+pub const NUMBER_COLUMNS: [&str; 17] = [
     "elements",
     "unknowns",
     "target",
@@ -42,6 +45,8 @@ pub const NUMBER_COLUMNS: [&str; 15] = [
     "critical_eps",
     "critical_fz",
     "critical_points",
+    "limit_parameter",
+    "drop",
     "steps",
     "iterations",
     "wall_s",
@@ -55,6 +60,24 @@ pub struct SweepTable {
 }
 
 impl SweepTable {
+    /// Koiter's law over a sweep of flaws (an axis `imperfection.amplitude`): the drop of
+    /// each done case against its amplitude, fitted by `drop ≈ C |δ|^p`. `None` without
+    /// that axis or without two cases whose path turned below the perfect critical point.
+    pub fn koiter(&self) -> Option<KoiterFit> {
+        let (a, d, s) = (
+            self.column("imperfection.amplitude")?,
+            self.column("drop")?,
+            self.column("status")?,
+        );
+        let samples: Vec<(f64, f64)> = self
+            .rows
+            .iter()
+            .filter(|r| r[s] == "done")
+            .filter_map(|r| Some((r[a].parse().ok()?, r[d].parse().ok()?)))
+            .collect();
+        koiter_fit(&samples)
+    }
+
     /// An empty table for these axes.
     pub fn new(axes: &[Axis]) -> SweepTable {
         let mut headers = vec!["case".to_string(), "status".to_string()];

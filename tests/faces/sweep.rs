@@ -642,3 +642,32 @@ fn an_inline_case_sweeps_nested_keys_and_turns_replace_the_length() {
     assert_eq!(c.case.name, c.id);
     assert_ne!(sweep.cases[0].case.boundary, c.case.boundary);
 }
+
+#[test]
+fn a_sweep_over_the_flaw_amplitude_reports_koiters_fit_or_that_no_path_turned() {
+    // the shipped sweep: Euler's column, stable symmetric, whose flawed paths never turn
+    let dir = tempfile::tempdir().expect("scratch folder");
+    let out = dir.path().join("out");
+    let printed = sweep_to_the_end(Path::new("cases/sweep-imperfection.toml"), &out);
+    assert!(
+        printed.contains("Koiter: fewer than two imperfect paths turned"),
+        "{printed}"
+    );
+    let table = read_table(&out.join("sweep.csv"));
+    assert_eq!(table.rows.len(), 4);
+    for row in 0..4 {
+        assert_eq!(table.get(row, "status"), Some("done"));
+        assert_eq!(table.get(row, "limit_parameter"), Some(""));
+        assert_eq!(table.get(row, "drop"), Some(""));
+    }
+    assert!(table.koiter().is_none());
+    // drops that follow δ^(2/3) over three decades: the fit finds the exponent
+    let mut text = String::from("case,status,imperfection.amplitude,drop\n");
+    for (k, d) in [1e-5f64, 1e-4, 1e-3, 1e-2].iter().enumerate() {
+        text.push_str(&format!("{k:03},done,{d},{}\n", 0.3 * d.powf(2.0 / 3.0)));
+    }
+    let synthetic = SweepTable::from_csv(&text, "koiter.csv").expect("a table");
+    let fit = synthetic.koiter().expect("a fit");
+    assert!((fit.exponent - 2.0 / 3.0).abs() < 1e-9, "{fit:?}");
+    assert!((fit.decades - 3.0).abs() < 1e-9);
+}

@@ -4,6 +4,7 @@
 
 mod bulk;
 mod free_motion;
+mod imperfection;
 mod joints;
 mod loads;
 mod mirror;

@@ -112,6 +112,12 @@ const FIXTURES: &[&str] = &[
     "huge-load-target",
     "huge-radius",
     "huge-turns",
+    "imperfection-bow-on-helix",
+    "imperfection-large-amplitude",
+    "imperfection-mode-and-shape",
+    "imperfection-no-amplitude",
+    "imperfection-no-shape",
+    "imperfection-unknown-shape",
     "loose-tolerance",
     "number-for-name",
     "sliding-both-ends",
@@ -1123,4 +1129,71 @@ fn the_size_estimate_counts_the_bloch_blocks_of_a_symmetric_pair() {
     assert!(msg.contains("Bloch blocks"), "{msg}");
     // without the blocks it would have fitted: the pair's own solve is a few GB
     assert!(est.memory_bytes() - 2.0 * 2.0 * 24.0 * est.factor_entries < 8e9);
+}
+
+#[test]
+fn imperfections_are_checked_key_by_key() {
+    let cases: [(&str, usize, &str, &[&str]); 6] = [
+        (
+            "imperfection-bow-on-helix",
+            3,
+            "imperfection.shape",
+            &["straight rod", "found radius 0.06 m"],
+        ),
+        (
+            "imperfection-large-amplitude",
+            3,
+            "imperfection.amplitude",
+            &["from -0.1 to 0.1", "found 0.5"],
+        ),
+        (
+            "imperfection-mode-and-shape",
+            3,
+            "imperfection.shape",
+            &["one of `mode` or `shape`", "found both"],
+        ),
+        (
+            "imperfection-no-amplitude",
+            4,
+            "imperfection.amplitude",
+            &["an amplitude", "found none"],
+        ),
+        (
+            "imperfection-no-shape",
+            1,
+            "imperfection",
+            &["`mode = k`", "found neither"],
+        ),
+        (
+            "imperfection-unknown-shape",
+            2,
+            "imperfection.shape",
+            &["one of \"bow\"", "found \"kink\""],
+        ),
+    ];
+    for (name, line, key, fragments) in cases {
+        let e = rejected(name);
+        assert!(is_invalid(&e), "{name}: {e:?}");
+        check(&e, line, key, fragments);
+    }
+}
+
+#[test]
+fn shipped_imperfect_cases_read_their_flaws() {
+    use spira::case::{Imperfection, ImperfectionShape};
+    let case = Case::from_file(&manifest_dir().join("cases/euler-clamped-imperfect.toml"))
+        .expect("shipped case");
+    assert_eq!(
+        case.imperfection,
+        Some(Imperfection {
+            shape: ImperfectionShape::Mode(0),
+            amplitude: 1e-3
+        })
+    );
+    // a negative amplitude takes the other side of the mode
+    let text = "[imperfection]\nmode = 2\namplitude = -0.05\n";
+    let case = Case::parse(text, "flaw.toml", "flaw").expect("valid");
+    assert_eq!(case.imperfection.map(|i| i.amplitude), Some(-0.05));
+    // no table: the perfect structure
+    assert_eq!(Case::parse("", "p.toml", "p").unwrap().imperfection, None);
 }

@@ -212,6 +212,24 @@ steps = 2
 elements = 12
 ";
 
+/// Euler's clamped column on a coarse mesh, flawed along its first mode: a run with
+/// `imperfection.csv`.
+const GLOSSARY_FLAW: &str = "\
+[geometry]
+radius = 0.0
+pitch = 1.0
+length = 1.0
+[loading]
+control = \"force\"
+target = 1.1
+steps = 2
+[discretisation]
+elements = 8
+[imperfection]
+mode = 0
+amplitude = 1e-3
+";
+
 #[test]
 fn docs_output_glossary_is_the_rendering_of_the_csv_headers() {
     let case = Case::parse(GLOSSARY_CASE, "glossary.toml", "glossary").expect("the case");
@@ -237,6 +255,16 @@ fn docs_output_glossary_is_the_rendering_of_the_csv_headers() {
         };
         rendering.push_str(&glossary_of(shown, text));
     }
+    // an imperfect case's own file: a coarse Euler column flawed along its first mode
+    let flawed = Case::parse(GLOSSARY_FLAW, "flawed.toml", "flawed").expect("the case");
+    let targets = flawed.output_parameters(flawed.loading.target, flawed.loading.steps);
+    let outcome = run_path(&flawed, &targets, |_, _| {}).expect("the path");
+    let files = run_files(&RunFiles::of(&flawed.name, None, &outcome)).expect("the files");
+    let (_, text) = files
+        .iter()
+        .find(|(name, _)| name == "imperfection.csv")
+        .expect("imperfection.csv");
+    rendering.push_str(&glossary_of("imperfection.csv", text));
     check_generated("output-files.md", "csv columns", &rendering);
 }
 

@@ -312,6 +312,18 @@ fn boundary_line(app: &App) -> Line<'static> {
         line.push(sep());
         line.push(Span::raw("continuum κ*"));
     }
+    // an imperfect case: its flaw
+    if let Some(imp) = &case.imperfection {
+        line.push(sep());
+        line.push(Span::styled(
+            format!(
+                "flaw {}, δ {} L",
+                imp.shape.name(),
+                crate::case::num(imp.amplitude)
+            ),
+            Style::new().fg(Color::Magenta),
+        ));
+    }
     if in_force != app.screen.boundary {
         line.push(sep());
         line.push(Span::styled(
