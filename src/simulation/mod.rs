@@ -5,6 +5,7 @@
 //! ([`reduction`]).
 
 pub mod blocks;
+pub mod curve;
 pub mod judge;
 pub mod problem;
 pub mod reduction;
