@@ -129,29 +129,7 @@ enum Command {
     },
     /// Continue the first critical point of a case's path in a numeric key of the case
     /// (a critical curve) and write critical-curve.csv and critical-curve.svg.
-    Critical {
-        /// Case file (TOML).
-        case: PathBuf,
-        /// The key varied, a dotted numeric key of the case file (e.g. geometry.length).
-        #[arg(long, value_name = "KEY")]
-        vary: String,
-        /// Its value where the critical point is located by the case's path.
-        #[arg(long, allow_hyphen_values = true, value_name = "A")]
-        from: f64,
-        /// Its value where the curve ends.
-        #[arg(long, allow_hyphen_values = true, value_name = "B")]
-        to: f64,
-        /// Rows of the table, equally spaced in the key from A to B (2 to 100000).
-        #[arg(long, default_value_t = 16)]
-        rows: usize,
-        /// Output folder.
-        #[arg(long, default_value = "out")]
-        out: PathBuf,
-        /// Override a key of the case, e.g. `--set geometry.helices=16` (repeatable); the
-        /// value is checked as in the file.
-        #[arg(long = "set", value_name = "KEY=VALUE")]
-        set: Vec<Setting>,
-    },
+    Critical(cli::critical::CriticalArgs),
     /// Replay a session saved in the explorer (key `s`) headless and write the CSVs the
     /// explorer's export (`e`) would have written at its end.
     Replay {
@@ -237,23 +215,7 @@ fn dispatch(command: Option<Command>) -> Result<()> {
     };
     match command {
         Command::Tui { case, out, set } => cli::tui::explore(case, out, &set),
-        Command::Critical {
-            case,
-            vary,
-            from,
-            to,
-            rows,
-            out,
-            set,
-        } => {
-            let spec = spira::simulation::curve::CurveSpec {
-                key: vary,
-                from,
-                to,
-                rows,
-            };
-            cli::critical::critical(&case, &set, spec, &out)
-        }
+        Command::Critical(args) => cli::critical::critical(args),
         Command::Replay { session, out } => cli::replay::replay(&session, &out),
         Command::Run {
             case,

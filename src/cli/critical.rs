@@ -6,14 +6,51 @@ use spira::case::{settings_line, Setting};
 use spira::output::curve::{curve_csv, curve_svg, CURVE_CSV, CURVE_SVG};
 use spira::output::files::write_folder;
 use spira::simulation::curve::{critical_curve, CurveSpec};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The most rows a curve may ask for.
 const MAX_ROWS: u64 = 100_000;
 
-/// `spira critical CASE --vary KEY --from A --to B`: the curve into `out`.
-pub fn critical(case: &Path, set: &[Setting], spec: CurveSpec, out: &Path) -> Result<()> {
+/// The command line of `spira critical`.
+#[derive(clap::Args)]
+pub struct CriticalArgs {
+    /// Case file (TOML).
+    case: PathBuf,
+    /// The key varied, a dotted numeric key of the case file (e.g. geometry.length).
+    #[arg(long, value_name = "KEY")]
+    vary: String,
+    /// Its value where the critical point is located by the case's path.
+    #[arg(long, allow_hyphen_values = true, value_name = "A")]
+    from: f64,
+    /// Its value where the curve ends.
+    #[arg(long, allow_hyphen_values = true, value_name = "B")]
+    to: f64,
+    /// Rows of the table, equally spaced in the key from A to B (2 to 100000).
+    #[arg(long, default_value_t = 16)]
+    rows: usize,
+    /// Output folder.
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+    /// Override a key of the case, e.g. `--set stiffness.b3=1.5` (repeatable); the value is
+    /// checked as in the file.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<Setting>,
+}
+
+/// `spira critical CASE --vary KEY --from A --to B`: the curve into `--out`.
+pub fn critical(args: CriticalArgs) -> Result<()> {
+    let spec = CurveSpec {
+        key: args.vary,
+        from: args.from,
+        to: args.to,
+        rows: args.rows,
+    };
+    curve(&args.case, &args.set, spec, &args.out)
+}
+
+/// The critical curve of `spec` of the case at `case` with `set` into `out`.
+fn curve(case: &Path, set: &[Setting], spec: CurveSpec, out: &Path) -> Result<()> {
     if spec.rows < 2 || spec.rows as u64 > MAX_ROWS {
         bail!("--rows: expected 2 to {MAX_ROWS} rows, found {}", spec.rows);
     }
