@@ -12,6 +12,7 @@ use crate::discretisation::system::System;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::solver::continuation::{Continuation, ContinuationSettings};
 use crate::solver::extended::{CriticalStart, CriticalSystem, Family};
+use crate::solver::interrupt::Interrupt;
 use crate::solver::problem::Problem;
 use toml::Value;
 
@@ -201,11 +202,14 @@ pub fn critical_curve(
     };
     let mut check = assembly(&case);
     check_holds(&mut check, &start).map_err(extended_error)?;
-    let system = CriticalSystem::new(family, &start).map_err(extended_error)?;
+    let mut system = CriticalSystem::new(family, &start).map_err(extended_error)?;
+    let stop = Interrupt::new();
+    system.set_stop(Some(stop.clone()));
     let xe = system.extend(&start.x, start.lambda);
     let settings = curve_settings(&case.solver, spec);
     let mut path = Continuation::new(system, xe, spec.from, settings)
         .map_err(|e| extended_error(e.to_string()))?;
+    path.set_interrupt(Some(stop));
     let multiplicity = path.problem().borders();
     let describe = |path: &mut Continuation<CriticalSystem<CaseFamily>>| {
         let (x, lambda) = path.problem().split(&path.state().x);
@@ -222,7 +226,7 @@ pub fn critical_curve(
             let reason = path
                 .problem()
                 .refusal()
-                .map_or_else(|| e.reason.to_string(), |r| format!("{} ({r})", e.reason));
+                .map_or_else(|| e.reason.to_string(), str::to_string);
             stopped = Some(CurveError::Stopped {
                 key: spec.key.clone(),
                 reached: e.reached,

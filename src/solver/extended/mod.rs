@@ -31,6 +31,7 @@
 
 mod parts;
 
+use super::interrupt::Interrupt;
 use super::problem::Problem;
 use super::stability::InertiaError;
 use crate::results::Stability;
@@ -86,6 +87,10 @@ pub struct CriticalSystem<F: Family> {
     bordered: Bordered,
     /// The first member the family refused, said once a step fails for it.
     refusal: Option<String>,
+    /// Raised at a refusal: the family has no member there, and none beyond (a value the
+    /// case refuses, a layout that changes), so the curve stops instead of cutting its
+    /// step down to nothing.
+    stop: Option<Interrupt>,
     /// Scales of the test functions `g` (the member's eigenvalue scale) and `h` (`|R_λ|`
     /// at the start).
     g_scale: f64,
@@ -151,6 +156,7 @@ impl<F: Family> CriticalSystem<F> {
             sources,
             bordered,
             refusal: None,
+            stop: None,
             g_scale,
             h_scale: if h_scale > 0.0 { h_scale } else { 1.0 },
         })
@@ -185,13 +191,13 @@ impl<F: Family> CriticalSystem<F> {
             let member = match self.family.member(mu) {
                 Ok(m) => m,
                 Err(why) => {
-                    self.refusal.get_or_insert(why);
+                    self.refused(why);
                     return None;
                 }
             };
             let map = pattern_map(member.pattern(), &self.bordered.member_pattern);
             if member.unknowns() != self.n || map.is_none() {
-                self.refusal.get_or_insert(format!(
+                self.refused(format!(
                     "at {mu} the problem has {} unknowns (at the start {}) or entries of its matrix the start's has not: the layout of the state must not change along the curve",
                     member.unknowns(),
                     self.n
@@ -208,6 +214,19 @@ impl<F: Family> CriticalSystem<F> {
             });
         }
         self.members.iter_mut().find(|c| c.key == key)
+    }
+
+    /// `stop` is raised where the family refuses a member.
+    pub fn set_stop(&mut self, stop: Option<Interrupt>) {
+        self.stop = stop;
+    }
+
+    /// Notes the first refusal and raises the stop.
+    fn refused(&mut self, why: String) {
+        self.refusal.get_or_insert(why);
+        if let Some(stop) = &self.stop {
+            stop.raise();
+        }
     }
 
     /// Why the family had no member where a step needed one, if it happened.
