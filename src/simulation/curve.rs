@@ -59,12 +59,8 @@ pub struct CriticalCurve {
 #[derive(Debug, thiserror::Error)]
 pub enum CurveError {
     /// The key (or its value at the start) is not one the case accepts.
-    #[error("--vary {key}: {source}")]
-    Key {
-        key: String,
-        #[source]
-        source: Box<CaseError>,
-    },
+    #[error("--vary {key}: {cause}")]
+    Key { key: String, cause: Box<CaseError> },
     #[error("--vary {key}: expected a numeric key of the case file (a number, such as geometry.length or stiffness.b3), but the case reads it as {found}")]
     NotNumeric { key: String, found: String },
     #[error("--vary {key}: the key sets the number of unknowns (the mesh, the helices), which must stay fixed along a critical curve")]
@@ -78,12 +74,11 @@ pub enum CurveError {
         target: f64,
         reason: Option<String>,
     },
-    #[error("the case at {key} = {value} does not start: {source}")]
+    #[error("the case at {key} = {value} does not start: {cause}")]
     Start {
         key: String,
         value: f64,
-        #[source]
-        source: SolveError,
+        cause: SolveError,
     },
     #[error("the first critical point at {key} = {value} is of the Bloch block of wavenumber {wavenumber} of a symmetric pair, not a singular point of the pair's own matrix: continue it on the full model (--set discretisation.symmetric=false)")]
     BlochBlock {
@@ -283,16 +278,16 @@ fn check_spec(
 fn key_error(spec: &CurveSpec, e: CaseError) -> CurveError {
     CurveError::Key {
         key: spec.key.clone(),
-        source: Box::new(e),
+        cause: Box::new(e),
     }
 }
 
 /// The first critical point (not a neutral direction) of the case's path.
 fn first_critical(case: &Case, spec: &CurveSpec) -> Result<CriticalPoint, CurveError> {
-    let start_error = |source| CurveError::Start {
+    let start_error = |cause| CurveError::Start {
         key: spec.key.clone(),
         value: spec.from,
-        source,
+        cause,
     };
     let mut sim = Simulation::from_case_on(case, 1).map_err(start_error)?;
     let mut reason = None;
