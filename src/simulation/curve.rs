@@ -259,7 +259,7 @@ fn check_spec(
             key: spec.key.clone(),
         });
     }
-    let base = Case::parse_with(text, file, stem, settings).map_err(|e| key_error(spec, e))?;
+    Case::parse_with(text, file, stem, settings).map_err(|e| key_error(spec, e))?;
     let doc: toml::Table = text.parse().unwrap_or_default();
     let mut node = Some(&Value::Table(doc));
     for part in spec.key.split('.') {
@@ -271,7 +271,6 @@ fn check_spec(
             found: format!("{} `{found}`", found.type_str()),
         });
     }
-    drop(base);
     Ok(())
 }
 
