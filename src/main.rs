@@ -127,6 +127,9 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<Setting>,
     },
+    /// Continue the first critical point of a case's path in a numeric key of the case
+    /// (a critical curve) and write critical-curve.csv and critical-curve.svg.
+    Critical(cli::critical::CriticalArgs),
     /// Replay a session saved in the explorer (key `s`) headless and write the CSVs the
     /// explorer's export (`e`) would have written at its end.
     Replay {
@@ -212,6 +215,7 @@ fn dispatch(command: Option<Command>) -> Result<()> {
     };
     match command {
         Command::Tui { case, out, set } => cli::tui::explore(case, out, &set),
+        Command::Critical(args) => cli::critical::critical(args),
         Command::Replay { session, out } => cli::replay::replay(&session, &out),
         Command::Run {
             case,

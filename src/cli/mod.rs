@@ -3,6 +3,7 @@
 //! mesh an accuracy target chooses.
 
 pub mod bench;
+pub mod critical;
 pub mod mesh;
 pub mod plot;
 pub mod precision;

@@ -5,6 +5,7 @@
 //! ([`reduction`]).
 
 pub mod blocks;
+pub mod curve;
 pub mod flaw;
 mod imperfection;
 pub mod judge;

@@ -5,6 +5,7 @@
 
 pub mod continuation;
 pub mod critical;
+pub mod extended;
 mod fold;
 pub mod interrupt;
 pub mod ldl;

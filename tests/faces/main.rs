@@ -6,6 +6,7 @@
 mod common;
 
 mod cli;
+mod critical;
 mod figures;
 mod fuzz_cli;
 mod interrupts;

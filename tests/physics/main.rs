@@ -3,6 +3,7 @@
 //! (`cargo test --release --test physics`).
 
 mod bulk;
+mod critical_curves;
 mod free_motion;
 mod imperfection;
 mod joints;

@@ -8,6 +8,7 @@ mod architecture;
 mod case_settings;
 mod cases;
 mod continuation;
+mod critical_curve;
 mod docs;
 mod fuzz_cases;
 mod fuzz_sessions;
