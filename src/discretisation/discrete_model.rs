@@ -246,6 +246,9 @@ impl DiscreteModel {
                 }
             }
         }
+        if let Some(cell) = &self.assembly.cell {
+            super::cell::centre_on_axis(self, cell, &mut x);
+        }
         x
     }
 

@@ -1,5 +1,6 @@
 //! Tubular assemblies of helices and their pin joints (docs/theory.md §2).
 
+use super::cell::Cell;
 use super::helix::{Chirality, Helix};
 use super::symmetry::{Symmetry, SymmetryError};
 use std::f64::consts::PI;
@@ -30,6 +31,8 @@ pub struct Assembly {
     pub joints: Vec<Joint>,
     /// Set when the rods are one right/left pair standing for a symmetric assembly.
     pub symmetry: Option<Symmetry>,
+    /// Set when the rods are the cell of an infinitely long tube (docs/theory.md §8).
+    pub cell: Option<Cell>,
 }
 
 /// Relative tolerance on arc length when deciding that a crossing lies on a rod.
@@ -61,6 +64,7 @@ impl Assembly {
             length,
             joints,
             symmetry: None,
+            cell: None,
         }
     }
 
@@ -69,7 +73,7 @@ impl Assembly {
     /// its partner (every other joint is an image of one of these).
     pub fn symmetric_pair(&self) -> Result<Assembly, SymmetryError> {
         let n = self.rods.len();
-        if n < 4 || n % 2 == 1 || self.symmetry.is_some() {
+        if n < 4 || n % 2 == 1 || self.symmetry.is_some() || self.cell.is_some() {
             return Err(SymmetryError::TooFewHelices { n });
         }
         let m = n / 2;
@@ -90,6 +94,7 @@ impl Assembly {
             length: self.length,
             joints,
             symmetry: Some(Symmetry { m }),
+            cell: None,
         })
     }
 
@@ -111,6 +116,7 @@ impl Assembly {
             length: self.length,
             joints,
             symmetry: None,
+            cell: None,
         }
     }
 

@@ -3,6 +3,7 @@
 //! (`cargo test --release --test physics`).
 
 mod bulk;
+mod cell;
 mod free_motion;
 mod joints;
 mod loads;
