@@ -17,6 +17,14 @@ use crate::model::cell::Cell;
 use crate::model::quaternion::{self, Quat};
 use crate::model::symmetry::TurnZ;
 use faer::c64;
+use std::f64::consts::PI;
+
+/// Quadratic elements per rod of the cell of a tube of `n` helices by default: `128/n`, at
+/// least 8 — 64 per turn of the helix for n ≤ 16 (the cell's rods are `1/n` of a turn), so
+/// that the cell's axial force is Love's to 1e-9 and below.
+pub fn default_elements(n: usize) -> usize {
+    (128 / n.max(1)).max(8)
+}
 
 /// `rows[i][k] = ∂ Im(w̄ ∘ q)_i / ∂q_k`: the rows by which a frame near `w` is held.
 fn held_rows(w: &Quat) -> [[f64; 4]; 3] {
@@ -56,13 +64,19 @@ pub(super) fn cell_constraints(
         let (Some(vi), Some(vj)) = (ri.mesh.vertex_at(joint.s), rj.mesh.vertex_at(joint.s)) else {
             continue;
         };
-        let (a, b) = (
-            model.vertex(x, joint.right, vi),
-            model.vertex(x, joint.left, vj),
-        );
-        for k in 0..3 {
-            let terms = vec![(ri.r_dof(vi, k), 1.0), (rj.r_dof(vj, k), -1.0)];
-            out.push(row(terms, a[k] - b[k], Role::Joint(j)));
+        // r_right − Rot(turn) r_left = 0, held at its value in `x`
+        let turn = TurnZ::new(joint.left_turn);
+        let a = model.vertex(x, joint.right, vi);
+        let b = model.vertex(x, joint.left, vj);
+        let b = turn.apply([b[0], b[1], b[2]]);
+        for i in 0..3 {
+            let mut terms = vec![(ri.r_dof(vi, i), 1.0)];
+            for k in 0..3 {
+                let mut e = [0.0; 3];
+                e[k] = 1.0;
+                terms.push((rj.r_dof(vj, k), -turn.apply(e)[i]));
+            }
+            out.push(row(terms, a[i] - b[i], Role::Joint(j)));
         }
     }
     for (id, rod) in model.rods.iter().enumerate() {
@@ -181,6 +195,9 @@ enum Entry {
     /// A periodic row's coupling to rod `rod`'s near end: times `e^{±iθ}`, `θ` that rod's
     /// far-end phase (`+` on the row, `−` on its transpose).
     Phased { rod: usize, sign: f64 },
+    /// A joint row's coupling to the image of its left rod turned by `turn` about z:
+    /// times `e^{±2πipr/m}`, `r` the image's sector.
+    Sector { turn: f64, sign: f64 },
     /// A gauge row's coupling: kept in the block of the rigid motions (`p = 0`, `k = 0`),
     /// and, for the azimuthal row, in that of the translation across the axis.
     Gauge { translation: bool },
@@ -227,6 +244,17 @@ impl CellBlocks {
                     }
                     None
                 }
+                Role::Joint(j) => {
+                    let joint = model.assembly.joints[j];
+                    let left = &model.rods[joint.left];
+                    let dofs = left.q_offset..left.r_offset + 3 * (left.mesh.elements() + 1);
+                    for &(d, _) in c.terms.iter().filter(|(d, _)| dofs.contains(d)) {
+                        let turn = joint.left_turn;
+                        entries[entry(r, d)] = Entry::Sector { turn, sign: 1.0 };
+                        entries[entry(d, r)] = Entry::Sector { turn, sign: -1.0 };
+                    }
+                    None
+                }
                 _ => None,
             };
             let Some(rod) = mark else { continue };
@@ -255,16 +283,20 @@ impl CellBlocks {
 
     /// Whether block `(p, k)` is real: every phase `0` or `π` (`k = 0` or `π`, `2p = 0 mod m`).
     pub fn is_real(&self, p: usize, k: f64) -> bool {
-        let on_axis = k == 0.0 || (k - std::f64::consts::PI).abs() < 1e-14;
+        let on_axis = k == 0.0 || (k - PI).abs() < 1e-14;
         on_axis && (2 * p) % self.cell.m == 0
     }
 
     /// Whether the gauge rows of kind `translation` are kept in block `(p, k)`.
     fn keeps_gauge(&self, p: usize, k: f64, translation: bool) -> bool {
-        let rigid = p == 0 && k == 0.0;
+        let same = |a: f64, b: f64| {
+            let d = (a - b).rem_euclid(2.0 * PI);
+            d.min(2.0 * PI - d) < 1e-9
+        };
+        let rigid = p == 0 && same(k, 0.0);
         let across = translation
             && p == self.cell.translation_wavenumber()
-            && (k - self.cell.translation_phase()).abs() < 1e-12;
+            && same(k, self.cell.translation_phase());
         rigid || across
     }
 
@@ -282,6 +314,10 @@ impl CellBlocks {
                 Entry::Plain => c64::new(v, 0.0),
                 Entry::Phased { rod, sign } => {
                     let (c, s) = phases[rod];
+                    c64::new(v * c, sign * v * s)
+                }
+                Entry::Sector { turn, sign } => {
+                    let (s, c) = self.cell.sector_phase(turn, p).sin_cos();
                     c64::new(v * c, sign * v * s)
                 }
                 Entry::Gauge { translation } => {

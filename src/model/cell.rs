@@ -38,6 +38,14 @@ impl Cell {
         self.turns[0].rem_euclid(2.0 * PI)
     }
 
+    /// The phase (rad) of a joint tying the cell to the image of a rod turned by `turn`
+    /// about z, in the perturbation of wavenumber `p`: `2π p r/m`, `r` the image's sector.
+    pub fn sector_phase(&self, turn: f64, p: usize) -> f64 {
+        let m = self.m as f64;
+        let r = (turn * m / (2.0 * PI)).round().rem_euclid(m) as usize;
+        2.0 * PI * ((p * r) % self.m) as f64 / m
+    }
+
     /// The circumferential wavenumber of the rigid translation across the axis.
     pub fn translation_wavenumber(&self) -> usize {
         1 % self.m
@@ -58,7 +66,19 @@ impl Assembly {
     /// `b` (m): rods `R_0` and `L_0` (base angle 0) over the arc length `π c/m`, crossing at
     /// their near ends (the crossing at their far ends is the screw image of that one).
     pub fn tube_cell(n: usize, radius: f64, pitch: f64) -> Result<Assembly, CellError> {
-        if n < 2 || n % 2 == 1 || radius <= 0.0 || !radius.is_finite() {
+        Assembly::tube_cells(n, radius, pitch, 1)
+    }
+
+    /// `cells` cells of the infinite tube stacked along the screw and closed on themselves
+    /// (the cell of the tube seen with `S^cells` as its screw): `R_0` and `L_0` over
+    /// `cells · π c/m`, `R_0` crossing the image `L_{−l} = R^l L_0` at `s = l π c/m`.
+    pub fn tube_cells(
+        n: usize,
+        radius: f64,
+        pitch: f64,
+        cells: usize,
+    ) -> Result<Assembly, CellError> {
+        if n < 2 || n % 2 == 1 || radius <= 0.0 || !radius.is_finite() || cells == 0 {
             return Err(CellError::NotATube { n, radius });
         }
         let m = n / 2;
@@ -69,30 +89,34 @@ impl Assembly {
             base_angle: 0.0,
         };
         let right = helix(Chirality::Right);
-        let length = PI * right.c() / m as f64;
-        let turn = PI / m as f64;
-        Ok(Assembly {
-            rods: vec![right, helix(Chirality::Left)],
-            length,
-            joints: vec![Joint {
+        let step = PI * right.c() / m as f64;
+        let turn = PI / m as f64 * cells as f64;
+        let joints = (0..cells)
+            .map(|l| Joint {
                 right: 0,
                 left: 1,
-                s: 0.0,
-                left_turn: 0.0,
-            }],
+                s: step * l as f64,
+                left_turn: 2.0 * PI * (l % m) as f64 / m as f64,
+            })
+            .collect();
+        Ok(Assembly {
+            rods: vec![right, helix(Chirality::Left)],
+            length: step * cells as f64,
+            joints,
             symmetry: None,
             cell: Some(Cell {
                 m,
                 turns: vec![turn, -turn],
-                far_sectors: vec![0, m - 1],
+                far_sectors: vec![0, (m - cells % m) % m],
             }),
         })
     }
 
     /// The cell of an infinitely long straight rod on the axis (radius 0): one rod of length
-    /// `length` (m) whose far end is its near end translated along the axis.
-    pub fn straight_cell(length: f64) -> Result<Assembly, CellError> {
-        if length <= 0.0 || !length.is_finite() {
+    /// `length` (m) whose far end is its near end translated along the axis, its frame
+    /// turned by `turn` (rad) about it (the twist of the rod over the cell).
+    pub fn straight_cell(length: f64, turn: f64) -> Result<Assembly, CellError> {
+        if length <= 0.0 || !length.is_finite() || !turn.is_finite() {
             return Err(CellError::NotStraight {
                 radius: 0.0,
                 length,
@@ -110,7 +134,7 @@ impl Assembly {
             symmetry: None,
             cell: Some(Cell {
                 m: 1,
-                turns: vec![0.0],
+                turns: vec![turn],
                 far_sectors: vec![0],
             }),
         })

@@ -5,6 +5,7 @@
 //! ([`reduction`]).
 
 pub mod blocks;
+pub mod cell;
 pub mod judge;
 pub mod problem;
 pub mod reduction;
@@ -347,6 +348,7 @@ impl Simulation {
             let eps = eps_of(&rods.model, &c.state);
             let CriticalModes {
                 wavenumber,
+                bloch_phase,
                 multiplicity,
                 assembly_mode,
                 second_mode,
@@ -360,6 +362,7 @@ impl Simulation {
                 unstable_before: c.unstable_before,
                 unstable_after: c.unstable_after,
                 wavenumber,
+                bloch_phase,
                 multiplicity,
                 state: c.state,
                 mode: c.mode,

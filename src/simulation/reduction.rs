@@ -7,6 +7,7 @@
 //! assembly, how stability is judged there ([`StabilityJudge`]), and its label on the faces.
 
 use super::blocks::JudgeByBlocks;
+use super::cell::TubeCell;
 use super::judge::{JudgeOnItself, StabilityJudge};
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::symmetry::{assembly_mode, expand_state};
@@ -70,6 +71,9 @@ pub trait Reduction: Send + Sync {
 
 /// The reduction `model` is solved in.
 pub fn of(model: &DiscreteModel) -> Box<dyn Reduction> {
+    if model.assembly.cell.is_some() {
+        return Box::new(TubeCell);
+    }
     match model.assembly.symmetry {
         Some(_) => Box::new(CyclicPair),
         None => Box::new(WholeAssembly),
@@ -81,6 +85,8 @@ pub fn of(model: &DiscreteModel) -> Box<dyn Reduction> {
 pub struct CriticalModes {
     /// The wavenumber of the mode, when the blocks judged are of distinct wavenumbers.
     pub wavenumber: Option<usize>,
+    /// The axial Bloch phase of the mode (rad per cell), for a cell.
+    pub bloch_phase: Option<f64>,
     /// Modes crossing together.
     pub multiplicity: usize,
     /// For a reduced model: the critical mode on the whole assembly (its primal unknowns).
@@ -150,6 +156,7 @@ impl Reduction for WholeAssembly {
             .flatten();
         CriticalModes {
             wavenumber: None,
+            bloch_phase: None,
             multiplicity: match critical.kind {
                 CriticalKind::Neutral => 1,
                 _ => jump.max(1),
@@ -239,6 +246,7 @@ impl Reduction for CyclicPair {
         });
         CriticalModes {
             wavenumber: Some(p),
+            bloch_phase: None,
             multiplicity: judge.multiplicity(p),
             assembly_mode: first,
             second_mode: second,
