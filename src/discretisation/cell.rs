@@ -294,9 +294,10 @@ impl CellBlocks {
             d.min(2.0 * PI - d) < 1e-9
         };
         let rigid = p == 0 && same(k, 0.0);
-        let across = translation
-            && p == self.cell.translation_wavenumber()
-            && same(k, self.cell.translation_phase());
+        // the translation across the axis: (1, ψ) and its conjugate (m − 1, −ψ)
+        let (m, psi) = (self.cell.m, self.cell.translation_phase());
+        let across =
+            translation && ((p == 1 % m && same(k, psi)) || (p == (m - 1) % m && same(k, -psi)));
         rigid || across
     }
 
