@@ -6,6 +6,7 @@ use crate::discretisation::bulk;
 use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
+use crate::simulation::cell::{self, StepDispersion};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::Observer;
@@ -34,6 +35,9 @@ pub struct PathOutcome {
     pub modes: Vec<ModeShape>,
     /// The discrete model (for mode output).
     pub model: crate::discretisation::discrete_model::DiscreteModel,
+    /// For the cell of an infinite tube: the dispersion of every output point's state, on
+    /// [`cell::PHASES`] axial phases (empty for a finite assembly).
+    pub dispersion: Vec<StepDispersion>,
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
@@ -92,7 +96,15 @@ pub fn run_path_steps(
     // the interrupt is in force from the natural state's solve on
     let mut sim = Simulation::from_case_with(case, interrupt, observer)?;
     let mut bulks: Vec<StepBulk> = Vec::new();
+    let mut dispersion: Vec<StepDispersion> = Vec::new();
     let mut report = |sim: &Simulation, p: &LoadPoint, time: Duration| {
+        if let Some(d) = sim.dispersion(cell::PHASES) {
+            dispersion.push(StepDispersion {
+                step: p.step,
+                eps: p.compression_ratio,
+                dispersion: d,
+            });
+        }
         let snapshot = sim.snapshot();
         let b = bulk::step_bulk(sim.model(), &snapshot, p);
         on_step(&Step {
@@ -166,6 +178,7 @@ pub fn run_path_steps(
         .collect();
     Ok(PathOutcome {
         bulk: bulks,
+        dispersion,
         modes,
         points,
         snapshot: sim.snapshot(),

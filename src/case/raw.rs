@@ -170,6 +170,8 @@ pub(super) struct RawDiscretisation {
     /// Target relative accuracy; not with `elements`.
     pub accuracy: Option<Spanned<f64>>,
     pub symmetric: Option<Spanned<SymmetricKey>>,
+    /// `"auto"`, `"pair"`, `"full"` or `"cell"`; not with `symmetric`.
+    pub model: Option<Spanned<String>>,
     /// Reference curvatures: `"discrete"` or `"continuum"`.
     pub reference: Option<Reference>,
 }

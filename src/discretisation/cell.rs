@@ -287,6 +287,12 @@ impl CellBlocks {
         on_axis && (2 * p) % self.cell.m == 0
     }
 
+    /// Whether block `(p, k)` holds the tube's rigid translation across its axis (a zero
+    /// eigenvalue, which its gauge row removes).
+    pub fn holds_translation(&self, p: usize, k: f64) -> bool {
+        self.keeps_gauge(p, k, true) && !self.keeps_gauge(p, k, false)
+    }
+
     /// Whether the gauge rows of kind `translation` are kept in block `(p, k)`.
     fn keeps_gauge(&self, p: usize, k: f64, translation: bool) -> bool {
         let same = |a: f64, b: f64| {

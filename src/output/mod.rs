@@ -6,6 +6,7 @@
 
 pub mod chart;
 pub mod csv;
+pub mod dispersion;
 pub mod figures;
 pub mod files;
 mod joints_table;

@@ -5,12 +5,14 @@ use super::csv::{
     bulk_csv, check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
     NonFinite,
 };
+use super::dispersion::{bands_csv, dispersion_csv};
 use super::files::write_folder;
 use super::joints_table::joints_csv;
 use super::vtk;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::run::PathOutcome;
+use crate::simulation::cell::StepDispersion;
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -35,6 +37,9 @@ pub struct RunFiles<'a> {
     pub series: Option<(&'a [Snapshot], &'a [ModeShape])>,
     /// For `state-<step>.csv` files (`--states`, `--figures`): `(output step, shape)`.
     pub states: &'a [(usize, Snapshot)],
+    /// For the cell of an infinite tube: the dispersion at every output step
+    /// (`dispersion.csv`, `bands.csv`).
+    pub dispersion: &'a [StepDispersion],
 }
 
 impl<'a> RunFiles<'a> {
@@ -51,6 +56,7 @@ impl<'a> RunFiles<'a> {
             bulk: &outcome.bulk,
             series: None,
             states: &[],
+            dispersion: &outcome.dispersion,
         }
     }
 }
@@ -67,6 +73,14 @@ pub fn hypotheses_note(model: &DiscreteModel) -> String {
 
 /// Which model was solved, for the header of every file.
 pub fn model_solved(model: &DiscreteModel) -> String {
+    if let Some(cell) = &model.assembly.cell {
+        return format!(
+            "model: the cell of an infinitely long tube of {} helices (one right and one left rod from a crossing to the next, helically periodic; each rod of the cell stands for the {} rods of its chirality); stability by the blocks H(p, k), p = 0..{}",
+            2 * cell.m,
+            cell.m,
+            cell.m - 1
+        );
+    }
     match model.assembly.symmetry {
         Some(sym) => format!(
             "model: one right/left pair standing for all {} rods (the {}-fold rotational symmetry), stability of the whole assembly by its Bloch blocks p = 0..{}",
@@ -97,6 +111,13 @@ pub fn run_files(run: &RunFiles) -> io::Result<Vec<(String, String)>> {
         for (i, c) in run.critical.iter().enumerate() {
             files.push((format!("mode-{i}.csv"), mode_csv(case, run.model, i, c)));
         }
+    }
+    if !run.dispersion.is_empty() {
+        files.push((
+            "dispersion.csv".to_string(),
+            dispersion_csv(case, run.dispersion),
+        ));
+        files.push(("bands.csv".to_string(), bands_csv(case, run.dispersion)));
     }
     for (step, snapshot) in run.states {
         files.push((format!("state-{step}.csv"), state_csv(case, snapshot)));

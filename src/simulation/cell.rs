@@ -33,6 +33,15 @@ pub struct Dispersion {
     pub lowest: Vec<Vec<Option<f64>>>,
 }
 
+/// The dispersion of a cell at one output step of a path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepDispersion {
+    pub step: usize,
+    /// The tube's axial strain `ε` there.
+    pub eps: f64,
+    pub dispersion: Dispersion,
+}
+
 /// Where a band of unstable perturbations of one wavenumber opens or closes, between two
 /// phases of the grid: the phase where the lowest eigenvalue, linear between them, is zero.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -289,7 +298,13 @@ impl CellJudge {
         let lowest = (0..self.blocks.cell().m)
             .map(|p| {
                 (0..n)
-                    .map(|i| self.lowest_of_block(pattern, p * n + i))
+                    .map(|i| {
+                        // the rigid translation across the axis: eigenvalue 0
+                        if self.blocks.holds_translation(p, self.phases[i]) {
+                            return Some(0.0);
+                        }
+                        self.lowest_of_block(pattern, p * n + i)
+                    })
                     .collect()
             })
             .collect();
