@@ -98,13 +98,7 @@ pub fn run_path_steps(
     let mut bulks: Vec<StepBulk> = Vec::new();
     let mut dispersion: Vec<StepDispersion> = Vec::new();
     let mut report = |sim: &Simulation, p: &LoadPoint, time: Duration| {
-        if let Some(d) = sim.dispersion(cell::PHASES) {
-            dispersion.push(StepDispersion {
-                step: p.step,
-                eps: p.compression_ratio,
-                dispersion: d,
-            });
-        }
+        dispersion.extend(step_dispersion(sim, p));
         let snapshot = sim.snapshot();
         let b = bulk::step_bulk(sim.model(), &snapshot, p);
         on_step(&Step {
@@ -188,5 +182,14 @@ pub fn run_path_steps(
         model: sim.model().clone(),
         switched_at,
         error,
+    })
+}
+
+/// For the cell of an infinite tube, the dispersion of the state of output point `p`.
+fn step_dispersion(sim: &Simulation, p: &LoadPoint) -> Option<StepDispersion> {
+    Some(StepDispersion {
+        step: p.step,
+        eps: p.compression_ratio,
+        dispersion: sim.dispersion(cell::PHASES)?,
     })
 }

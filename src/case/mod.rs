@@ -133,8 +133,17 @@ impl Case {
         // the tip's height is free under a dead axial load
         tables::free_motion(&boundary, &geometry, loading.tip_height_held(), &ck)?;
         let mut discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
-        if discretisation.cell {
-            model_key::check_cell_loading(&raw.discretisation, &loading, &ck)?;
+        if let Some(why) = discretisation
+            .cell
+            .then(|| model_key::cell_loading_message(&loading))
+            .flatten()
+        {
+            return Err(CaseError::Invalid {
+                file: file.to_string(),
+                line: ck.line_of_key("model"),
+                key: "discretisation.model".into(),
+                message: why.into(),
+            });
         }
         if !loading.parameter.keeps_cyclic_symmetry() || loading.hold.tilt != 0.0 {
             // a tilt is a wavenumber-1 load: the full model

@@ -390,7 +390,12 @@ pub(super) fn discretisation(
         (1, 100_000),
         "a number of elements per rod",
     )?;
-    let chosen = model_key::model_choice(d, geometry, ck)?;
+    let chosen = model_key::model_choice(d, geometry).map_err(|message| CaseError::Invalid {
+        file: ck.file.to_string(),
+        line: ck.line_of_key("model"),
+        key: "discretisation.model".into(),
+        message,
+    })?;
     let cell = chosen.is_some_and(|c| c.2);
     if accuracy.is_none() && !cell {
         // the mesh a rod gets: at least `elements`, and a vertex at every joint

@@ -1,6 +1,6 @@
 //! The cell of an infinite tube discretised (docs/theory.md §8): its helically periodic
-//! conditions as linear constraints, the gauge that fixes its rigid motions, its natural
-//! state centred on the axis, and the Bloch blocks `H(p, k)` of its KKT matrix.
+//! conditions as linear constraints and the gauge that fixes its rigid motions (its Bloch
+//! blocks are in [`super::cell_blocks`]).
 //!
 //! Each rod of the cell keeps its far-end vertex and quaternion node as unknowns, tied to
 //! the screw image of its near end: `r_far = R_ψ r_near + h e_z` (three rows: x and y held
@@ -10,14 +10,12 @@
 //! exactly, as a clamp holds a frame). The rows are the far end's "support": their
 //! multipliers are the force and moment the next cell applies to the rod.
 
-use super::constraints::{LinearConstraint, Role};
+use super::constraints::{support_constraints, LinearConstraint, Role, TipPlace};
 use super::discrete_model::{DiscreteModel, End};
-use super::system::System;
+use crate::model::boundary::BoundaryConditions;
 use crate::model::cell::Cell;
 use crate::model::quaternion::{self, Quat};
 use crate::model::symmetry::TurnZ;
-use faer::c64;
-use std::f64::consts::PI;
 
 /// Quadratic elements per rod of the cell of a tube of `n` helices by default: `128/n`, at
 /// least 8 — 64 per turn of the helix for n ≤ 16 (the cell's rods are `1/n` of a turn), so
@@ -48,10 +46,34 @@ fn row(terms: Vec<(usize, f64)>, value: f64, role: Role) -> LinearConstraint {
     }
 }
 
+/// The constraints at the rods' ends: every rod's supports, or for the cell of an infinite
+/// tube its periodic conditions, gauge and joints ([`cell_constraints`]).
+pub(super) fn end_constraints(
+    model: &DiscreteModel,
+    x: &[f64],
+    bc: &BoundaryConditions,
+    tip: TipPlace,
+    out: &mut Vec<LinearConstraint>,
+) {
+    if let Some(cell) = &model.assembly.cell {
+        let height = match tip {
+            TipPlace::Upright { height } => height,
+            TipPlace::Turned { .. } => None,
+        };
+        cell_constraints(model, x, cell, height, out);
+        return;
+    }
+    for id in 0..model.rods.len() {
+        for (end, cond) in [(End::Base, bc.base), (End::Tip, bc.tip)] {
+            support_constraints(model, x, id, end, cond, tip, out);
+        }
+    }
+}
+
 /// The constraints of a cell in the state `x`: the gauge of its rigid motions, the pin
 /// joints inside it and the periodic conditions of every rod, its rise held at `height`
 /// (m; at its value in `x` when `None`).
-pub(super) fn cell_constraints(
+fn cell_constraints(
     model: &DiscreteModel,
     x: &[f64],
     cell: &Cell,
@@ -153,197 +175,5 @@ fn gauge(model: &DiscreteModel, x: &[f64], out: &mut Vec<LinearConstraint>) {
             })
             .collect();
         out.push(row(twist, 0.0, base));
-    }
-}
-
-/// Moves every helical rod of a cell's primal state `x` across the axis so that its far
-/// vertex is the screw image of its near one: the discrete helix, whose vertices its chords
-/// place, is a regular polygon about an axis a rounding away from z.
-pub(super) fn centre_on_axis(model: &DiscreteModel, cell: &Cell, x: &mut [f64]) {
-    for (id, rod) in model.rods.iter().enumerate() {
-        if rod.helix.is_straight() {
-            continue;
-        }
-        let turn = TurnZ::new(cell.turns[id]);
-        let (v0, ve) = (
-            model.vertex(x, id, 0),
-            model.vertex(x, id, rod.mesh.elements()),
-        );
-        let image = turn.apply([v0[0], v0[1], 0.0]);
-        // (I − R) c = v_far − R v_near in x–y
-        let (b0, b1) = (ve[0] - image[0], ve[1] - image[1]);
-        let (cos, sin) = (cell.turns[id].cos(), cell.turns[id].sin());
-        let (a00, a01, a10, a11) = (1.0 - cos, sin, -sin, 1.0 - cos);
-        let det = a00 * a11 - a01 * a10;
-        if det.abs() < 1e-12 {
-            continue;
-        }
-        let c = [(a11 * b0 - a01 * b1) / det, (a00 * b1 - a10 * b0) / det];
-        for v in 0..=rod.mesh.elements() {
-            for k in 0..2 {
-                x[rod.r_dof(v, k)] -= c[k];
-            }
-        }
-    }
-}
-
-/// What a stored entry of the cell's KKT pattern becomes in a Bloch block.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Entry {
-    /// The same in every block.
-    Plain,
-    /// A periodic row's coupling to rod `rod`'s near end: times `e^{±iθ}`, `θ` that rod's
-    /// far-end phase (`+` on the row, `−` on its transpose).
-    Phased { rod: usize, sign: f64 },
-    /// A joint row's coupling to the image of its left rod turned by `turn` about z:
-    /// times `e^{±2πipr/m}`, `r` the image's sector.
-    Sector { turn: f64, sign: f64 },
-    /// A gauge row's coupling: kept in the block of the rigid motions (`p = 0`, `k = 0`),
-    /// and, for the azimuthal row, in that of the translation across the axis.
-    Gauge { translation: bool },
-}
-
-/// The Bloch blocks `H(p, k)` of a cell's KKT matrix (docs/theory.md §8): a perturbation
-/// of circumferential wavenumber `p` (`0 … m − 1`) and axial Bloch phase `k` (rad per cell)
-/// is `e^{i(2πpj/m + kl)} U` in cell `(j, l)` (in its own frame); the block is the cell's KKT
-/// matrix with each periodic row's coupling to its rod's near end times `e^{iθ}`, `θ` the
-/// phase of the cell the far end begins, and the conjugate on the transposes. The gauge
-/// rows are kept only where the motions they hold are perturbations of the block.
-#[derive(Clone, Debug)]
-pub struct CellBlocks {
-    cell: Cell,
-    entries: Vec<Entry>,
-}
-
-impl CellBlocks {
-    /// The blocks of a cell's system (`None` for a model that is not a cell).
-    pub fn new(model: &DiscreteModel, system: &System) -> Option<CellBlocks> {
-        let cell = model.assembly.cell.clone()?;
-        let pattern = system.pattern();
-        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-        let entry = |row: usize, col: usize| {
-            let rows = &ri[cp[col]..cp[col + 1]];
-            cp[col]
-                + rows
-                    .binary_search(&row)
-                    .expect("cell entry in the KKT pattern")
-        };
-        let mut entries = vec![Entry::Plain; ri.len()];
-        for (i, c) in system.linear.iter().enumerate() {
-            let r = system.linear_row(i);
-            let mark = match c.role {
-                Role::Support { rod, end: End::Tip } | Role::TipHeight { rod } => Some(rod),
-                Role::Support { end: End::Base, .. } => {
-                    let azimuth = c.terms.len() == 1 && c.terms[0].0 == model.rods[0].r_dof(0, 1);
-                    let g = Entry::Gauge {
-                        translation: azimuth,
-                    };
-                    for &(d, _) in &c.terms {
-                        entries[entry(r, d)] = g;
-                        entries[entry(d, r)] = g;
-                    }
-                    None
-                }
-                Role::Joint(j) => {
-                    let joint = model.assembly.joints[j];
-                    let left = &model.rods[joint.left];
-                    let dofs = left.q_offset..left.r_offset + 3 * (left.mesh.elements() + 1);
-                    for &(d, _) in c.terms.iter().filter(|(d, _)| dofs.contains(d)) {
-                        let turn = joint.left_turn;
-                        entries[entry(r, d)] = Entry::Sector { turn, sign: 1.0 };
-                        entries[entry(d, r)] = Entry::Sector { turn, sign: -1.0 };
-                    }
-                    None
-                }
-                _ => None,
-            };
-            let Some(rod) = mark else { continue };
-            let near = &model.rods[rod];
-            let near_dofs = [
-                near.q_dof(0, 0),
-                near.q_dof(0, 1),
-                near.q_dof(0, 2),
-                near.q_dof(0, 3),
-            ]
-            .into_iter()
-            .chain((0..3).map(|k| near.r_dof(0, k)))
-            .collect::<Vec<_>>();
-            for &(d, _) in c.terms.iter().filter(|(d, _)| near_dofs.contains(d)) {
-                entries[entry(r, d)] = Entry::Phased { rod, sign: 1.0 };
-                entries[entry(d, r)] = Entry::Phased { rod, sign: -1.0 };
-            }
-        }
-        Some(CellBlocks { cell, entries })
-    }
-
-    /// The cell's periodicity.
-    pub fn cell(&self) -> &Cell {
-        &self.cell
-    }
-
-    /// Whether block `(p, k)` is real: every phase `0` or `π` (`k = 0` or `π`, `2p = 0 mod m`).
-    pub fn is_real(&self, p: usize, k: f64) -> bool {
-        let on_axis = k == 0.0 || (k - PI).abs() < 1e-14;
-        on_axis && (2 * p) % self.cell.m == 0
-    }
-
-    /// Whether block `(p, k)` holds the tube's rigid translation across its axis (a zero
-    /// eigenvalue, which its gauge row removes).
-    pub fn holds_translation(&self, p: usize, k: f64) -> bool {
-        self.keeps_gauge(p, k, true) && !self.keeps_gauge(p, k, false)
-    }
-
-    /// Whether the gauge rows of kind `translation` are kept in block `(p, k)`.
-    fn keeps_gauge(&self, p: usize, k: f64, translation: bool) -> bool {
-        let same = |a: f64, b: f64| {
-            let d = (a - b).rem_euclid(2.0 * PI);
-            d.min(2.0 * PI - d) < 1e-9
-        };
-        let rigid = p == 0 && same(k, 0.0);
-        // the translation across the axis: (1, ψ) and its conjugate (m − 1, −ψ)
-        let (m, psi) = (self.cell.m, self.cell.translation_phase());
-        let across =
-            translation && ((p == 1 % m && same(k, psi)) || (p == (m - 1) % m && same(k, -psi)));
-        rigid || across
-    }
-
-    /// The complex Hermitian block `(p, k)` from the cell's KKT values `kkt`, in the cell's
-    /// pattern.
-    pub fn hermitian_block(&self, p: usize, k: f64, kkt: &[f64], out: &mut [c64]) {
-        let phases: Vec<(f64, f64)> = (0..self.cell.turns.len())
-            .map(|rod| {
-                let (s, c) = self.cell.far_phase(rod, p, k).sin_cos();
-                (c, s)
-            })
-            .collect();
-        for ((o, &v), e) in out.iter_mut().zip(kkt).zip(&self.entries) {
-            *o = match *e {
-                Entry::Plain => c64::new(v, 0.0),
-                Entry::Phased { rod, sign } => {
-                    let (c, s) = phases[rod];
-                    c64::new(v * c, sign * v * s)
-                }
-                Entry::Sector { turn, sign } => {
-                    let (s, c) = self.cell.sector_phase(turn, p).sin_cos();
-                    c64::new(v * c, sign * v * s)
-                }
-                Entry::Gauge { translation } => {
-                    if self.keeps_gauge(p, k, translation) {
-                        c64::new(v, 0.0)
-                    } else {
-                        c64::new(0.0, 0.0)
-                    }
-                }
-            };
-        }
-    }
-
-    /// The real block `(p, k)` (see [`CellBlocks::is_real`]) from the cell's KKT values.
-    pub fn real_block(&self, p: usize, k: f64, kkt: &[f64], out: &mut [f64]) {
-        let mut complex = vec![c64::new(0.0, 0.0); kkt.len()];
-        self.hermitian_block(p, k, kkt, &mut complex);
-        for (o, z) in out.iter_mut().zip(&complex) {
-            *o = z.re;
-        }
     }
 }

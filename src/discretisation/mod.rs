@@ -4,6 +4,7 @@
 
 pub mod bulk;
 pub mod cell;
+pub mod cell_blocks;
 pub mod constraints;
 pub mod discrete_model;
 pub mod element;

@@ -6,8 +6,6 @@
 //! applied to it. The right segment's far end is the near end of cell `(0, 1)`, the left
 //! segment's that of cell `(−1, 1)` (`S` maps left rod `L_j` to `L_{j−1}`).
 
-use super::assembly::{Assembly, Joint};
-use super::helix::{Chirality, Helix};
 use std::f64::consts::PI;
 
 /// The helical periodicity of a cell: per rod, the screw that carries its near end onto
@@ -59,95 +57,4 @@ pub enum CellError {
     NotATube { n: usize, radius: f64 },
     #[error("a one-rod cell needs a straight rod (radius 0) of positive length, found radius {radius} m and length {length} m")]
     NotStraight { radius: f64, length: f64 },
-}
-
-impl Assembly {
-    /// The cell of the infinite tube of `n = 2m` helices of radius `a` and pitch parameter
-    /// `b` (m): rods `R_0` and `L_0` (base angle 0) over the arc length `π c/m`, crossing at
-    /// their near ends (the crossing at their far ends is the screw image of that one).
-    pub fn tube_cell(n: usize, radius: f64, pitch: f64) -> Result<Assembly, CellError> {
-        Assembly::tube_cells(n, radius, pitch, 1)
-    }
-
-    /// `cells` cells of the infinite tube stacked along the screw and closed on themselves
-    /// (the cell of the tube seen with `S^cells` as its screw): `R_0` and `L_0` over
-    /// `cells · π c/m`, `R_0` crossing the image `L_{−l} = R^l L_0` at `s = l π c/m`.
-    pub fn tube_cells(
-        n: usize,
-        radius: f64,
-        pitch: f64,
-        cells: usize,
-    ) -> Result<Assembly, CellError> {
-        if n < 2 || n % 2 == 1 || radius <= 0.0 || !radius.is_finite() || cells == 0 {
-            return Err(CellError::NotATube { n, radius });
-        }
-        let m = n / 2;
-        let helix = |chirality| Helix {
-            radius,
-            pitch,
-            chirality,
-            base_angle: 0.0,
-        };
-        let right = helix(Chirality::Right);
-        let step = PI * right.c() / m as f64;
-        let turn = PI / m as f64 * cells as f64;
-        let joints = (0..cells)
-            .map(|l| Joint {
-                right: 0,
-                left: 1,
-                s: step * l as f64,
-                left_turn: 2.0 * PI * (l % m) as f64 / m as f64,
-            })
-            .collect();
-        Ok(Assembly {
-            rods: vec![right, helix(Chirality::Left)],
-            length: step * cells as f64,
-            joints,
-            symmetry: None,
-            cell: Some(Cell {
-                m,
-                turns: vec![turn, -turn],
-                far_sectors: vec![0, (m - cells % m) % m],
-            }),
-        })
-    }
-
-    /// The cell of an infinitely long straight rod on the axis (radius 0): one rod of length
-    /// `length` (m) whose far end is its near end translated along the axis, its frame
-    /// turned by `turn` (rad) about it (the twist of the rod over the cell).
-    pub fn straight_cell(length: f64, turn: f64) -> Result<Assembly, CellError> {
-        if length <= 0.0 || !length.is_finite() || !turn.is_finite() {
-            return Err(CellError::NotStraight {
-                radius: 0.0,
-                length,
-            });
-        }
-        Ok(Assembly {
-            rods: vec![Helix {
-                radius: 0.0,
-                pitch: 1.0,
-                chirality: Chirality::Right,
-                base_angle: 0.0,
-            }],
-            length,
-            joints: Vec::new(),
-            symmetry: None,
-            cell: Some(Cell {
-                m: 1,
-                turns: vec![turn],
-                far_sectors: vec![0],
-            }),
-        })
-    }
-
-    /// The rise of the cell (m): the axial distance from a rod's near end to its far end.
-    pub fn cell_rise(&self) -> Option<f64> {
-        self.cell.as_ref()?;
-        let h = &self.rods[0];
-        Some(if h.is_straight() {
-            self.length
-        } else {
-            h.position(self.length)[2]
-        })
-    }
 }

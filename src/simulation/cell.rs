@@ -5,12 +5,9 @@
 //! blocks, the unstable band in `k` of every `p`, and the dispersion table come from it.
 
 use super::judge::{clearly_stable, metric, BlockStability, StabilityJudge};
-use super::reduction::{CriticalModes, Reduction};
-use crate::discretisation::cell::CellBlocks;
+use crate::discretisation::cell_blocks::CellBlocks;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::system::System;
-use crate::results::CriticalPoint;
-use crate::solver::continuation::Critical;
 use crate::solver::stability::{InertiaError, KktStability, KktStructure, WarmStart};
 use faer::c64;
 use faer::sparse::SymbolicSparseColMat;
@@ -433,83 +430,5 @@ impl StabilityJudge for CellJudge {
 
     fn kkt_structure(&self, pattern: &SymbolicSparseColMat<usize>) -> Option<Arc<KktStructure>> {
         self.real.structure_for(pattern).ok()
-    }
-}
-
-/// The cell of an infinite tube standing for the whole tube: each of its rods for the `m`
-/// rods of its chirality over one rise of the cell, its stability judged by the blocks
-/// `H(p, k)`.
-#[derive(Clone, Copy, Debug)]
-pub struct TubeCell;
-
-impl Reduction for TubeCell {
-    fn label(&self) -> &'static str {
-        "tube cell"
-    }
-
-    fn images(&self, model: &DiscreteModel) -> f64 {
-        model.assembly.cell.as_ref().map_or(1.0, |c| c.m as f64)
-    }
-
-    /// An infinite tube is not modelled whole.
-    fn whole(&self, _model: &DiscreteModel) -> Option<DiscreteModel> {
-        None
-    }
-
-    fn expand_state(
-        &self,
-        _model: &DiscreteModel,
-        _system: &System,
-        x: &[f64],
-        _whole: &DiscreteModel,
-        _whole_system: &System,
-        out: &mut [f64],
-    ) {
-        out.copy_from_slice(&x[..out.len()]);
-    }
-
-    fn judge(
-        &self,
-        model: &DiscreteModel,
-        system: &System,
-        threads: usize,
-    ) -> Box<dyn StabilityJudge> {
-        match CellJudge::new(model, system, PATH_PHASES) {
-            Some(judge) => Box::new(judge),
-            None => super::reduction::WholeAssembly.judge(model, system, threads),
-        }
-    }
-
-    /// The block whose count changed: its wavenumber `p` and phase `k`.
-    fn critical_modes(
-        &self,
-        _model: &DiscreteModel,
-        _system: &System,
-        judge: &mut dyn StabilityJudge,
-        critical: &Critical,
-    ) -> CriticalModes {
-        let b = critical.block;
-        let grid = phase_grid(PATH_PHASES);
-        CriticalModes {
-            wavenumber: Some(b / grid.len()),
-            bloch_phase: grid.get(b % grid.len()).copied(),
-            multiplicity: judge.multiplicity(b),
-            assembly_mode: None,
-            second_mode: None,
-        }
-    }
-
-    /// A mode of the block `(0, 0)` keeps the cell's periodicity.
-    fn keeps(&self, critical: &CriticalPoint) -> bool {
-        critical.wavenumber == Some(0) && critical.bloch_phase.is_none_or(|k| k == 0.0)
-    }
-}
-
-impl super::Simulation {
-    /// The dispersion of the current state of a cell on `phases` axial phases in `[0, π]`
-    /// (`None` for a model that is not a cell).
-    pub fn dispersion(&self, phases: usize) -> Option<Dispersion> {
-        let mut judge = CellJudge::new(self.model(), self.system(), phases)?;
-        Some(judge.dispersion(self.model(), self.system(), self.state()))
     }
 }

@@ -680,3 +680,12 @@ fn solve_error(e: ContinuationError, control: Control, eps: f64) -> SolveError {
         reason: e.reason,
     }
 }
+
+impl Simulation {
+    /// The dispersion of the current state of a cell on `phases` axial phases in `[0, π]`
+    /// (`None` for a model that is not a cell).
+    pub fn dispersion(&self, phases: usize) -> Option<cell::Dispersion> {
+        let mut judge = cell::CellJudge::new(self.model(), self.system(), phases)?;
+        Some(judge.dispersion(self.model(), self.system(), self.state()))
+    }
+}
