@@ -80,5 +80,5 @@ pub fn bands_csv(case: &str, steps: &[StepDispersion]) -> String {
             }
         }
     }
-    table(&comments, rows.into_iter())
+    table(&comments, rows)
 }
