@@ -252,3 +252,55 @@ fn the_cells_spectrum_at_k_2pi_j_over_n_is_that_of_a_ring_of_n_cells() {
         }
     }
 }
+
+/// `cases/cell-n8.toml` as a run: every output step's rods carry Love's force, the
+/// dispersion covers every wavenumber on 65 phases, and the compressed tube's column band
+/// of p = 1 lies about k = π/m, the phase of its rigid translation.
+#[test]
+fn the_shipped_cell_case_runs_to_loves_force_with_its_column_band() {
+    let case = spira::case::Case::from_file(std::path::Path::new("cases/cell-n8.toml"))
+        .expect("the shipped case reads");
+    assert!(case.discretisation.cell);
+    let targets = case.output_parameters(case.loading.target, case.loading.steps);
+    let outcome = spira::run::run_path(&case, &targets, |_, _| {}).expect("the path runs");
+    assert!(outcome.error.is_none());
+    assert_eq!(outcome.dispersion.len(), outcome.points.len());
+    for (point, d) in outcome.points.iter().zip(&outcome.dispersion) {
+        let eps = point.compression_ratio;
+        let f = love(outcome.model.length(), eps).force();
+        for r in &point.reactions {
+            let fz = r.tip.force[2];
+            assert!(
+                (fz - f).abs() <= 1e-8 * f.abs().max(1.0),
+                "eps = {eps}: {fz} vs {f}"
+            );
+        }
+        assert_eq!(d.dispersion.lowest.len(), 4);
+        assert!(d.dispersion.lowest.iter().all(|row| row.len() == 65));
+    }
+    let last = &outcome.dispersion.last().expect("points").dispersion;
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let bands = last.unstable_bands(1);
+    assert!(!bands.is_empty(), "the compressed column has a band");
+    for (from, to) in bands {
+        assert!(
+            from < to && from >= quarter - 0.5 && to <= quarter + 0.5,
+            "({from}, {to})"
+        );
+    }
+}
+
+/// A cell is refused a load it does not carry, saying so.
+#[test]
+fn a_cell_refuses_a_twist() {
+    let text = std::fs::read_to_string("cases/cell-n8.toml").expect("the shipped case");
+    let twisted = text.replace("[loading]", "[loading]\nparameter = \"twist\"");
+    let err = spira::case::Case::parse(&twisted, "twisted.toml", "twisted")
+        .expect_err("a twisted cell is refused");
+    let message = err.to_string();
+    assert!(message.contains("discretisation.model"), "{message}");
+    assert!(
+        message.contains("axial strain and a radial pressure"),
+        "{message}"
+    );
+}
