@@ -239,6 +239,9 @@ pub struct CriticalPoint {
     /// Bloch blocks (docs/theory.md §7): the mode repeats with phase `2πp/m` from one sector to
     /// the next (`p = 0`: the mode keeps the symmetry). `None` for the full model.
     pub wavenumber: Option<usize>,
+    /// Axial Bloch phase `k` (rad per cell) of the critical mode, for the cell of an
+    /// infinite tube judged by its blocks `H(p, k)` (docs/theory.md §8); `None` otherwise.
+    pub bloch_phase: Option<f64>,
     /// How many independent modes cross zero together: 2 for `0 < p < m/2` (the modes of
     /// `p` and `m − p`), 1 otherwise.
     pub multiplicity: usize,

@@ -7,6 +7,7 @@ use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::simulation::flaw::ImperfectPath;
+use crate::simulation::cell::{self, StepDispersion};
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::Observer;
@@ -35,6 +36,9 @@ pub struct PathOutcome {
     pub modes: Vec<ModeShape>,
     /// The discrete model (for mode output).
     pub model: crate::discretisation::discrete_model::DiscreteModel,
+    /// For the cell of an infinite tube: the dispersion of every output point's state, on
+    /// [`cell::PHASES`] axial phases (empty for a finite assembly).
+    pub dispersion: Vec<StepDispersion>,
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
@@ -95,7 +99,9 @@ pub fn run_path_steps(
     // the interrupt is in force from the natural state's solve on
     let mut sim = Simulation::from_case_with(case, interrupt, observer)?;
     let mut bulks: Vec<StepBulk> = Vec::new();
+    let mut dispersion: Vec<StepDispersion> = Vec::new();
     let mut report = |sim: &Simulation, p: &LoadPoint, time: Duration| {
+        dispersion.extend(step_dispersion(sim, p));
         let snapshot = sim.snapshot();
         let b = bulk::step_bulk(sim.model(), &snapshot, p);
         on_step(&Step {
@@ -173,6 +179,7 @@ pub fn run_path_steps(
     Ok(PathOutcome {
         imperfection,
         bulk: bulks,
+        dispersion,
         modes,
         points,
         snapshot: sim.snapshot(),
@@ -182,5 +189,14 @@ pub fn run_path_steps(
         model: sim.model().clone(),
         switched_at,
         error,
+    })
+}
+
+/// For the cell of an infinite tube, the dispersion of the state of output point `p`.
+fn step_dispersion(sim: &Simulation, p: &LoadPoint) -> Option<StepDispersion> {
+    Some(StepDispersion {
+        step: p.step,
+        eps: p.compression_ratio,
+        dispersion: sim.dispersion(cell::PHASES)?,
     })
 }

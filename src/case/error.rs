@@ -269,6 +269,7 @@ fn allowed_names(key: &str) -> Option<&'static str> {
         "reference" => "\"discrete\", \"continuum\"",
         "stress_free" => "\"helix\", \"straight\"",
         "energy" => "\"kirchhoff\", \"sadowsky\"",
+        "model" => "\"auto\", \"pair\", \"full\", \"cell\"",
         _ => return None,
     })
 }

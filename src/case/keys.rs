@@ -257,6 +257,13 @@ pub const KEYS: &[KeyDoc] = &[
         range: RangeDoc::Phrase("true, false or \"auto\""),
     },
     KeyDoc {
+        key: "discretisation.model",
+        meaning: "the model solved: the pair wherever the assembly has the symmetry (`\"auto\"`, as `symmetric = \"auto\"`), the pair (`\"pair\"`), the whole assembly (`\"full\"`), or the cell of the infinitely long tube of these helices (`\"cell\"`: length and supports unused, loaded by its axial strain and a radial pressure, stability by the blocks H(p, k)); not with `symmetric`",
+        unit: "",
+        default: DefaultDoc::Value("\"auto\""),
+        range: RangeDoc::Names(&["auto", "pair", "full", "cell"]),
+    },
+    KeyDoc {
         key: "discretisation.reference",
         meaning: "reference curvatures κi* of helical rods: those of the interpolated natural quaternion field (the natural state exactly stress-free at every mesh), or the helix's exact −a/c², 0, ±b/c²",
         unit: "",

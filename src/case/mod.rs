@@ -15,6 +15,7 @@ mod joints;
 mod keys;
 mod limits;
 mod loads;
+mod model_key;
 mod motion;
 mod overrides;
 mod raw;
@@ -136,6 +137,18 @@ impl Case {
         // the tip's height is free under a dead axial load
         tables::free_motion(&boundary, &geometry, loading.tip_height_held(), &ck)?;
         let mut discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
+        if let Some(why) = discretisation
+            .cell
+            .then(|| model_key::cell_loading_message(&loading))
+            .flatten()
+        {
+            return Err(CaseError::Invalid {
+                file: file.to_string(),
+                line: ck.line_of_key("model"),
+                key: "discretisation.model".into(),
+                message: why.into(),
+            });
+        }
         if !loading.parameter.keeps_cyclic_symmetry() || loading.hold.tilt != 0.0 {
             // a tilt is a wavenumber-1 load: the full model
             if discretisation.symmetric && !discretisation.symmetric_auto {
@@ -173,6 +186,9 @@ impl Case {
     pub fn with_helices(&self, n: usize) -> Case {
         let mut c = self.clone();
         c.geometry.helices = n;
+        if c.discretisation.cell {
+            return c;
+        }
         // the symmetric reduction needs n = 2m, m ≥ 2
         let has = n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
         c.discretisation.symmetric = if c.discretisation.symmetric_auto {
@@ -194,6 +210,12 @@ impl Case {
         }
         let case = self.with_helices(n);
         let g = &case.geometry;
+        if case.discretisation.cell && n % 2 == 1 {
+            return refuse(
+                "geometry.helices",
+                "the cell of an infinite tube needs n = 2m helices".to_string(),
+            );
+        }
         if let Some(m) = helices::straight_rod_message(g) {
             return refuse("geometry.helices", m);
         }
@@ -216,7 +238,8 @@ impl Case {
     pub fn for_explorer(&self) -> Case {
         let mut c = self.clone();
         let n = c.geometry.helices;
-        c.discretisation.symmetric |= n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
+        c.discretisation.symmetric |=
+            !c.discretisation.cell && n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
         c
     }
 
@@ -235,6 +258,9 @@ impl Case {
         ) {
             return Err(why.to_string());
         }
+        if self.discretisation.cell && matches!(component, Component::Twist | Component::Tilt) {
+            return Err("the cell is loaded by its axial strain and a radial pressure only".into());
+        }
         let mut c = self.clone();
         if component != l.parameter {
             c.loading.parameter = component;
@@ -248,7 +274,7 @@ impl Case {
         }
         let n = c.geometry.helices;
         let symmetric = c.loads().keeps_cyclic_symmetry() && n >= 4 && n % 2 == 0;
-        c.discretisation.symmetric = symmetric;
+        c.discretisation.symmetric = symmetric && !c.discretisation.cell;
         Ok(c)
     }
 
@@ -293,7 +319,10 @@ impl Case {
     pub fn model(&self) -> DiscreteModel {
         let g = &self.geometry;
         let full = Assembly::new(g.helices, g.radius, g.pitch, g.length);
-        let assembly = if self.discretisation.symmetric {
+        let assembly = if self.discretisation.cell {
+            Assembly::tube_cell(g.helices, g.radius, g.pitch)
+                .expect("validated: the case's helices make a tube")
+        } else if self.discretisation.symmetric {
             full.symmetric_pair()
                 .expect("validated: the case has the symmetry")
         } else {

@@ -171,8 +171,20 @@ pub(super) struct RawDiscretisation {
     /// Target relative accuracy; not with `elements`.
     pub accuracy: Option<Spanned<f64>>,
     pub symmetric: Option<Spanned<SymmetricKey>>,
+    /// `"auto"`, `"pair"`, `"full"` or `"cell"`; not with `symmetric`.
+    pub model: Option<ModelKey>,
     /// Reference curvatures: `"discrete"` or `"continuum"`.
     pub reference: Option<Reference>,
+}
+
+/// `discretisation.model`: the model that stands for the assembly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum ModelKey {
+    Auto,
+    Pair,
+    Full,
+    Cell,
 }
 
 /// `discretisation.symmetric`: `true`, `false` or `"auto"`.

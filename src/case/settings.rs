@@ -72,6 +72,10 @@ pub struct Discretisation {
     /// Whether `symmetric` was chosen automatically (and is chosen again when the number
     /// of helices changes).
     pub symmetric_auto: bool,
+    /// Solve the cell of the infinitely long tube of the case's helices instead of the
+    /// finite assembly (key `model = "cell"`, docs/theory.md §8): the geometry's length and
+    /// the supports are not used, the axial strain and a radial pressure load it.
+    pub cell: bool,
     /// Where the reference curvatures of helical rods come from (key `reference`,
     /// default `"discrete"`: the natural state is exactly stress-free).
     pub reference: Reference,

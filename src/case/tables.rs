@@ -371,6 +371,9 @@ fn end_condition(end: &Option<RawEnd>, default: EndCondition) -> EndCondition {
     }
 }
 
+use super::model_key;
+use crate::discretisation::cell::default_elements;
+
 /// `[discretisation]`: the mesh of every rod (or a target accuracy it is chosen for), and
 /// whether the symmetric reduction is used; it needs the number of helices.
 pub(super) fn discretisation(
@@ -387,14 +390,30 @@ pub(super) fn discretisation(
         (1, 100_000),
         "a number of elements per rod",
     )?;
-    if accuracy.is_none() {
+    let chosen = model_key::model_choice(d, geometry).map_err(|message| CaseError::Invalid {
+        file: ck.file.to_string(),
+        line: ck.line_of_key("model"),
+        key: "discretisation.model".into(),
+        message,
+    })?;
+    let cell = chosen.is_some_and(|c| c.2);
+    if accuracy.is_none() && !cell {
         // the mesh a rod gets: at least `elements`, and a vertex at every joint
         if let Some(m) = elements_message(geometry, elements) {
             return Err(ck.invalid("discretisation.elements", span(&d.elements), m));
         }
     }
-    let (symmetric, symmetric_auto) = symmetric(d, helices, ck)?;
+    let (symmetric, symmetric_auto) = match chosen {
+        Some((symmetric, auto, _)) => (symmetric, auto),
+        None => symmetric(d, helices, ck)?,
+    };
+    // a cell's rods are 1/n of a turn: its own default mesh
+    let elements = match (cell, &d.elements) {
+        (true, None) => default_elements(helices),
+        _ => elements,
+    };
     Ok(Discretisation {
+        cell,
         elements,
         order: d.order.unwrap_or(Order::Quadratic),
         accuracy,

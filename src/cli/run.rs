@@ -188,7 +188,15 @@ fn print_heading(case: &Case, target: f64, steps: usize, set_line: Option<&str>)
     if !case.loading.hold.is_natural() || parameter != Component::Axial {
         println!("held: {}", held_line(case));
     }
-    if case.discretisation.symmetric {
+    if case.discretisation.cell {
+        let model = case.model();
+        println!(
+            "model: the cell of an infinitely long tube of {n} helices, rods of 1/{n} turn (L = {:.5} m, Pcrit = {:.4} N of a cell's rod), stability by the blocks H(p, k), p = 0..{}",
+            model.length(),
+            euler_load(case.stiffness.b1, model.length()),
+            n / 2 - 1
+        );
+    } else if case.discretisation.symmetric {
         let m = n / 2;
         println!(
             "model: one right/left pair standing for {n} rods ({m}-fold symmetry), stability by Bloch blocks p = 0..{}",

@@ -5,11 +5,13 @@ use super::element;
 use super::mesh::RodMesh;
 use super::shape::{self, Order, QuadraturePoint, MAX_NODES};
 use crate::model::assembly::{Assembly, RodId};
+use crate::model::cell::Cell;
 use crate::model::elasticity::{Elasticity, Energy, StressFree};
 use crate::model::helix::Helix;
 use crate::model::loading::{LineLoad, Loads};
 use crate::model::quaternion::Quat;
 use crate::model::stiffness::Stiffness;
+use crate::model::symmetry::TurnZ;
 use nalgebra::Vector3;
 
 pub use crate::model::elasticity::Reference;
@@ -246,6 +248,9 @@ impl DiscreteModel {
                 }
             }
         }
+        if let Some(cell) = &self.assembly.cell {
+            centre_on_axis(self, cell, &mut x);
+        }
         x
     }
 
@@ -359,6 +364,37 @@ fn reference_curvatures(
                     element::curvatures_at_points(order, rule, h, &q)
                 })
                 .collect()
+        }
+    }
+}
+
+/// Moves every helical rod of a cell's primal state `x` across the axis so that its far
+/// vertex is the screw image of its near one: the discrete helix, whose vertices its chords
+/// place, is a regular polygon about an axis a rounding away from z.
+fn centre_on_axis(model: &DiscreteModel, cell: &Cell, x: &mut [f64]) {
+    for (id, rod) in model.rods.iter().enumerate() {
+        if rod.helix.is_straight() {
+            continue;
+        }
+        let turn = TurnZ::new(cell.turns[id]);
+        let (v0, ve) = (
+            model.vertex(x, id, 0),
+            model.vertex(x, id, rod.mesh.elements()),
+        );
+        let image = turn.apply([v0[0], v0[1], 0.0]);
+        // (I − R) c = v_far − R v_near in x–y
+        let (b0, b1) = (ve[0] - image[0], ve[1] - image[1]);
+        let (cos, sin) = (cell.turns[id].cos(), cell.turns[id].sin());
+        let (a00, a01, a10, a11) = (1.0 - cos, sin, -sin, 1.0 - cos);
+        let det = a00 * a11 - a01 * a10;
+        if det.abs() < 1e-12 {
+            continue;
+        }
+        let c = [(a11 * b0 - a01 * b1) / det, (a00 * b1 - a10 * b0) / det];
+        for v in 0..=rod.mesh.elements() {
+            for k in 0..2 {
+                x[rod.r_dof(v, k)] -= c[k];
+            }
         }
     }
 }

@@ -3,6 +3,8 @@
 //! system, what a discrete state says (reactions, shapes), and the symmetric pair.
 
 pub mod bulk;
+pub mod cell;
+pub mod cell_blocks;
 pub mod constraints;
 pub mod discrete_model;
 pub mod element;

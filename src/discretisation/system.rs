@@ -12,9 +12,8 @@
 //! Jacobian is the symmetric KKT matrix `[[H, Jᵀ], [J, 0]]`, assembled into a sparse
 //! pattern that is built once per set of constraints.
 
-use super::constraints::{
-    joint_constraints, support_constraints, LinearConstraint, Role, TipPlace,
-};
+use super::cell::end_constraints;
+use super::constraints::{joint_constraints, LinearConstraint, Role, TipPlace};
 use super::discrete_model::{DiscreteModel, End};
 use super::element::{self, ElementLoad, ElementTerms};
 use super::joint_rotation::{self, JointRotation};
@@ -145,12 +144,8 @@ impl System {
         }
         let linear_row = row;
         let mut linear = Vec::new();
-        for id in 0..model.rods.len() {
-            for (end, cond) in [(End::Base, bc.base), (End::Tip, bc.tip)] {
-                support_constraints(model, x, id, end, cond, tip, &mut linear);
-            }
-        }
-        if bc.joints.active() {
+        end_constraints(model, x, &bc, tip, &mut linear);
+        if bc.joints.active() && model.assembly.cell.is_none() {
             for (j, joint) in model.assembly.joints.iter().enumerate() {
                 joint_constraints(model, x, &bc, j, joint, &mut linear);
             }

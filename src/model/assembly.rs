@@ -1,5 +1,6 @@
 //! Tubular assemblies of helices and their pin joints (docs/theory.md §2).
 
+use super::cell::{Cell, CellError};
 use super::helix::{Chirality, Helix};
 use super::symmetry::{Symmetry, SymmetryError};
 use std::f64::consts::PI;
@@ -30,6 +31,8 @@ pub struct Assembly {
     pub joints: Vec<Joint>,
     /// Set when the rods are one right/left pair standing for a symmetric assembly.
     pub symmetry: Option<Symmetry>,
+    /// Set when the rods are the cell of an infinitely long tube (docs/theory.md §8).
+    pub cell: Option<Cell>,
 }
 
 /// Relative tolerance on arc length when deciding that a crossing lies on a rod.
@@ -61,6 +64,7 @@ impl Assembly {
             length,
             joints,
             symmetry: None,
+            cell: None,
         }
     }
 
@@ -69,7 +73,7 @@ impl Assembly {
     /// its partner (every other joint is an image of one of these).
     pub fn symmetric_pair(&self) -> Result<Assembly, SymmetryError> {
         let n = self.rods.len();
-        if n < 4 || n % 2 == 1 || self.symmetry.is_some() {
+        if n < 4 || n % 2 == 1 || self.symmetry.is_some() || self.cell.is_some() {
             return Err(SymmetryError::TooFewHelices { n });
         }
         let m = n / 2;
@@ -90,6 +94,7 @@ impl Assembly {
             length: self.length,
             joints,
             symmetry: Some(Symmetry { m }),
+            cell: None,
         })
     }
 
@@ -111,6 +116,7 @@ impl Assembly {
             length: self.length,
             joints,
             symmetry: None,
+            cell: None,
         }
     }
 
@@ -176,4 +182,96 @@ pub fn crossings(rods: &[Helix], length: f64) -> Vec<Joint> {
     }
     joints.sort_by(|a, b| a.s.total_cmp(&b.s).then(a.right.cmp(&b.right)));
     joints
+}
+
+/// The cells of infinite tubes and rods (docs/theory.md §8).
+impl Assembly {
+    /// The cell of the infinite tube of `n = 2m` helices of radius `a` and pitch parameter
+    /// `b` (m): rods `R_0` and `L_0` (base angle 0) over the arc length `π c/m`, crossing at
+    /// their near ends (the crossing at their far ends is the screw image of that one).
+    pub fn tube_cell(n: usize, radius: f64, pitch: f64) -> Result<Assembly, CellError> {
+        Assembly::tube_cells(n, radius, pitch, 1)
+    }
+
+    /// `cells` cells of the infinite tube stacked along the screw and closed on themselves
+    /// (the cell of the tube seen with `S^cells` as its screw): `R_0` and `L_0` over
+    /// `cells · π c/m`, `R_0` crossing the image `L_{−l} = R^l L_0` at `s = l π c/m`.
+    pub fn tube_cells(
+        n: usize,
+        radius: f64,
+        pitch: f64,
+        cells: usize,
+    ) -> Result<Assembly, CellError> {
+        if n < 2 || n % 2 == 1 || radius <= 0.0 || !radius.is_finite() || cells == 0 {
+            return Err(CellError::NotATube { n, radius });
+        }
+        let m = n / 2;
+        let helix = |chirality| Helix {
+            radius,
+            pitch,
+            chirality,
+            base_angle: 0.0,
+        };
+        let right = helix(Chirality::Right);
+        let step = PI * right.c() / m as f64;
+        let turn = PI / m as f64 * cells as f64;
+        let joints = (0..cells)
+            .map(|l| Joint {
+                right: 0,
+                left: 1,
+                s: step * l as f64,
+                left_turn: 2.0 * PI * (l % m) as f64 / m as f64,
+            })
+            .collect();
+        Ok(Assembly {
+            rods: vec![right, helix(Chirality::Left)],
+            length: step * cells as f64,
+            joints,
+            symmetry: None,
+            cell: Some(Cell {
+                m,
+                turns: vec![turn, -turn],
+                far_sectors: vec![0, (m - cells % m) % m],
+            }),
+        })
+    }
+
+    /// The cell of an infinitely long straight rod on the axis (radius 0): one rod of length
+    /// `length` (m) whose far end is its near end translated along the axis, its frame
+    /// turned by `turn` (rad) about it (the twist of the rod over the cell).
+    pub fn straight_cell(length: f64, turn: f64) -> Result<Assembly, CellError> {
+        if length <= 0.0 || !length.is_finite() || !turn.is_finite() {
+            return Err(CellError::NotStraight {
+                radius: 0.0,
+                length,
+            });
+        }
+        Ok(Assembly {
+            rods: vec![Helix {
+                radius: 0.0,
+                pitch: 1.0,
+                chirality: Chirality::Right,
+                base_angle: 0.0,
+            }],
+            length,
+            joints: Vec::new(),
+            symmetry: None,
+            cell: Some(Cell {
+                m: 1,
+                turns: vec![turn],
+                far_sectors: vec![0],
+            }),
+        })
+    }
+
+    /// The rise of the cell (m): the axial distance from a rod's near end to its far end.
+    pub fn cell_rise(&self) -> Option<f64> {
+        self.cell.as_ref()?;
+        let h = &self.rods[0];
+        Some(if h.is_straight() {
+            self.length
+        } else {
+            h.position(self.length)[2]
+        })
+    }
 }

@@ -3,6 +3,7 @@
 
 pub mod assembly;
 pub mod boundary;
+pub mod cell;
 pub mod elasticity;
 pub mod helix;
 pub mod loading;

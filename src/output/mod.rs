@@ -7,6 +7,7 @@
 pub mod chart;
 pub mod csv;
 pub mod curve;
+pub mod dispersion;
 pub mod figures;
 pub mod files;
 pub mod imperfection;

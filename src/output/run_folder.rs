@@ -5,6 +5,7 @@ use super::csv::{
     bulk_csv, check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
     NonFinite,
 };
+use super::dispersion::{bands_csv, dispersion_csv};
 use super::files::write_folder;
 use super::imperfection::imperfection_csv;
 use super::joints_table::joints_csv;
@@ -13,6 +14,7 @@ use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::run::PathOutcome;
 use crate::simulation::flaw::ImperfectPath;
+use crate::simulation::cell::StepDispersion;
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -39,6 +41,9 @@ pub struct RunFiles<'a> {
     pub states: &'a [(usize, Snapshot)],
     /// For an imperfect case: `imperfection.csv`.
     pub imperfection: Option<&'a ImperfectPath>,
+    /// For the cell of an infinite tube: the dispersion at every output step
+    /// (`dispersion.csv`, `bands.csv`).
+    pub dispersion: &'a [StepDispersion],
 }
 
 impl<'a> RunFiles<'a> {
@@ -56,6 +61,7 @@ impl<'a> RunFiles<'a> {
             series: None,
             states: &[],
             imperfection: outcome.imperfection.as_ref(),
+            dispersion: &outcome.dispersion,
         }
     }
 }
@@ -72,6 +78,14 @@ pub fn hypotheses_note(model: &DiscreteModel) -> String {
 
 /// Which model was solved, for the header of every file.
 pub fn model_solved(model: &DiscreteModel) -> String {
+    if let Some(cell) = &model.assembly.cell {
+        return format!(
+            "model: the cell of an infinitely long tube of {} helices (one right and one left rod from a crossing to the next, helically periodic; each rod of the cell stands for the {} rods of its chirality); stability by the blocks H(p, k), p = 0..{}",
+            2 * cell.m,
+            cell.m,
+            cell.m - 1
+        );
+    }
     match model.assembly.symmetry {
         Some(sym) => format!(
             "model: one right/left pair standing for all {} rods (the {}-fold rotational symmetry), stability of the whole assembly by its Bloch blocks p = 0..{}",
@@ -106,6 +120,13 @@ pub fn run_files(run: &RunFiles) -> io::Result<Vec<(String, String)>> {
     }
     if let Some(path) = run.imperfection {
         files.push(("imperfection.csv".to_string(), imperfection_csv(case, path)));
+    }
+    if !run.dispersion.is_empty() {
+        files.push((
+            "dispersion.csv".to_string(),
+            dispersion_csv(case, run.dispersion),
+        ));
+        files.push(("bands.csv".to_string(), bands_csv(case, run.dispersion)));
     }
     for (step, snapshot) in run.states {
         files.push((format!("state-{step}.csv"), state_csv(case, snapshot)));

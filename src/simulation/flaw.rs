@@ -1,4 +1,4 @@
-//! A flaw of the natural state (docs/theory.md §8) as built — its reference curvatures
+//! A flaw of the natural state (docs/theory.md §9) as built — its reference curvatures
 //! changed by the rotations a shape makes of the natural frames — and what it did to a path:
 //! where the imperfect path turns (its limit point) against the perfect critical point.
 

@@ -1,4 +1,4 @@
-//! Imperfect structures (docs/theory.md §8): the natural state flawed along a critical mode
+//! Imperfect structures (docs/theory.md §9): the natural state flawed along a critical mode
 //! of the perfect structure, found by following the perfect path to it, or along a named
 //! shape.
 

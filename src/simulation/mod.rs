@@ -8,6 +8,7 @@ pub mod blocks;
 pub mod curve;
 pub mod flaw;
 mod imperfection;
+pub mod cell;
 pub mod judge;
 pub mod normal_form;
 pub mod problem;
@@ -365,6 +366,7 @@ impl Simulation {
             let eps = eps_of(&rods.model, &c.state);
             let CriticalModes {
                 wavenumber,
+                bloch_phase,
                 multiplicity,
                 assembly_mode,
                 second_mode,
@@ -378,6 +380,7 @@ impl Simulation {
                 unstable_before: c.unstable_before,
                 unstable_after: c.unstable_after,
                 wavenumber,
+                bloch_phase,
                 multiplicity,
                 state: c.state,
                 mode: c.mode,
@@ -696,5 +699,14 @@ fn solve_error(e: ContinuationError, control: Control, eps: f64) -> SolveError {
         target: e.target,
         step: e.step,
         reason: e.reason,
+    }
+}
+
+impl Simulation {
+    /// The dispersion of the current state of a cell on `phases` axial phases in `[0, π]`
+    /// (`None` for a model that is not a cell).
+    pub fn dispersion(&self, phases: usize) -> Option<cell::Dispersion> {
+        let mut judge = cell::CellJudge::new(self.model(), self.system(), phases)?;
+        Some(judge.dispersion(self.model(), self.system(), self.state()))
     }
 }

@@ -7,6 +7,7 @@
 //! assembly, how stability is judged there ([`StabilityJudge`]), and its label on the faces.
 
 use super::blocks::JudgeByBlocks;
+use super::cell::{phase_grid, CellJudge, PATH_PHASES};
 use super::judge::{JudgeOnItself, StabilityJudge};
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::symmetry::{assembly_mode, expand_state};
@@ -70,6 +71,9 @@ pub trait Reduction: Send + Sync {
 
 /// The reduction `model` is solved in.
 pub fn of(model: &DiscreteModel) -> Box<dyn Reduction> {
+    if model.assembly.cell.is_some() {
+        return Box::new(TubeCell);
+    }
     match model.assembly.symmetry {
         Some(_) => Box::new(CyclicPair),
         None => Box::new(WholeAssembly),
@@ -81,6 +85,8 @@ pub fn of(model: &DiscreteModel) -> Box<dyn Reduction> {
 pub struct CriticalModes {
     /// The wavenumber of the mode, when the blocks judged are of distinct wavenumbers.
     pub wavenumber: Option<usize>,
+    /// The axial Bloch phase of the mode (rad per cell), for a cell.
+    pub bloch_phase: Option<f64>,
     /// Modes crossing together.
     pub multiplicity: usize,
     /// For a reduced model: the critical mode on the whole assembly (its primal unknowns).
@@ -150,6 +156,7 @@ impl Reduction for WholeAssembly {
             .flatten();
         CriticalModes {
             wavenumber: None,
+            bloch_phase: None,
             multiplicity: match critical.kind {
                 CriticalKind::Neutral => 1,
                 _ => jump.max(1),
@@ -239,6 +246,7 @@ impl Reduction for CyclicPair {
         });
         CriticalModes {
             wavenumber: Some(p),
+            bloch_phase: None,
             multiplicity: judge.multiplicity(p),
             assembly_mode: first,
             second_mode: second,
@@ -248,5 +256,74 @@ impl Reduction for CyclicPair {
     /// A mode of wavenumber 0 keeps the symmetry.
     fn keeps(&self, critical: &CriticalPoint) -> bool {
         critical.wavenumber == Some(0)
+    }
+}
+
+/// The cell of an infinite tube standing for the whole tube: each of its rods for the `m`
+/// rods of its chirality over one rise of the cell, its stability judged by the blocks
+/// `H(p, k)`.
+#[derive(Clone, Copy, Debug)]
+pub struct TubeCell;
+
+impl Reduction for TubeCell {
+    fn label(&self) -> &'static str {
+        "tube cell"
+    }
+
+    fn images(&self, model: &DiscreteModel) -> f64 {
+        model.assembly.cell.as_ref().map_or(1.0, |c| c.m as f64)
+    }
+
+    /// An infinite tube is not modelled whole.
+    fn whole(&self, _model: &DiscreteModel) -> Option<DiscreteModel> {
+        None
+    }
+
+    fn expand_state(
+        &self,
+        _model: &DiscreteModel,
+        _system: &System,
+        x: &[f64],
+        _whole: &DiscreteModel,
+        _whole_system: &System,
+        out: &mut [f64],
+    ) {
+        out.copy_from_slice(&x[..out.len()]);
+    }
+
+    fn judge(
+        &self,
+        model: &DiscreteModel,
+        system: &System,
+        threads: usize,
+    ) -> Box<dyn StabilityJudge> {
+        match CellJudge::new(model, system, PATH_PHASES) {
+            Some(judge) => Box::new(judge),
+            None => WholeAssembly.judge(model, system, threads),
+        }
+    }
+
+    /// The block whose count changed: its wavenumber `p` and phase `k`.
+    fn critical_modes(
+        &self,
+        _model: &DiscreteModel,
+        _system: &System,
+        judge: &mut dyn StabilityJudge,
+        critical: &Critical,
+    ) -> CriticalModes {
+        let b = critical.block;
+        let grid = phase_grid(PATH_PHASES);
+        CriticalModes {
+            wavenumber: Some(b / grid.len()),
+            bloch_phase: grid.get(b % grid.len()).copied(),
+            multiplicity: judge.multiplicity(b),
+            assembly_mode: None,
+            second_mode: None,
+        }
+    }
+
+    /// A mode of the block `(0, 0)` keeps the cell's periodicity.
+    fn keeps(&self, critical: &CriticalPoint) -> bool {
+        critical.wavenumber == Some(0) && critical.bloch_phase.is_none_or(|k| k == 0.0)
     }
 }

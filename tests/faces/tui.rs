@@ -1524,6 +1524,7 @@ fn critical_point() -> spira::results::CriticalPoint {
         unstable_before: 0,
         unstable_after: 1,
         wavenumber: None,
+        bloch_phase: None,
         multiplicity: 1,
         state: vec![],
         mode: vec![],

@@ -1,4 +1,4 @@
-//! Imperfections (docs/theory.md §8): the normal form of a perfect bifurcation measured on
+//! Imperfections (docs/theory.md §9): the normal form of a perfect bifurcation measured on
 //! its branch, and what a flaw along its mode does to the path. Koiter: the maximum load
 //! drops as δ^(1/2) at an asymmetric point, as δ^(2/3) at an unstable symmetric one, and not
 //! at all at a stable symmetric one. The Euler column, the thesis pair's pitchfork and the

@@ -4,6 +4,7 @@
 
 mod bulk;
 mod critical_curves;
+mod cell;
 mod free_motion;
 mod imperfection;
 mod joints;

@@ -1,0 +1,64 @@
+//! `discretisation.model`: which model stands for the assembly — `"auto"` (the default: the
+//! symmetric pair wherever the assembly has the symmetry), `"pair"`, `"full"`, or `"cell"`,
+//! the cell of the infinitely long tube of the case's helices (docs/theory.md §8). The older
+//! key `symmetric` (`true`, `false`, `"auto"`) keeps its meaning; the two are not given
+//! together.
+
+use super::raw::{ModelKey, RawDiscretisation};
+use super::settings::{Geometry, Loading};
+use crate::model::loading::{AxialHeld, Branch, Component, Control};
+
+/// The model a case's `[discretisation]` chooses: `(symmetric, symmetric_auto, cell)`, or
+/// `None` when it gives no `model` (then `symmetric` decides); `Err` says what is wrong with
+/// the `model` key.
+pub(super) fn model_choice(
+    d: &RawDiscretisation,
+    geometry: &Geometry,
+) -> Result<Option<(bool, bool, bool)>, String> {
+    let Some(key) = &d.model else {
+        return Ok(None);
+    };
+    if d.symmetric.is_some() {
+        return Err("give either `model` or the older `symmetric`, not both".into());
+    }
+    if d.accuracy.is_some() && *key == ModelKey::Cell {
+        return Err(
+            "a cell takes `elements` (its default mesh when not given), not `accuracy`".into(),
+        );
+    }
+    let n = geometry.helices;
+    let has = n >= 4 && n % 2 == 0;
+    match key {
+        ModelKey::Auto => Ok(Some((has, true, false))),
+        ModelKey::Full => Ok(Some((false, false, false))),
+        ModelKey::Pair if has => Ok(Some((true, false, false))),
+        ModelKey::Pair => Err(format!("expected \"full\", \"auto\" or \"cell\": {n} helix(es) have no rotational symmetry to reduce to a pair (it needs n = 2m helices with m ≥ 2)")),
+        ModelKey::Cell if n % 2 == 0 && geometry.radius > 0.0 => Ok(Some((false, false, true))),
+        ModelKey::Cell => Err(format!("expected \"full\", \"pair\" or \"auto\": the cell of an infinite tube needs n = 2m helices off the axis, found n = {n} and radius {} m", geometry.radius)),
+    }
+}
+
+/// What a cell is loaded by: its axial strain `ε` (displacement control) stepped, or a
+/// radial pressure stepped at a held `ε`; no twist, tilt, dead axial load or branch switch.
+/// `Some` says why the case's loading is not that.
+pub(super) fn cell_loading_message(loading: &Loading) -> Option<&'static str> {
+    let held_ratio = matches!(loading.hold.axial, AxialHeld::Ratio(_));
+    match loading.parameter {
+        Component::Axial if loading.control == Control::Force => {
+            Some("the cell's axial strain is prescribed (displacement control), not a dead load")
+        }
+        Component::Axial | Component::Pressure if !held_ratio => {
+            Some("the cell's axial strain is held (hold.axial = eps), not a dead load")
+        }
+        Component::Twist | Component::Tilt => {
+            Some("the cell is loaded by its axial strain and a radial pressure only")
+        }
+        _ if loading.hold.twist != 0.0 || loading.hold.tilt != 0.0 => {
+            Some("the cell holds no twist or tilt")
+        }
+        _ if loading.branch != Branch::Fundamental => {
+            Some("the cell follows its fundamental path (branch = \"fundamental\")")
+        }
+        _ => None,
+    }
+}

@@ -1,0 +1,170 @@
+//! The Bloch blocks `H(p, k)` of the KKT matrix of a cell of an infinite tube
+//! (docs/theory.md §8), built on the rows of [`super::cell`].
+
+use super::constraints::Role;
+use super::discrete_model::{DiscreteModel, End};
+use super::system::System;
+use crate::model::cell::Cell;
+use faer::c64;
+use std::f64::consts::PI;
+
+/// What a stored entry of the cell's KKT pattern becomes in a Bloch block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Entry {
+    /// The same in every block.
+    Plain,
+    /// A periodic row's coupling to rod `rod`'s near end: times `e^{±iθ}`, `θ` that rod's
+    /// far-end phase (`+` on the row, `−` on its transpose).
+    Phased { rod: usize, sign: f64 },
+    /// A joint row's coupling to the image of its left rod turned by `turn` about z:
+    /// times `e^{±2πipr/m}`, `r` the image's sector.
+    Sector { turn: f64, sign: f64 },
+    /// A gauge row's coupling: kept in the block of the rigid motions (`p = 0`, `k = 0`),
+    /// and, for the azimuthal row, in that of the translation across the axis.
+    Gauge { translation: bool },
+}
+
+/// The Bloch blocks `H(p, k)` of a cell's KKT matrix (docs/theory.md §8): a perturbation
+/// of circumferential wavenumber `p` (`0 … m − 1`) and axial Bloch phase `k` (rad per cell)
+/// is `e^{i(2πpj/m + kl)} U` in cell `(j, l)` (in its own frame); the block is the cell's KKT
+/// matrix with each periodic row's coupling to its rod's near end times `e^{iθ}`, `θ` the
+/// phase of the cell the far end begins, and the conjugate on the transposes. The gauge
+/// rows are kept only where the motions they hold are perturbations of the block.
+#[derive(Clone, Debug)]
+pub struct CellBlocks {
+    cell: Cell,
+    entries: Vec<Entry>,
+}
+
+impl CellBlocks {
+    /// The blocks of a cell's system (`None` for a model that is not a cell).
+    pub fn new(model: &DiscreteModel, system: &System) -> Option<CellBlocks> {
+        let cell = model.assembly.cell.clone()?;
+        let pattern = system.pattern();
+        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+        let entry = |row: usize, col: usize| {
+            let rows = &ri[cp[col]..cp[col + 1]];
+            cp[col]
+                + rows
+                    .binary_search(&row)
+                    .expect("cell entry in the KKT pattern")
+        };
+        let mut entries = vec![Entry::Plain; ri.len()];
+        for (i, c) in system.linear.iter().enumerate() {
+            let r = system.linear_row(i);
+            let mark = match c.role {
+                Role::Support { rod, end: End::Tip } | Role::TipHeight { rod } => Some(rod),
+                Role::Support { end: End::Base, .. } => {
+                    let azimuth = c.terms.len() == 1 && c.terms[0].0 == model.rods[0].r_dof(0, 1);
+                    let g = Entry::Gauge {
+                        translation: azimuth,
+                    };
+                    for &(d, _) in &c.terms {
+                        entries[entry(r, d)] = g;
+                        entries[entry(d, r)] = g;
+                    }
+                    None
+                }
+                Role::Joint(j) => {
+                    let joint = model.assembly.joints[j];
+                    let left = &model.rods[joint.left];
+                    let dofs = left.q_offset..left.r_offset + 3 * (left.mesh.elements() + 1);
+                    for &(d, _) in c.terms.iter().filter(|(d, _)| dofs.contains(d)) {
+                        let turn = joint.left_turn;
+                        entries[entry(r, d)] = Entry::Sector { turn, sign: 1.0 };
+                        entries[entry(d, r)] = Entry::Sector { turn, sign: -1.0 };
+                    }
+                    None
+                }
+                _ => None,
+            };
+            let Some(rod) = mark else { continue };
+            let near = &model.rods[rod];
+            let near_dofs = [
+                near.q_dof(0, 0),
+                near.q_dof(0, 1),
+                near.q_dof(0, 2),
+                near.q_dof(0, 3),
+            ]
+            .into_iter()
+            .chain((0..3).map(|k| near.r_dof(0, k)))
+            .collect::<Vec<_>>();
+            for &(d, _) in c.terms.iter().filter(|(d, _)| near_dofs.contains(d)) {
+                entries[entry(r, d)] = Entry::Phased { rod, sign: 1.0 };
+                entries[entry(d, r)] = Entry::Phased { rod, sign: -1.0 };
+            }
+        }
+        Some(CellBlocks { cell, entries })
+    }
+
+    /// The cell's periodicity.
+    pub fn cell(&self) -> &Cell {
+        &self.cell
+    }
+
+    /// Whether block `(p, k)` is real: every phase `0` or `π` (`k = 0` or `π`, `2p = 0 mod m`).
+    pub fn is_real(&self, p: usize, k: f64) -> bool {
+        let on_axis = k == 0.0 || (k - PI).abs() < 1e-14;
+        on_axis && (2 * p) % self.cell.m == 0
+    }
+
+    /// Whether block `(p, k)` holds the tube's rigid translation across its axis (a zero
+    /// eigenvalue, which its gauge row removes).
+    pub fn holds_translation(&self, p: usize, k: f64) -> bool {
+        self.keeps_gauge(p, k, true) && !self.keeps_gauge(p, k, false)
+    }
+
+    /// Whether the gauge rows of kind `translation` are kept in block `(p, k)`.
+    fn keeps_gauge(&self, p: usize, k: f64, translation: bool) -> bool {
+        let same = |a: f64, b: f64| {
+            let d = (a - b).rem_euclid(2.0 * PI);
+            d.min(2.0 * PI - d) < 1e-9
+        };
+        let rigid = p == 0 && same(k, 0.0);
+        // the translation across the axis: (1, ψ) and its conjugate (m − 1, −ψ)
+        let (m, psi) = (self.cell.m, self.cell.translation_phase());
+        let across =
+            translation && ((p == 1 % m && same(k, psi)) || (p == (m - 1) % m && same(k, -psi)));
+        rigid || across
+    }
+
+    /// The complex Hermitian block `(p, k)` from the cell's KKT values `kkt`, in the cell's
+    /// pattern.
+    pub fn hermitian_block(&self, p: usize, k: f64, kkt: &[f64], out: &mut [c64]) {
+        let phases: Vec<(f64, f64)> = (0..self.cell.turns.len())
+            .map(|rod| {
+                let (s, c) = self.cell.far_phase(rod, p, k).sin_cos();
+                (c, s)
+            })
+            .collect();
+        for ((o, &v), e) in out.iter_mut().zip(kkt).zip(&self.entries) {
+            *o = match *e {
+                Entry::Plain => c64::new(v, 0.0),
+                Entry::Phased { rod, sign } => {
+                    let (c, s) = phases[rod];
+                    c64::new(v * c, sign * v * s)
+                }
+                Entry::Sector { turn, sign } => {
+                    let (s, c) = self.cell.sector_phase(turn, p).sin_cos();
+                    c64::new(v * c, sign * v * s)
+                }
+                Entry::Gauge { translation } => {
+                    if self.keeps_gauge(p, k, translation) {
+                        c64::new(v, 0.0)
+                    } else {
+                        c64::new(0.0, 0.0)
+                    }
+                }
+            };
+        }
+    }
+
+    /// The real block `(p, k)` (see [`CellBlocks::is_real`]) from the cell's KKT values.
+    pub fn real_block(&self, p: usize, k: f64, kkt: &[f64], out: &mut [f64]) {
+        let mut complex = vec![c64::new(0.0, 0.0); kkt.len()];
+        self.hermitian_block(p, k, kkt, &mut complex);
+        for (o, z) in out.iter_mut().zip(&complex) {
+            *o = z.re;
+        }
+    }
+}

@@ -1,0 +1,306 @@
+//! The cell of the infinite tube (docs/theory.md §8) against numbers that do not come from
+//! it: the uniform helix of the pinned lattice (Love's force, and the pantograph's under
+//! pressure), Euler's and Greenhill's bands of an infinite straight rod, and a ring of
+//! cells closed on itself.
+
+use spira::discretisation::cell::default_elements;
+use spira::discretisation::discrete_model::{DiscreteModel, End};
+use spira::discretisation::shape::Order;
+use spira::discretisation::system::System;
+use spira::model::assembly::Assembly;
+use spira::model::boundary::BoundaryConditions;
+use spira::model::elasticity::Reference;
+use spira::model::loading::{AxialHeld, Component, Control, Held, Loads};
+use spira::model::love::LoveHelix;
+use spira::model::quaternion::{self, Quat};
+use spira::model::stiffness::Stiffness;
+use spira::simulation::cell::CellJudge;
+use spira::simulation::Simulation;
+use spira::solver::continuation::ContinuationSettings;
+
+/// The thesis helices (§4.1): a0 = 0.06 m, b0 = 0.025 m, B = 1, C = 2 N m².
+const A0: f64 = 0.06;
+const B0: f64 = 0.025;
+const STIFFNESS: Stiffness = Stiffness {
+    b1: 1.0,
+    b2: 1.0,
+    b3: 2.0,
+};
+
+/// The cell of the thesis tube of `n` helices at its default mesh, solved under `loads`
+/// from the natural state up to `target`.
+fn solved_cell(n: usize, cells: usize, loads: Loads, target: f64) -> Simulation {
+    let assembly = Assembly::tube_cells(n, A0, B0, cells).expect("a tube cell");
+    let elements = cells * default_elements(n);
+    let model = DiscreteModel::new(assembly, STIFFNESS, elements, Order::Quadratic);
+    let x = model.natural_state();
+    let bc = BoundaryConditions::default();
+    let mut sim = Simulation::with_loads(model, bc, loads, x, ContinuationSettings::default())
+        .expect("the natural state solves");
+    sim.advance_to(target).expect("the cell follows the load");
+    sim
+}
+
+fn love(length: f64, eps: f64) -> LoveHelix {
+    LoveHelix {
+        radius0: A0,
+        pitch0: B0,
+        length,
+        stiffness: STIFFNESS,
+        pitch: B0 * (1.0 - eps),
+        elasticity: Default::default(),
+        reference: Reference::Discrete,
+    }
+}
+
+/// Compressed by ε, every rod of the cell is Love's helix with c = c0, b = b0 (1 − ε): the
+/// axial force each carries is Love's to 1e-8 at the default mesh, for n = 2, 8 and 64.
+#[test]
+fn the_compressed_cell_carries_loves_force() {
+    for n in [2, 8, 64] {
+        for eps in [0.25, 0.5, -0.3] {
+            let sim = solved_cell(n, 1, Loads::axial(Control::Displacement), eps);
+            assert!((sim.compression_ratio() - eps).abs() < 1e-12);
+            let f = love(sim.model().length(), eps).force();
+            for rod in 0..2 {
+                let (force, _) = sim
+                    .system()
+                    .reaction(sim.model(), sim.state(), rod, End::Tip);
+                let rel = (force[2] - f).abs() / f.abs();
+                println!(
+                    "n = {n}, eps = {eps}, rod {rod}: fz {:.12} Love {f:.12} rel {rel:.2e}",
+                    force[2]
+                );
+                assert!(
+                    rel < 1e-8,
+                    "n = {n}, eps = {eps}, rod {rod}: {} vs {f}",
+                    force[2]
+                );
+                assert!(force[0].abs() + force[1].abs() < 1e-8 * f.abs());
+            }
+        }
+    }
+}
+
+/// Pressed by q at a held ε, the cell stays on the pantograph (its radius fixed by c = c0
+/// and b) and the axial force changes by the pressure's share: F = F_Love − q b c0/a.
+#[test]
+fn the_pressed_cell_carries_the_pantographs_force() {
+    let (eps, q) = (0.3, 1500.0);
+    for n in [2, 8, 64] {
+        let held = Held {
+            axial: AxialHeld::Ratio(eps),
+            ..Held::NATURAL
+        };
+        let loads = Loads::compose(Component::Pressure, Control::Force, held);
+        let sim = solved_cell(n, 1, loads, q);
+        let love = love(sim.model().length(), eps);
+        let (a, b, c0) = (love.radius(), love.pitch, love.c0());
+        let f = love.force() - q * b * c0 / a;
+        for rod in 0..2 {
+            let (force, _) = sim
+                .system()
+                .reaction(sim.model(), sim.state(), rod, End::Tip);
+            let rel = (force[2] - f).abs() / f.abs();
+            println!(
+                "n = {n}, q = {q}, rod {rod}: fz {:.12} closed form {f:.12} rel {rel:.2e}",
+                force[2]
+            );
+            assert!(rel < 1e-8, "n = {n}, rod {rod}: {} vs {f}", force[2]);
+        }
+    }
+}
+
+/// A straight rod on the axis (B1 = B2 = `b`, B3 = `c`) as a one-rod cell of length 1 m,
+/// twisted by the torque `t` and compressed by `p` (N): the state by hand (positions on
+/// the axis, frames turned about it at the rate t/c, every element's force −p e_z, the
+/// unit-norm multipliers balancing the rest) and the judge of its Bloch blocks.
+fn straight_rod(b: f64, c: f64, p: f64, t: f64) -> (DiscreteModel, System, Vec<f64>, CellJudge) {
+    let rate = t / c;
+    let assembly = Assembly::straight_cell(1.0, rate).expect("a straight cell");
+    let stiffness = Stiffness {
+        b1: b,
+        b2: b,
+        b3: c,
+    };
+    let model = DiscreteModel::new(assembly, stiffness, 64, Order::Quadratic);
+    let mut x = model.natural_state();
+    let rod = &model.rods[0];
+    for node in 0..rod.mesh.quaternion_nodes() {
+        let q = model.quaternion(&x, 0, node);
+        let turned = quaternion::mul(
+            &quaternion::about_z(rate * rod.mesh.node_arc_length(node)),
+            &q,
+        );
+        for k in 0..4 {
+            x[rod.q_dof(node, k)] = turned[k];
+        }
+    }
+    let loads = Loads::axial(Control::Displacement);
+    let system = System::new(&model, BoundaryConditions::default(), &x, &loads, 0.0);
+    x.resize(system.n, 0.0);
+    for e in 0..rod.mesh.elements() {
+        x[system.compat_row(0, e) + 2] = -p;
+    }
+    let mut residual = vec![0.0; system.n];
+    system.residual(&model, &x, &mut residual);
+    for node in 0..rod.mesh.quaternion_nodes() {
+        let q: Quat = model.quaternion(&x, 0, node);
+        let g = Quat::from_fn(|k, _| residual[rod.q_dof(node, k)]);
+        x[system.unit_row(0, node)] = -g.dot(&q) / (2.0 * q.norm_squared());
+    }
+    let judge = CellJudge::new(&model, &system, 9).expect("a cell");
+    (model, system, x, judge)
+}
+
+/// The phase (rad per cell) in `(lo, hi)` where the lowest eigenvalue of block `(0, k)`
+/// changes sign, by bisection.
+fn band_edge(rod: &mut (DiscreteModel, System, Vec<f64>, CellJudge), lo: f64, hi: f64) -> f64 {
+    let (model, system, x, judge) = rod;
+    let mut sign = |k: f64| judge.lowest_at(model, system, x, 0, k).expect("converges") < 0.0;
+    let (mut lo, mut hi) = (lo, hi);
+    let unstable_lo = sign(lo);
+    assert_ne!(unstable_lo, sign(hi), "no edge in ({lo}, {hi})");
+    while hi - lo > 1e-10 {
+        let mid = 0.5 * (lo + hi);
+        if sign(mid) == unstable_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Helical perturbations e^{iks} of an infinite straight rod under compression P and torque
+/// T are unstable between the roots of B k² − T k − P = 0 (k > 0 a right-handed helix). In
+/// the cell of length ℓ whose far frame is turned by ψ = T ℓ/B3, the helix k lives in the
+/// block of phase |k ℓ − ψ|: Euler's band |k| < √(P/B) at T = 0, and under torque alone
+/// 0 < k < T/B, to 1e-6.
+#[test]
+fn a_straight_rod_cell_is_unstable_in_eulers_and_greenhills_bands() {
+    let root =
+        |b: f64, t: f64, p: f64, sign: f64| (t + sign * (t * t + 4.0 * b * p).sqrt()) / (2.0 * b);
+    // (B, B3, P, T): Euler; compression and torque; torque alone
+    for (b, c, p, t) in [
+        (1.0, 2.0, 1.0, 0.0),
+        (1.0, 1.0, 1.0, 1.0),
+        (1.0, 4.0, 0.0, 1.0),
+    ] {
+        let psi = t / c;
+        let (k_minus, k_plus) = (root(b, t, p, -1.0), root(b, t, p, 1.0));
+        // the band of phases: |k ℓ − ψ| over (k−, k+), which holds 0 for these loads
+        let expected = (k_minus - psi).abs().max((k_plus - psi).abs());
+        let mut rod = straight_rod(b, c, p, t);
+        let edge = band_edge(&mut rod, 0.5 * expected, (1.5 * expected).min(3.0));
+        let (model, system, x, judge) = &mut rod;
+        let inside = judge
+            .lowest_at(model, system, x, 0, 0.5 * expected)
+            .expect("converges");
+        println!("B {b} B3 {c} P {p} T {t}: edge {edge:.10} expected {expected:.10} error {:.2e}; lowest inside {inside:.4e}", (edge - expected).abs());
+        assert!(inside < 0.0, "unstable inside the band");
+        assert!(
+            (edge - expected).abs() < 1e-6 * expected,
+            "edge {edge} vs {expected}"
+        );
+    }
+}
+
+/// At k = 2πj/N the cell's spectrum is that of N cells closed on themselves: block (p, 0) of
+/// the N-cell ring has the lowest eigenvalue of the cell's blocks (p, 2πj/N), j = 0 … N − 1,
+/// to 1e-8, and as many eigenvalues below any level as they have together.
+#[test]
+fn the_cells_spectrum_at_k_2pi_j_over_n_is_that_of_a_ring_of_n_cells() {
+    let (n, cells, eps) = (8, 8, 0.3);
+    let cell = solved_cell(n, 1, Loads::axial(Control::Displacement), eps);
+    let ring = solved_cell(n, cells, Loads::axial(Control::Displacement), eps);
+    let mut on_cell = CellJudge::new(cell.model(), cell.system(), 9).expect("a cell");
+    let mut on_ring = CellJudge::new(ring.model(), ring.system(), 9).expect("a cell");
+    let phases: Vec<f64> = (0..cells)
+        .map(|j| 2.0 * std::f64::consts::PI * j as f64 / cells as f64)
+        .collect();
+    for p in 0..n / 2 {
+        let ring_lowest = on_ring
+            .lowest_at(ring.model(), ring.system(), ring.state(), p, 0.0)
+            .expect("converges");
+        let cell_lowest = phases
+            .iter()
+            .map(|&k| {
+                on_cell
+                    .lowest_at(cell.model(), cell.system(), cell.state(), p, k)
+                    .expect("converges")
+            })
+            .fold(f64::INFINITY, f64::min);
+        let rel = (ring_lowest - cell_lowest).abs() / cell_lowest.abs();
+        println!("p = {p}: ring {ring_lowest:.12} cell {cell_lowest:.12} rel {rel:.2e}");
+        assert!(rel < 1e-8, "p = {p}: {ring_lowest} vs {cell_lowest}");
+        for sigma in [2.0, 4.0, 8.0].map(|f| f * cell_lowest.abs()) {
+            let ring_count = on_ring
+                .count_below_at(ring.model(), ring.system(), ring.state(), (p, 0.0), sigma)
+                .expect("factorises");
+            let counts: Vec<usize> = phases
+                .iter()
+                .map(|&k| {
+                    on_cell
+                        .count_below_at(cell.model(), cell.system(), cell.state(), (p, k), sigma)
+                        .expect("factorises")
+                })
+                .collect();
+            let cell_count: usize = counts.iter().sum();
+            println!("  below {sigma:.3}: ring {ring_count} cells {cell_count}");
+            assert_eq!(ring_count, cell_count, "p = {p}, below {sigma}");
+        }
+    }
+}
+
+/// `cases/cell-n8.toml` as a run: every output step's rods carry Love's force, the
+/// dispersion covers every wavenumber on 65 phases, and the compressed tube's column band
+/// of p = 1 lies about k = π/m, the phase of its rigid translation.
+#[test]
+fn the_shipped_cell_case_runs_to_loves_force_with_its_column_band() {
+    let case = spira::case::Case::from_file(std::path::Path::new("cases/cell-n8.toml"))
+        .expect("the shipped case reads");
+    assert!(case.discretisation.cell);
+    let targets = case.output_parameters(case.loading.target, case.loading.steps);
+    let outcome = spira::run::run_path(&case, &targets, |_, _| {}).expect("the path runs");
+    assert!(outcome.error.is_none());
+    assert_eq!(outcome.dispersion.len(), outcome.points.len());
+    for (point, d) in outcome.points.iter().zip(&outcome.dispersion) {
+        let eps = point.compression_ratio;
+        let f = love(outcome.model.length(), eps).force();
+        for r in &point.reactions {
+            let fz = r.tip.force[2];
+            assert!(
+                (fz - f).abs() <= 1e-8 * f.abs().max(1.0),
+                "eps = {eps}: {fz} vs {f}"
+            );
+        }
+        assert_eq!(d.dispersion.lowest.len(), 4);
+        assert!(d.dispersion.lowest.iter().all(|row| row.len() == 65));
+    }
+    let last = &outcome.dispersion.last().expect("points").dispersion;
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let bands = last.unstable_bands(1);
+    assert!(!bands.is_empty(), "the compressed column has a band");
+    for (from, to) in bands {
+        assert!(
+            from < to && from >= quarter - 0.5 && to <= quarter + 0.5,
+            "({from}, {to})"
+        );
+    }
+}
+
+/// A cell is refused a load it does not carry, saying so.
+#[test]
+fn a_cell_refuses_a_twist() {
+    let text = std::fs::read_to_string("cases/cell-n8.toml").expect("the shipped case");
+    let twisted = text.replace("[loading]", "[loading]\nparameter = \"twist\"");
+    let err = spira::case::Case::parse(&twisted, "twisted.toml", "twisted")
+        .expect_err("a twisted cell is refused");
+    let message = err.to_string();
+    assert!(message.contains("discretisation.model"), "{message}");
+    assert!(
+        message.contains("axial strain and a radial pressure"),
+        "{message}"
+    );
+}
