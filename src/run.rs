@@ -6,8 +6,8 @@ use crate::discretisation::bulk;
 use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
-use crate::simulation::flaw::ImperfectPath;
 use crate::simulation::cell::{self, StepDispersion};
+use crate::simulation::flaw::ImperfectPath;
 use crate::simulation::Simulation;
 use crate::simulation::SolveError;
 use crate::solver::continuation::Observer;
@@ -124,25 +124,7 @@ pub fn run_path_steps(
     };
     for (k, &target) in targets.iter().enumerate() {
         let t = Instant::now();
-        let mut outcome = sim.advance_to(target);
-        if outcome.is_ok() && switched_at.is_none() {
-            if let Some(sign) = sign {
-                let found = sim
-                    .critical_points()
-                    .iter()
-                    .position(|c| c.kind == CriticalKind::Bifurcation);
-                if let Some(i) = found {
-                    switched_at = Some(i);
-                    // the points the output step located past the switch point are of the
-                    // path left there
-                    sim.keep_critical_points(i + 1);
-                    outcome = sim
-                        .switch_branch(i, sign, BRANCH_STEP)
-                        .and_then(|()| sim.advance_to(target));
-                }
-            }
-        }
-        if let Err(err) = outcome {
+        if let Err(err) = advance_switching(&mut sim, target, sign, &mut switched_at) {
             if (sim.parameter() - points.last().map_or(0.0, |p| p.parameter)).abs() > 0.0 {
                 let p = sim.load_point(k + 1);
                 report(&sim, &p, t.elapsed());
@@ -190,6 +172,33 @@ pub fn run_path_steps(
         switched_at,
         error,
     })
+}
+
+/// Advances `sim` to `target`; when a `sign` asks to switch branch and the path has not
+/// yet (`switched_at`), it leaves the path at the first bifurcation found, in that
+/// direction, and goes on to `target` on the new branch.
+fn advance_switching(
+    sim: &mut Simulation,
+    target: f64,
+    sign: Option<f64>,
+    switched_at: &mut Option<usize>,
+) -> Result<(), SolveError> {
+    sim.advance_to(target)?;
+    let Some(sign) = sign.filter(|_| switched_at.is_none()) else {
+        return Ok(());
+    };
+    let found = sim
+        .critical_points()
+        .iter()
+        .position(|c| c.kind == CriticalKind::Bifurcation);
+    let Some(i) = found else {
+        return Ok(());
+    };
+    *switched_at = Some(i);
+    // the points the output step located past the switch point are of the path left there
+    sim.keep_critical_points(i + 1);
+    sim.switch_branch(i, sign, BRANCH_STEP)?;
+    sim.advance_to(target)
 }
 
 /// For the cell of an infinite tube, the dispersion of the state of output point `p`.

@@ -13,8 +13,8 @@ use super::vtk;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::run::PathOutcome;
-use crate::simulation::flaw::ImperfectPath;
 use crate::simulation::cell::StepDispersion;
+use crate::simulation::flaw::ImperfectPath;
 use std::io;
 use std::path::{Path, PathBuf};
 

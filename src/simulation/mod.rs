@@ -5,10 +5,10 @@
 //! ([`reduction`]).
 
 pub mod blocks;
+pub mod cell;
 pub mod curve;
 pub mod flaw;
 mod imperfection;
-pub mod cell;
 pub mod judge;
 pub mod normal_form;
 pub mod problem;

@@ -15,4 +15,5 @@ pub mod path_state;
 pub mod problem;
 pub mod stability;
 pub mod stats;
+mod step;
 pub mod switching;

@@ -3,8 +3,8 @@
 //! (`cargo test --release --test physics`).
 
 mod bulk;
-mod critical_curves;
 mod cell;
+mod critical_curves;
 mod free_motion;
 mod imperfection;
 mod joints;

@@ -138,6 +138,18 @@ impl App {
         &self.case
     }
 
+    /// The model solved, for the status line: the cell of the infinite tube, the pair, or
+    /// the full assembly.
+    pub fn model_name(&self) -> &'static str {
+        if self.case.discretisation.cell {
+            "cell"
+        } else if self.solves_pair() {
+            "pair"
+        } else {
+            "full"
+        }
+    }
+
     /// Whether the explorer solves one symmetric pair for the current `n` (its Bloch blocks
     /// judging the whole assembly's stability), rather than the full assembly.
     pub fn solves_pair(&self) -> bool {

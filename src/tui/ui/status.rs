@@ -53,11 +53,7 @@ fn case_line(app: &App, width: u16) -> Line<'static> {
     let mut spans = vec![
         bold(app.case_label()),
         sep(),
-        Span::raw(format!(
-            "n {} {}",
-            app.screen.helices,
-            if app.solves_pair() { "pair" } else { "full" }
-        )),
+        Span::raw(format!("n {} {}", app.screen.helices, app.model_name())),
         sep(),
         Span::raw(format!("{} ", app.symbol())),
         bold(parameter),
