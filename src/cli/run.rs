@@ -79,6 +79,9 @@ pub fn run(path: &Path, set: &[Setting], flags: Flags, out: &Path, extras: Extra
     if let Some(imperfect) = &outcome.imperfection {
         println!("{}", imperfect.summary());
     }
+    if let Some(bands) = spira::output::dispersion::bands_summary(&outcome.dispersion) {
+        println!("{bands}");
+    }
     let last = outcome.points.last().expect("step 0 is always there");
     // the a-posteriori estimate needs the response of the run itself
     let note = choice

@@ -82,3 +82,59 @@ pub fn bands_csv(case: &str, steps: &[StepDispersion]) -> String {
     }
     table(&comments, rows)
 }
+
+/// For a run's summary: where each wavenumber's first unstable band opened (between two
+/// output steps) and the bands of the last step, in rad per cell; `None` when no band
+/// opened. The count of unstable directions printed step by step is judged on the coarser
+/// grid of phases the path uses, which a narrow band can fall between.
+pub fn bands_summary(steps: &[StepDispersion]) -> Option<String> {
+    let last = steps.last()?;
+    let band = |(a, b): (f64, f64)| format!("k {a:.3}–{b:.3}");
+    // bands that meet at a phase of the grid (where the gauge holds the rigid translation
+    // of the cells, k = π/m for p = 1) are one band
+    let bands_of = |s: &StepDispersion, p: usize| {
+        let mut merged: Vec<(f64, f64)> = Vec::new();
+        for (a, b) in s.dispersion.unstable_bands(p) {
+            match merged.last_mut() {
+                Some(last) if (a - last.1).abs() < 1e-12 => last.1 = b,
+                _ => merged.push((a, b)),
+            }
+        }
+        merged
+    };
+    let mut opened = Vec::new();
+    for p in 0..last.dispersion.lowest.len() {
+        let first = steps
+            .iter()
+            .position(|s| !s.dispersion.unstable_bands(p).is_empty());
+        if let Some(i) = first {
+            let before = i.checked_sub(1).map_or(0.0, |j| steps[j].eps);
+            let bands: Vec<String> = bands_of(&steps[i], p).into_iter().map(band).collect();
+            opened.push(format!(
+                "p = {p} opens between eps = {before:.6} and {:.6} ({})",
+                steps[i].eps,
+                bands.join(", ")
+            ));
+        }
+    }
+    if opened.is_empty() {
+        return None;
+    }
+    let now: Vec<String> = (0..last.dispersion.lowest.len())
+        .flat_map(|p| {
+            bands_of(last, p)
+                .into_iter()
+                .map(move |b| format!("p = {p} {}", band(b)))
+        })
+        .collect();
+    Some(format!(
+        "unstable bands of the infinite tube (rad per cell; bands.csv): {}; at eps = {:.6}: {}",
+        opened.join("; "),
+        last.eps,
+        if now.is_empty() {
+            "none".to_string()
+        } else {
+            now.join(", ")
+        }
+    ))
+}

@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod cell;
 mod cli;
 mod critical;
 mod figures;
