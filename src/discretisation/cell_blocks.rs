@@ -40,16 +40,8 @@ impl CellBlocks {
     /// The blocks of a cell's system (`None` for a model that is not a cell).
     pub fn new(model: &DiscreteModel, system: &System) -> Option<CellBlocks> {
         let cell = model.assembly.cell.clone()?;
-        let pattern = system.pattern();
-        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-        let entry = |row: usize, col: usize| {
-            let rows = &ri[cp[col]..cp[col + 1]];
-            cp[col]
-                + rows
-                    .binary_search(&row)
-                    .expect("cell entry in the KKT pattern")
-        };
-        let mut entries = vec![Entry::Plain; ri.len()];
+        let entry = |row: usize, col: usize| system.entry(row, col);
+        let mut entries = vec![Entry::Plain; system.nnz()];
         for (i, c) in system.linear.iter().enumerate() {
             let r = system.linear_row(i);
             let mark = match c.role {

@@ -107,18 +107,10 @@ impl BlochBlocks {
     pub fn new(pair: &DiscreteModel, system: &System) -> Option<BlochBlocks> {
         let sym = pair.assembly.symmetry?;
         let m = sym.m;
-        let pattern = system.pattern();
-        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-        let entry = |row: usize, col: usize| {
-            let rows = &ri[cp[col]..cp[col + 1]];
-            cp[col]
-                + rows
-                    .binary_search(&row)
-                    .expect("joint entry in the KKT pattern")
-        };
+        let entry = |row: usize, col: usize| system.entry(row, col);
         let left = &pair.rods[1];
         let left_dofs = left.q_offset..left.r_offset + 3 * (left.mesh.elements() + 1);
-        let mut phase = vec![None; ri.len()];
+        let mut phase = vec![None; system.nnz()];
         for (i, c) in system.linear.iter().enumerate() {
             let Role::Joint(j) = c.role else { continue };
             let turn = pair.assembly.joints[j].left_turn;

@@ -280,6 +280,14 @@ impl System {
         &self.pattern
     }
 
+    /// The position in the KKT matrix's values of its entry `(row, col)`, which the
+    /// pattern must store.
+    pub fn entry(&self, row: usize, col: usize) -> usize {
+        let cp = self.pattern.col_ptr();
+        let rows = &self.pattern.row_idx()[cp[col]..cp[col + 1]];
+        cp[col] + rows.binary_search(&row).expect("entry in the KKT pattern")
+    }
+
     /// Number of stored entries of the KKT matrix.
     pub fn nnz(&self) -> usize {
         self.pattern.row_idx().len()
