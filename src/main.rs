@@ -161,6 +161,10 @@ enum Command {
         /// n = 1, one after the other REPEATS times (at least 3), their times and the ratio.
         #[arg(long, conflicts_with_all = ["tui", "sweep", "scaling", "case"])]
         cold: bool,
+        /// Measure the infinite tube's cell instead: one state's lowest eigenvalue of every
+        /// block H(p, k) on 65 axial phases, n = 8 and 64, beside the finite pair's blocks.
+        #[arg(long, conflicts_with_all = ["tui", "sweep", "scaling", "cold", "case"])]
+        cell: bool,
         /// With --scaling: the largest n solved as the full model too.
         #[arg(long, default_value_t = 16)]
         full_max: usize,
@@ -252,6 +256,7 @@ fn dispatch(command: Option<Command>) -> Result<()> {
             sweep,
             scaling,
             cold,
+            cell,
             full_max,
         } => {
             // clap lets at most one of the flags through
@@ -261,6 +266,8 @@ fn dispatch(command: Option<Command>) -> Result<()> {
                 Measure::Sweep
             } else if cold {
                 Measure::Cold
+            } else if cell {
+                Measure::Cell
             } else if scaling {
                 Measure::Scaling { full_max }
             } else {

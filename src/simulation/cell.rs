@@ -11,6 +11,7 @@ use crate::discretisation::system::System;
 use crate::solver::stability::{InertiaError, KktStability, KktStructure, WarmStart};
 use faer::c64;
 use faer::sparse::SymbolicSparseColMat;
+use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -288,26 +289,71 @@ impl CellJudge {
     }
 
     /// The lowest eigenvalue of every block at the state `x`: the dispersion of the cell.
+    ///
+    /// Each wavenumber's blocks are searched in order of the phase, every search starting
+    /// from the last phase's mode with the last phases' eigenvalues extrapolated (as along
+    /// a path): the dispersion is smooth in `k`, so most blocks take one factorisation. The
+    /// wavenumbers are searched in parallel, each with its own factorisations on the
+    /// shared symbolic structure.
     pub fn dispersion(&mut self, model: &DiscreteModel, system: &System, x: &[f64]) -> Dispersion {
         system.evaluate(model, x, &mut self.residual, &mut self.kkt);
         let pattern = system.pattern();
-        let n = self.phases.len();
-        let lowest = (0..self.blocks.cell().m)
+        // the symbolic analysis once, before the searches share it
+        let _ = self.real.structure_for(pattern);
+        let (blocks, phases, kkt) = (&self.blocks, &self.phases, &self.kkt);
+        let real = &self.real;
+        let lowest = (0..blocks.cell().m)
+            .into_par_iter()
             .map(|p| {
-                (0..n)
-                    .map(|i| {
-                        // the rigid translation across the axis: eigenvalue 0
-                        if self.blocks.holds_translation(p, self.phases[i]) {
-                            return Some(0.0);
-                        }
-                        self.lowest_of_block(pattern, p * n + i)
-                    })
+                let mut chain = PhaseChain {
+                    real: real.sharing(),
+                    complex: real.sharing(),
+                    real_values: vec![0.0; kkt.len()],
+                    complex_values: vec![c64::new(0.0, 0.0); kkt.len()],
+                };
+                phases
+                    .iter()
+                    .map(|&k| chain.lowest(blocks, pattern, kkt, p, k))
                     .collect()
             })
             .collect();
         Dispersion {
             phases: self.phases.clone(),
             lowest,
+        }
+    }
+}
+
+/// The searches of one wavenumber's blocks along the phases, each kind of block (real at
+/// `k = 0` or `π`, Hermitian between) starting from the last one's mode and eigenvalues.
+struct PhaseChain {
+    real: KktStability,
+    complex: KktStability<c64>,
+    real_values: Vec<f64>,
+    complex_values: Vec<c64>,
+}
+
+impl PhaseChain {
+    /// The lowest eigenvalue of block `(p, k)` (0 where it holds the rigid translation
+    /// across the axis).
+    fn lowest(
+        &mut self,
+        blocks: &CellBlocks,
+        pattern: &SymbolicSparseColMat<usize>,
+        kkt: &[f64],
+        p: usize,
+        k: f64,
+    ) -> Option<f64> {
+        if blocks.holds_translation(p, k) {
+            return Some(0.0);
+        }
+        if blocks.is_real(p, k) {
+            blocks.real_block(p, k, kkt, &mut self.real_values);
+            self.real.lowest_eigenvalue(pattern, &self.real_values)
+        } else {
+            blocks.hermitian_block(p, k, kkt, &mut self.complex_values);
+            self.complex
+                .lowest_eigenvalue(pattern, &self.complex_values)
         }
     }
 }

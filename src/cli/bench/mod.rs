@@ -2,6 +2,7 @@
 //! this process, the explorer's response to a key, a sweep on every core, and cold
 //! `spira run` processes.
 
+mod cell;
 mod cold;
 mod sweep;
 
@@ -25,6 +26,9 @@ pub enum Measure {
     Explorer,
     /// A 16-case sweep on every core, then one case after another (`--sweep`).
     Sweep,
+    /// The stability map of one state of the infinite tube's cell, n = 8 and 64, beside the
+    /// finite pair's (`--cell`).
+    Cell,
     /// Cold `spira run` processes of thesis n = 8 and n = 1 (`--cold`).
     Cold,
     /// Cold `spira run` processes for n = 8 … 64, the full model up to `full_max` helices
@@ -47,6 +51,7 @@ pub fn bench(case: Option<&Path>, repeats: u64, measure: Measure) -> Result<()> 
             Ok(())
         }
         Measure::Sweep => sweep::bench_sweep(),
+        Measure::Cell => cell::bench_cell(repeats_flag(repeats)?.max(1)),
         Measure::Cold => cold::bench_cold(repeats_flag(repeats)?.max(3)),
         Measure::Scaling { full_max } => cold::bench_scaling(full_max),
     }
