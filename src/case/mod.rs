@@ -258,8 +258,11 @@ impl Case {
         ) {
             return Err(why.to_string());
         }
-        if self.discretisation.cell && matches!(component, Component::Twist | Component::Tilt) {
-            return Err("the cell is loaded by its axial strain and a radial pressure only".into());
+        if self.discretisation.cell && component == Component::Tilt {
+            return Err(
+                "the cell is loaded by its axial strain, its twist and a radial pressure only"
+                    .into(),
+            );
         }
         let mut c = self.clone();
         if component != l.parameter {
