@@ -6,6 +6,7 @@ use crate::discretisation::bulk;
 use crate::model::loading::Branch;
 use crate::results::{CriticalKind, CriticalPoint};
 use crate::results::{LoadPoint, ModeShape, Snapshot, StepBulk};
+use crate::simulation::beam::{self, StepBeam};
 use crate::simulation::cell::{self, StepDispersion};
 use crate::simulation::flaw::ImperfectPath;
 use crate::simulation::Simulation;
@@ -39,6 +40,9 @@ pub struct PathOutcome {
     /// For the cell of an infinite tube: the dispersion of every output point's state, on
     /// [`cell::PHASES`] axial phases (empty for a finite assembly).
     pub dispersion: Vec<StepDispersion>,
+    /// For the cell of an infinite tube: the tube as a beam at every output point (empty
+    /// for a finite assembly).
+    pub beam: Vec<StepBeam>,
     /// Index (in `critical`) of the bifurcation where the path left the fundamental branch.
     pub switched_at: Option<usize>,
     pub error: Option<SolveError>,
@@ -100,8 +104,10 @@ pub fn run_path_steps(
     let mut sim = Simulation::from_case_with(case, interrupt, observer)?;
     let mut bulks: Vec<StepBulk> = Vec::new();
     let mut dispersion: Vec<StepDispersion> = Vec::new();
+    let mut beam: Vec<StepBeam> = Vec::new();
     let mut report = |sim: &Simulation, p: &LoadPoint, time: Duration| {
         dispersion.extend(step_dispersion(sim, p));
+        beam.extend(step_beam(sim, p));
         let snapshot = sim.snapshot();
         let b = bulk::step_bulk(sim.model(), &snapshot, p);
         on_step(&Step {
@@ -162,6 +168,7 @@ pub fn run_path_steps(
         imperfection,
         bulk: bulks,
         dispersion,
+        beam,
         modes,
         points,
         snapshot: sim.snapshot(),
@@ -199,6 +206,18 @@ fn advance_switching(
     sim.keep_critical_points(i + 1);
     sim.switch_branch(i, sign, BRANCH_STEP)?;
     sim.advance_to(target)
+}
+
+/// For the cell of an infinite tube, the tube as a beam at the state of output point `p`
+/// (`None` too where its stiffnesses cannot be computed: a singular tangent).
+fn step_beam(sim: &Simulation, p: &LoadPoint) -> Option<StepBeam> {
+    let (model, system, x) = (sim.model(), sim.system(), sim.state());
+    let stiffness = beam::beam_stiffness(model, system, x).ok()?;
+    Some(StepBeam {
+        step: p.step,
+        stiffness,
+        bending: beam::bending_of(model, system, x, &stiffness),
+    })
 }
 
 /// For the cell of an infinite tube, the dispersion of the state of output point `p`.

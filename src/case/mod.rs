@@ -245,7 +245,8 @@ impl Case {
 
     /// The same case with `component` stepped (the others held as the case holds them),
     /// to the case's own target when it steps that component already, else to a default
-    /// one: ε = 0.5, twist 1 rad, tilt 0.5 rad, a pressure of one [`Case::parameter_unit`].
+    /// one: ε = 0.5, twist 1 rad (0.01 rad per cell for a cell), tilt 0.5 rad, a pressure of
+    /// one [`Case::parameter_unit`].
     /// A tilt solves the full model. `Err` says why the supports cannot carry it.
     pub fn with_stepped(&self, component: Component) -> Result<Case, String> {
         let l = &self.loading;
@@ -258,8 +259,11 @@ impl Case {
         ) {
             return Err(why.to_string());
         }
-        if self.discretisation.cell && matches!(component, Component::Twist | Component::Tilt) {
-            return Err("the cell is loaded by its axial strain and a radial pressure only".into());
+        if self.discretisation.cell && component == Component::Tilt {
+            return Err(
+                "the cell is loaded by its axial strain, its twist and a radial pressure only"
+                    .into(),
+            );
         }
         let mut c = self.clone();
         if component != l.parameter {
@@ -267,6 +271,8 @@ impl Case {
             c.loading.control = Control::Displacement;
             c.loading.target = match component {
                 Component::Axial => 0.5,
+                // a cell's twist is per cell: its lattice buckles from about 5e-4 rad
+                Component::Twist if c.discretisation.cell => 0.01,
                 Component::Twist => 1.0,
                 Component::Tilt => 0.5,
                 Component::Pressure => c.parameter_unit(),

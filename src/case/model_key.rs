@@ -38,24 +38,23 @@ pub(super) fn model_choice(
     }
 }
 
-/// What a cell is loaded by: its axial strain `ε` (displacement control) stepped, or a
-/// radial pressure stepped at a held `ε`; no twist, tilt, dead axial load or branch switch.
-/// `Some` says why the case's loading is not that.
+/// What a cell is loaded by: its axial strain `ε` (displacement control), its twist per
+/// cell `φ` (the extra turn of its screw, rad) or a radial pressure, one stepped and the
+/// others held, `ε` held as a strain; no tilt, dead axial load or branch switch. `Some`
+/// says why the case's loading is not that.
 pub(super) fn cell_loading_message(loading: &Loading) -> Option<&'static str> {
     let held_ratio = matches!(loading.hold.axial, AxialHeld::Ratio(_));
     match loading.parameter {
         Component::Axial if loading.control == Control::Force => {
             Some("the cell's axial strain is prescribed (displacement control), not a dead load")
         }
-        Component::Axial | Component::Pressure if !held_ratio => {
+        Component::Axial | Component::Twist | Component::Pressure if !held_ratio => {
             Some("the cell's axial strain is held (hold.axial = eps), not a dead load")
         }
-        Component::Twist | Component::Tilt => {
-            Some("the cell is loaded by its axial strain and a radial pressure only")
+        Component::Tilt => {
+            Some("the cell is loaded by its axial strain, its twist and a radial pressure only")
         }
-        _ if loading.hold.twist != 0.0 || loading.hold.tilt != 0.0 => {
-            Some("the cell holds no twist or tilt")
-        }
+        _ if loading.hold.tilt != 0.0 => Some("the cell holds no tilt"),
         _ if loading.branch != Branch::Fundamental => {
             Some("the cell follows its fundamental path (branch = \"fundamental\")")
         }

@@ -74,7 +74,8 @@ pub struct Discretisation {
     pub symmetric_auto: bool,
     /// Solve the cell of the infinitely long tube of the case's helices instead of the
     /// finite assembly (key `model = "cell"`, docs/theory.md §8): the geometry's length and
-    /// the supports are not used, the axial strain and a radial pressure load it.
+    /// the supports are not used, the axial strain, the twist per cell and a radial
+    /// pressure load it.
     pub cell: bool,
     /// Where the reference curvatures of helical rods come from (key `reference`,
     /// default `"discrete"`: the natural state is exactly stress-free).

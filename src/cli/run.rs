@@ -82,6 +82,9 @@ pub fn run(path: &Path, set: &[Setting], flags: Flags, out: &Path, extras: Extra
     if let Some(bands) = spira::output::dispersion::bands_summary(&outcome.dispersion) {
         println!("{bands}");
     }
+    if let Some(beam) = spira::output::beam::beam_summary(&outcome.beam) {
+        println!("{beam}");
+    }
     let last = outcome.points.last().expect("step 0 is always there");
     // the a-posteriori estimate needs the response of the run itself
     let note = choice

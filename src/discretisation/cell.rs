@@ -12,10 +12,12 @@
 
 use super::constraints::{support_constraints, LinearConstraint, Role, TipPlace};
 use super::discrete_model::{DiscreteModel, End};
+use super::support::{Moving, SupportPose};
 use crate::model::boundary::BoundaryConditions;
 use crate::model::cell::Cell;
 use crate::model::quaternion::{self, Quat};
 use crate::model::symmetry::TurnZ;
+use nalgebra::Vector3;
 
 /// Quadratic elements per rod of the cell of a tube of `n` helices by default: `128/n`, at
 /// least 8 — 64 per turn of the helix for n ≤ 16 (the cell's rods are `1/n` of a turn), so
@@ -56,11 +58,13 @@ pub(super) fn end_constraints(
     out: &mut Vec<LinearConstraint>,
 ) {
     if let Some(cell) = &model.assembly.cell {
-        let height = match tip {
-            TipPlace::Upright { height } => height,
-            TipPlace::Turned { .. } => None,
+        let (height, spin) = match tip {
+            TipPlace::Upright { height } => (height, None),
+            TipPlace::Turned { pose, height_held } => {
+                (height_held.then_some(pose.centre[2]), Some(pose))
+            }
         };
-        cell_constraints(model, x, cell, height, out);
+        cell_constraints(model, x, cell, height, spin.as_ref(), out);
         return;
     }
     for id in 0..model.rods.len() {
@@ -72,12 +76,14 @@ pub(super) fn end_constraints(
 
 /// The constraints of a cell in the state `x`: the gauge of its rigid motions, the pin
 /// joints inside it and the periodic conditions of every rod, its rise held at `height`
-/// (m; at its value in `x` when `None`).
+/// (m; at its value in `x` when `None`), its screw turned further by the twist of `spin`
+/// (the tube's twist per cell, moving with the load parameter) when there is one.
 fn cell_constraints(
     model: &DiscreteModel,
     x: &[f64],
     cell: &Cell,
     height: Option<f64>,
+    spin: Option<&SupportPose>,
     out: &mut Vec<LinearConstraint>,
 ) {
     gauge(model, x, out);
@@ -101,50 +107,94 @@ fn cell_constraints(
             out.push(row(terms, a[i] - b[i], Role::Joint(j)));
         }
     }
-    for (id, rod) in model.rods.iter().enumerate() {
-        let turn = TurnZ::new(cell.turns[id]);
-        let (v, node) = (rod.end_vertex(End::Tip), rod.end_node(End::Tip));
-        let tip = Role::Support {
-            rod: id,
-            end: End::Tip,
-        };
-        for i in 0..2 {
-            let mut terms = vec![(rod.r_dof(v, i), 1.0)];
-            for j in 0..2 {
-                let mut e = [0.0; 3];
-                e[j] = 1.0;
-                terms.push((rod.r_dof(0, j), -turn.apply(e)[i]));
-            }
-            out.push(row(terms, 0.0, tip));
+    for id in 0..model.rods.len() {
+        periodic_constraints(model, x, id, cell.turns[id], height, spin, out);
+    }
+}
+
+/// The periodic conditions of rod `id`, whose far end is its near end carried by the screw
+/// of turn `turn` (rad) and the cell's rise: `R_φ r_far − R_ψ r_near` held at zero in x and
+/// y, the rise at `height`, and the far frame held at `σ q_φ ∘ q_ψ ∘ q_near`, `φ` the twist
+/// per cell of `spin` (0 without one). Under a twist the rows on the far end move with the
+/// load parameter ([`Moving`]): `(R_φ e_i)·r_far` and `Im(w̄ ∘ q_far)` with
+/// `w = q_φ ∘ q_ψ ∘ q_near` (at `x`), while the rows' terms on the near end, `R_ψ r_near`
+/// and `Im(w̄ ∘ q_φ ∘ q_ψ ∘ q_near)`, do not depend on `φ`.
+fn periodic_constraints(
+    model: &DiscreteModel,
+    x: &[f64],
+    id: usize,
+    turn: f64,
+    height: Option<f64>,
+    spin: Option<&SupportPose>,
+    out: &mut Vec<LinearConstraint>,
+) {
+    let rod = &model.rods[id];
+    let turn = TurnZ::new(turn);
+    let (v, node) = (rod.end_vertex(End::Tip), rod.end_node(End::Tip));
+    let tip = Role::Support {
+        rod: id,
+        end: End::Tip,
+    };
+    let spin_turn = |e: Vector3<f64>| spin.map_or(e, |pose| pose.turn(&e));
+    for i in 0..2 {
+        let direction = Vector3::ith(i, 1.0);
+        let a = spin_turn(direction);
+        // the far vertex's three unknowns first, in order, whatever their coefficients
+        let mut terms: Vec<(usize, f64)> = (0..3).map(|k| (rod.r_dof(v, k), a[k])).collect();
+        for j in 0..2 {
+            let mut e = [0.0; 3];
+            e[j] = 1.0;
+            terms.push((rod.r_dof(0, j), -turn.apply(e)[i]));
         }
-        let terms = vec![(rod.r_dof(v, 2), 1.0), (rod.r_dof(0, 2), -1.0)];
-        match height {
-            Some(h) => out.push(row(terms, h, Role::TipHeight { rod: id })),
-            None => {
-                let rise = model.vertex(x, id, v)[2] - model.vertex(x, id, 0)[2];
-                out.push(row(terms, rise, tip));
-            }
-        }
-        let near = model.quaternion(x, id, 0);
-        let far = model.quaternion(x, id, node);
-        let w = turn.rotate(&near);
-        let w = w / w.norm();
-        let sigma = if far.dot(&w) < 0.0 { -1.0 } else { 1.0 };
-        let rows = held_rows(&w);
-        let turned: [Quat; 4] = std::array::from_fn(|k| {
-            let mut ek = Quat::zeros();
-            ek[k] = 1.0;
-            turn.rotate(&ek)
+        out.push(LinearConstraint {
+            terms,
+            value: 0.0,
+            role: tip,
+            moving: spin.map(|_| Moving::Position {
+                direction,
+                offset: 0.0,
+            }),
         });
-        for held in rows {
-            let mut terms: Vec<(usize, f64)> =
-                (0..4).map(|k| (rod.q_dof(node, k), held[k])).collect();
-            for (k, tk) in turned.iter().enumerate() {
-                let c: f64 = (0..4).map(|l| held[l] * tk[l]).sum();
-                terms.push((rod.q_dof(0, k), -sigma * c));
-            }
-            out.push(row(terms, 0.0, tip));
+    }
+    let terms = vec![(rod.r_dof(v, 2), 1.0), (rod.r_dof(0, 2), -1.0)];
+    match height {
+        Some(h) => out.push(row(terms, h, Role::TipHeight { rod: id })),
+        None => {
+            let rise = model.vertex(x, id, v)[2] - model.vertex(x, id, 0)[2];
+            out.push(row(terms, rise, tip));
         }
+    }
+    let near = model.quaternion(x, id, 0);
+    let far = model.quaternion(x, id, node);
+    let reference = turn.rotate(&near);
+    let reference = reference / reference.norm();
+    let w = spin.map_or(reference, |pose| {
+        quaternion::mul(&pose.rotation, &reference)
+    });
+    let sigma = if far.dot(&w) < 0.0 { -1.0 } else { 1.0 };
+    let (far_rows, near_rows) = (held_rows(&w), held_rows(&reference));
+    let turned: [Quat; 4] = std::array::from_fn(|k| {
+        let mut ek = Quat::zeros();
+        ek[k] = 1.0;
+        turn.rotate(&ek)
+    });
+    for i in 0..3 {
+        let mut terms: Vec<(usize, f64)> = (0..4)
+            .map(|k| (rod.q_dof(node, k), far_rows[i][k]))
+            .collect();
+        for (k, tk) in turned.iter().enumerate() {
+            let c: f64 = (0..4).map(|l| near_rows[i][l] * tk[l]).sum();
+            terms.push((rod.q_dof(0, k), -sigma * c));
+        }
+        out.push(LinearConstraint {
+            terms,
+            value: 0.0,
+            role: tip,
+            moving: spin.map(|_| Moving::Orientation {
+                reference,
+                weights: Vector3::ith(i, 1.0),
+            }),
+        });
     }
 }
 

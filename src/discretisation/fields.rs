@@ -67,7 +67,9 @@ fn own_reactions(model: &DiscreteModel, system: &System, x: &[f64]) -> Vec<RodRe
 /// The tube's answer to its twist, tilt and pressure at state `x` under `system`'s loads:
 /// the support's angles and the pressure at the system's load parameter, the torque and
 /// bending moment from the tip reactions `reactions` (of the whole assembly) about the
-/// tip's centre `(0, 0, height)` (m), the mean radius by the pressure's own rule.
+/// tip's centre `(0, 0, height)` (m), the mean radius by the pressure's own rule. For the
+/// cell of an infinite tube the twist is its twist per cell and the torque the whole
+/// tube's, `m` times its rods' share.
 pub fn support_response(
     model: &DiscreteModel,
     system: &System,
@@ -89,6 +91,9 @@ pub fn support_response(
         torque += about[2];
         bending += about[0];
     }
+    // a cell's rods are one of the m sectors of the tube's cross-section
+    let sectors = model.assembly.cell.as_ref().map_or(1.0, |c| c.m as f64);
+    torque *= sectors;
     let pressure = loads.pressure(lambda).0;
     let radius = pressure::mean_radius(model, x);
     let n = reactions.len() as f64;

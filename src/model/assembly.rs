@@ -236,6 +236,35 @@ impl Assembly {
         })
     }
 
+    /// The cell of one infinitely long helix (radius `radius`, pitch parameter `pitch`, m),
+    /// alone: a right-handed segment turning by `turn` (rad, not a multiple of 2π, so that
+    /// the screw holds the helix's axis) about the axis, its far end the screw image of its
+    /// near end — the rod of a tube's cell without its partner, Love's helix when loaded.
+    pub fn helix_cell(radius: f64, pitch: f64, turn: f64) -> Result<Assembly, CellError> {
+        let whole = (turn / (2.0 * PI)).round() * 2.0 * PI;
+        if radius <= 0.0 || !radius.is_finite() || !turn.is_finite() || (turn - whole).abs() < 1e-6
+        {
+            return Err(CellError::NotATube { n: 1, radius });
+        }
+        let helix = Helix {
+            radius,
+            pitch,
+            chirality: Chirality::Right,
+            base_angle: 0.0,
+        };
+        Ok(Assembly {
+            length: turn.abs() * helix.c(),
+            rods: vec![helix],
+            joints: Vec::new(),
+            symmetry: None,
+            cell: Some(Cell {
+                m: 1,
+                turns: vec![turn.abs()],
+                far_sectors: vec![0],
+            }),
+        })
+    }
+
     /// The cell of an infinitely long straight rod on the axis (radius 0): one rod of length
     /// `length` (m) whose far end is its near end translated along the axis, its frame
     /// turned by `turn` (rad) about it (the twist of the rod over the cell).

@@ -4,6 +4,7 @@
 //! and the files on disk, written atomically ([`files`]) through staging folders ([`staging`]).
 //! Everything here reads results and studies; nothing computes them.
 
+pub mod beam;
 pub mod chart;
 pub mod csv;
 pub mod curve;

@@ -1,6 +1,7 @@
 //! A run's folder: the files a run writes (tables, modes, per-step states, a ParaView
 //! series, figures), their names, and the headers that say which model was solved.
 
+use super::beam::beam_csv;
 use super::csv::{
     bulk_csv, check_finite, critical_csv, load_csv, mode_csv, reactions_csv, state_csv, with_note,
     NonFinite,
@@ -13,6 +14,7 @@ use super::vtk;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, Snapshot, StepBulk};
 use crate::run::PathOutcome;
+use crate::simulation::beam::StepBeam;
 use crate::simulation::cell::StepDispersion;
 use crate::simulation::flaw::ImperfectPath;
 use std::io;
@@ -44,6 +46,9 @@ pub struct RunFiles<'a> {
     /// For the cell of an infinite tube: the dispersion at every output step
     /// (`dispersion.csv`, `bands.csv`).
     pub dispersion: &'a [StepDispersion],
+    /// For the cell of an infinite tube: the tube as a beam at every output step
+    /// (`beam.csv`).
+    pub beam: &'a [StepBeam],
 }
 
 impl<'a> RunFiles<'a> {
@@ -62,6 +67,7 @@ impl<'a> RunFiles<'a> {
             states: &[],
             imperfection: outcome.imperfection.as_ref(),
             dispersion: &outcome.dispersion,
+            beam: &outcome.beam,
         }
     }
 }
@@ -127,6 +133,9 @@ pub fn run_files(run: &RunFiles) -> io::Result<Vec<(String, String)>> {
             dispersion_csv(case, run.dispersion),
         ));
         files.push(("bands.csv".to_string(), bands_csv(case, run.dispersion)));
+    }
+    if !run.beam.is_empty() {
+        files.push(("beam.csv".to_string(), beam_csv(case, run.beam)));
     }
     for (step, snapshot) in run.states {
         files.push((format!("state-{step}.csv"), state_csv(case, snapshot)));

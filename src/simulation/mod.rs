@@ -4,6 +4,7 @@
 //! critical points of the whole assembly, whichever reduction of it is solved
 //! ([`reduction`]).
 
+pub mod beam;
 pub mod blocks;
 pub mod cell;
 pub mod curve;

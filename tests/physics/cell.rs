@@ -292,15 +292,136 @@ fn the_shipped_cell_case_runs_to_loves_force_with_its_column_band() {
 
 /// A cell is refused a load it does not carry, saying so.
 #[test]
-fn a_cell_refuses_a_twist() {
+fn a_cell_refuses_a_tilt() {
     let text = std::fs::read_to_string("cases/cell-n8.toml").expect("the shipped case");
-    let twisted = text.replace("[loading]", "[loading]\nparameter = \"twist\"");
-    let err = spira::case::Case::parse(&twisted, "twisted.toml", "twisted")
-        .expect_err("a twisted cell is refused");
+    let tilted = text.replace(
+        "[loading]",
+        "[loading]\nparameter = \"tilt\"\nhold = { axial = 0.0 }",
+    );
+    let err = spira::case::Case::parse(&tilted, "tilted.toml", "tilted")
+        .expect_err("a tilted cell is refused");
     let message = err.to_string();
     assert!(message.contains("discretisation.model"), "{message}");
     assert!(
-        message.contains("axial strain and a radial pressure"),
+        message.contains("its twist and a radial pressure"),
         "{message}"
     );
+}
+
+/// The loads of a cell twisted by `phi` (rad per cell, stepped) at the held strain `eps`.
+fn twist_at(eps: f64) -> Loads {
+    let held = Held {
+        axial: AxialHeld::Ratio(eps),
+        ..Held::NATURAL
+    };
+    Loads::compose(Component::Twist, Control::Displacement, held)
+}
+
+/// Continuation settings without the stability of the path (the twisted lattice buckles
+/// early; these checks are of the equilibrium).
+fn equilibrium_only() -> ContinuationSettings {
+    ContinuationSettings {
+        track_stability: false,
+        lowest_eigenvalue: false,
+        ..ContinuationSettings::default()
+    }
+}
+
+/// One helix alone as a cell (the rod of the tube's cell of `n` helices without its
+/// partner: 1/n of a turn), twisted by φ per cell at a held strain ε: it stays the uniform
+/// helix through its near end and the screw image of it, turning by ψ = 2π/n + φ over the
+/// arc ℓ with the rise h = h0 (1 − ε), so a = √(ℓ² − h²)/ψ and b = h/ψ, and carries Love's
+/// axial force and couple there, to 1e-8, for n = 2, 8, 64.
+#[test]
+fn a_twisted_helix_cell_carries_loves_force_and_couple() {
+    use spira::model::helix::Chirality;
+    use spira::model::love::axial_wrench;
+    for n in [2, 8, 64] {
+        let turn = 2.0 * std::f64::consts::PI / n as f64;
+        for (eps, phi) in [(0.3, 0.2 * turn), (0.0, -0.1 * turn), (-0.2, 0.05 * turn)] {
+            let assembly = Assembly::helix_cell(A0, B0, turn).expect("a helix cell");
+            let model =
+                DiscreteModel::new(assembly, STIFFNESS, default_elements(n), Order::Quadratic);
+            let x = model.natural_state();
+            let (length, h0) = (model.length(), model.height0());
+            let mut sim = Simulation::with_loads(
+                model,
+                BoundaryConditions::default(),
+                twist_at(eps),
+                x,
+                equilibrium_only(),
+            )
+            .expect("the natural state solves");
+            sim.advance_to(phi).expect("the cell follows the twist");
+            let psi = turn + phi;
+            let h = h0 * (1.0 - eps);
+            let (a, b) = ((length * length - h * h).sqrt() / psi, h / psi);
+            let (f, m) =
+                axial_wrench((A0, B0), (a, b), &STIFFNESS, Chirality::Right).expect("a helix");
+            let point = sim.load_point(0);
+            let fz = point.reactions[0].tip.force[2];
+            let torque = point.support.torque;
+            let (ef, em) = ((fz - f).abs() / f.abs(), (torque - m).abs() / m.abs());
+            println!("n = {n}, eps = {eps}, phi = {phi:.5}: fz {fz:.12} Love {f:.12} ({ef:.1e}), T {torque:.12} Love {m:.12} ({em:.1e})");
+            assert!(ef < 1e-8 && em < 1e-8, "n = {n}, eps = {eps}, phi = {phi}");
+        }
+    }
+}
+
+/// The tube's cell twisted at a held strain, for n = 2, 8, 64: the pinned lattice cannot
+/// shear, so its rods leave the helices and no uniform helix is a closed form; what holds
+/// instead is that the torque is the energy's rate, ∫ T dφ = energy of the m cells of one
+/// rise (Simpson on 64 steps, to 1e-8 of the energy), and the mirror image of the tube (right
+/// and left helices exchanged) carries T(−φ) = −T(φ), its left rod the axial force of the
+/// right rod under φ, to 1e-9.
+#[test]
+fn the_twisted_tube_cell_stores_the_work_of_its_torque_and_is_mirror_symmetric() {
+    let steps = 64;
+    for (n, target) in [(2, 0.2), (8, 0.01), (64, 1e-5)] {
+        let eps = 0.2;
+        let path = |sign: f64| {
+            let assembly = Assembly::tube_cell(n, A0, B0).expect("a tube cell");
+            let model =
+                DiscreteModel::new(assembly, STIFFNESS, default_elements(n), Order::Quadratic);
+            let x = model.natural_state();
+            let mut sim = Simulation::with_loads(
+                model,
+                BoundaryConditions::default(),
+                twist_at(eps),
+                x,
+                equilibrium_only(),
+            )
+            .expect("the natural state solves");
+            let start = sim.load_point(0).energy;
+            let points: Vec<_> = (0..=steps)
+                .map(|i| {
+                    let phi = sign * target * i as f64 / steps as f64;
+                    sim.advance_to(phi).expect("the cell follows the twist");
+                    let p = sim.load_point(i);
+                    (
+                        p.support.torque,
+                        p.energy - start,
+                        [0, 1].map(|r| p.reactions[r].tip.force[2]),
+                    )
+                })
+                .collect();
+            points
+        };
+        let (plus, minus) = (path(1.0), path(-1.0));
+        let d = target / steps as f64;
+        let work: f64 = (0..steps / 2)
+            .map(|j| d / 3.0 * (plus[2 * j].0 + 4.0 * plus[2 * j + 1].0 + plus[2 * j + 2].0))
+            .sum();
+        let energy = plus[steps].1;
+        let rel = (work - energy).abs() / energy;
+        // the mirror exchanges the right rod (0) and the left one (1)
+        let (t, f) = (plus[steps].0, plus[steps].2);
+        let (tm, fm) = (minus[steps].0, minus[steps].2);
+        let mirror = ((t + tm).abs() / t.abs())
+            .max((f[0] - fm[1]).abs() / f[0].abs())
+            .max((f[1] - fm[0]).abs() / f[1].abs());
+        println!("n = {n}: phi {target}, T {t:.9} N m, work {work:.12} energy {energy:.12} ({rel:.1e}); mirror T {tm:.9}, fz {f:.9?} / {fm:.9?} ({mirror:.1e})");
+        assert!(rel < 1e-8, "n = {n}: work {work} vs energy {energy}");
+        assert!(mirror < 1e-9, "n = {n}: T {t} / {tm}, fz {f:?} / {fm:?}");
+    }
 }

@@ -2,6 +2,7 @@
 //! differences, convergence orders, the symmetric pair against the full model
 //! (`cargo test --release --test physics`).
 
+mod beam;
 mod bulk;
 mod cell;
 mod critical_curves;

@@ -1,0 +1,283 @@
+//! The infinite tube as a beam (docs/theory.md §8): its effective stiffnesses per unit
+//! length at a state of its cell, exact from the cell's constrained tangent.
+//!
+//! The cell's macroscopic loads `μ = (ε, φ, q)` — axial strain, twist per cell (rad) and
+//! radial pressure (N/m) — enter its Lagrangian `L(X, μ)` (`X` the unknowns with the
+//! multipliers). At an equilibrium `R = ∇_X L = 0` the reduced energy `Π(μ) = L(X(μ), μ)`
+//! has `∂Π/∂μ_a = ∂L/∂μ_a` (the conjugate loads) and the Hessian
+//! `S_ab = ∂²L/∂μ_a∂μ_b − (∂R/∂μ_a)ᵀ K⁻¹ (∂R/∂μ_b)`, `K` the KKT matrix: one factorisation,
+//! three solves. The beam's stiffnesses are `S` in the tube's measures. The bending
+//! stiffness comes from the cell's Bloch block of the translation across the axis
+//! ([`bending_stiffness`]).
+
+use super::cell::CellJudge;
+use crate::discretisation::discrete_model::DiscreteModel;
+use crate::discretisation::pressure;
+use crate::discretisation::support::Moving;
+use crate::discretisation::system::System;
+use crate::model::loading::{AxialHeld, Component, Control, Held, Loads};
+use crate::solver::linear::{least_squares_multipliers, LinearError, SparseLu};
+
+/// The tube's effective beam stiffnesses per unit length at a state of its cell. Strains
+/// are increments on the current tube: `δh/h` axially, the twist per current length
+/// `τ = φ/h` (rad/m); the force `F` is the whole tube's (tension positive).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BeamStiffness {
+    /// The tube's axial strain `ε` (compression positive) and twist per length `τ` (rad/m).
+    pub eps: f64,
+    pub twist: f64,
+    /// The tube's axial force `F` (N, tension positive), torque `T` (N m) and mean radius
+    /// (m), from the conjugate loads `∂L/∂μ`.
+    pub force: f64,
+    pub torque: f64,
+    pub radius: f64,
+    /// The tube's rise per turn of its helices (m): `2π h/ψ`, `h` the cell's rise and `ψ`
+    /// its screw's natural turn.
+    pub turn_rise: f64,
+    /// `EA = dF/d(δh/h)` (N), at held twist and pressure.
+    pub axial: f64,
+    /// `GJ = dT/dτ` (N m²), at held length and pressure.
+    pub torsional: f64,
+    /// `dT/d(δh/h) = dF/dτ` (N m): the extension–twist coupling.
+    pub twist_coupling: f64,
+    /// `−dq/dā` (N/m²) at held axial force and twist, `ā` the mean radius: the radial
+    /// stiffness (at held length the radius of the pinned lattice is held to first order).
+    pub radial: f64,
+    /// `dā/d(δh/h)` (m) at held pressure and twist: the extension–radius coupling.
+    pub radius_coupling: f64,
+}
+
+/// Why the stiffnesses of a state cannot be computed.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum BeamError {
+    #[error("the beam stiffnesses are those of a cell of an infinite tube (model = \"cell\")")]
+    NotACell,
+    #[error("the multipliers of the cell's state cannot be fitted (dependent constraints)")]
+    Multipliers,
+    #[error(transparent)]
+    Linear(#[from] LinearError),
+    #[error("the cell's reduced energy is flat along its {what}: no stiffness to invert")]
+    Flat { what: &'static str },
+}
+
+/// The values `(ε, φ, q)` of the loads of `system` at its load parameter.
+fn load_values(system: &System) -> (f64, f64, f64) {
+    let (loads, lambda) = (system.loads(), system.parameter());
+    let held = loads.held();
+    let stepped = loads.stepped();
+    let eps = match (stepped, held.axial) {
+        (Some(Component::Axial), _) => lambda,
+        (_, AxialHeld::Ratio(e)) => e,
+        (_, AxialHeld::Load(_)) => 0.0,
+    };
+    let phi = if stepped == Some(Component::Twist) {
+        lambda
+    } else {
+        held.twist
+    };
+    let q = if stepped == Some(Component::Pressure) {
+        lambda
+    } else {
+        held.pressure
+    };
+    (eps, phi, q)
+}
+
+/// `∂²L/∂φ²` at `x`: the second rate of the rows that turn with the twist about the axis,
+/// `ν (∂²a/∂φ²)·x` with `∂²(R_φ d)/∂φ² = −R_φ d` (`d` in the x–y plane) and
+/// `∂²q_φ/∂φ² = −q_φ/4`.
+fn twist_curvature(system: &System, x: &[f64]) -> f64 {
+    system
+        .linear
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let (count, factor) = match c.moving? {
+                Moving::Position { .. } => (3, 1.0),
+                Moving::Orientation { .. } => (4, 0.25),
+            };
+            let moving: f64 = c.terms[..count].iter().map(|&(d, a)| a * x[d]).sum();
+            Some(-factor * x[system.linear_row(i)] * moving)
+        })
+        .sum()
+}
+
+/// The beam stiffnesses of the cell's state `x` (primal unknowns at least) under
+/// `system`'s loads.
+pub fn beam_stiffness(
+    model: &DiscreteModel,
+    system: &System,
+    x: &[f64],
+) -> Result<BeamStiffness, BeamError> {
+    let cell = model.assembly.cell.as_ref().ok_or(BeamError::NotACell)?;
+    let (eps, phi, q) = load_values(system);
+    let held = Held {
+        axial: AxialHeld::Ratio(eps),
+        twist: phi,
+        tilt: 0.0,
+        pressure: q,
+    };
+    let primal = &x[..model.n_primal];
+    let systems: Vec<(System, f64)> = [
+        (Component::Axial, eps),
+        (Component::Twist, phi),
+        (Component::Pressure, q),
+    ]
+    .into_iter()
+    .map(|(c, value)| {
+        let loads = Loads::compose(c, Control::Displacement, held);
+        (System::new(model, system.bc, primal, &loads, value), value)
+    })
+    .collect();
+    // the same rows in the three systems: the multipliers fitted once, K once
+    let first = &systems[0].0;
+    let mut full = primal.to_vec();
+    full.resize(first.n, 0.0);
+    let (mut residual, mut kkt) = (vec![0.0; first.n], first.new_values());
+    first.evaluate(model, &full, &mut residual, &mut kkt);
+    let nu = least_squares_multipliers(first.pattern(), &kkt, &residual, model.n_primal)
+        .ok_or(BeamError::Multipliers)?;
+    full[model.n_primal..].copy_from_slice(&nu);
+    first.evaluate(model, &full, &mut residual, &mut kkt);
+    let mut lu = SparseLu::default();
+    lu.factorize(first.matrix(&kkt))?;
+    let rates: Vec<Vec<f64>> = systems
+        .iter()
+        .map(|(s, value)| {
+            let mut d = vec![0.0; s.n];
+            s.load_derivative(model, &full, *value, &mut d);
+            d
+        })
+        .collect();
+    let solved: Vec<Vec<f64>> = rates
+        .iter()
+        .map(|d| {
+            let mut y = d.clone();
+            lu.solve(&mut y);
+            y
+        })
+        .collect();
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(u, v)| u * v).sum::<f64>();
+    let mut s = [[0.0; 3]; 3];
+    for a in 0..3 {
+        for b in 0..3 {
+            s[a][b] = -dot(&rates[a], &solved[b]);
+        }
+    }
+    s[1][1] += twist_curvature(&systems[1].0, &full);
+    // conjugate loads: ∂L/∂ε and ∂L/∂φ on the multiplier rows
+    let conjugate = |d: &[f64]| dot(&d[model.n_primal..], &full[model.n_primal..]);
+    let (q_eps, q_phi) = (conjugate(&rates[0]), conjugate(&rates[1]));
+    let m = cell.m as f64;
+    let h0 = model.height0();
+    let h = h0 * (1.0 - eps);
+    let total = model.length() * model.rods.len() as f64;
+    let flat = |v: f64, what| {
+        if v.abs() > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(BeamError::Flat { what })
+        }
+    };
+    let s_qq = s[2][2];
+    let s_ee = flat(s[0][0], "length")?;
+    Ok(BeamStiffness {
+        eps,
+        twist: phi / h,
+        force: -m * q_eps / h0,
+        torque: m * q_phi,
+        radius: pressure::mean_radius(model, &full),
+        turn_rise: 2.0 * std::f64::consts::PI * h / cell.turns[0].abs(),
+        axial: m * h * s_ee / (h0 * h0),
+        torsional: m * h * s[1][1],
+        twist_coupling: -m * h * s[0][1] / h0,
+        radial: -total / flat(s_qq - s[2][0] * s[0][2] / s_ee, "radius")?,
+        radius_coupling: -h * s[2][0] / (h0 * total),
+    })
+}
+
+/// The tube's bending stiffness `EI` (N m²) at the cell's state `x` under `system` (its
+/// axial force `force`, N, tension positive), from the lowest eigenvalue of the Bloch
+/// block of the translation across the axis (`p = 1`) at phases `k = ψ + j δk` beside the
+/// translation's `ψ`: a bending wave `u e^{iqz}`, `q = (k − ψ)/h`, has the energy
+/// `(EI q⁴ + F q²)|u|² h/m` per cell and the metric `Λ q²|u|²/4` (`Λ` the length of the
+/// cell's rods: its sections turn rigidly by `q u`), so `μ(q) = 4h (EI q² + F)/(m Λ) + O(q⁴)`.
+/// `μ = a + b q² + c q⁴` through `j = 1, 2, 3` gives `EI = b m Λ/(4h)`; `a` is returned
+/// too, to be checked against `4hF/(mΛ)`.
+pub fn bending_stiffness(
+    model: &DiscreteModel,
+    system: &System,
+    x: &[f64],
+    step: f64,
+) -> Option<(f64, f64)> {
+    let cell = model.assembly.cell.clone()?;
+    let mut judge = CellJudge::new(model, system, 2)?;
+    let p = cell.translation_wavenumber();
+    let psi = cell.translation_phase();
+    let h = model.height0() * (1.0 - load_values(system).0);
+    let mut mu = [0.0; 3];
+    for (j, v) in mu.iter_mut().enumerate() {
+        *v = judge.lowest_at(model, system, x, p, psi + (j + 1) as f64 * step)?;
+    }
+    // μ_j = a + b X_j + c X_j², X_j = (j δq)²: divided differences
+    let dq = step / h;
+    let xs = [1.0, 4.0, 9.0].map(|j| j * dq * dq);
+    let d01 = (mu[1] - mu[0]) / (xs[1] - xs[0]);
+    let d12 = (mu[2] - mu[1]) / (xs[2] - xs[1]);
+    let c = (d12 - d01) / (xs[2] - xs[0]);
+    let b = d01 - c * (xs[0] + xs[1]);
+    let a = mu[0] - b * xs[0] - c * xs[0] * xs[0];
+    let total = model.length() * model.rods.len() as f64;
+    let m = cell.m as f64;
+    let ei = b * m * total / (4.0 * h);
+    (ei.is_finite() && a.is_finite()).then_some((ei, a))
+}
+
+/// The phase step (rad per cell) of the fit of the bending branch: small enough that the
+/// `q⁶` terms are below the fit's rounding, large enough that `EI q²` stands out of the
+/// eigenvalue's (measured on cell-n8: EI within 0.3 % for steps 0.01 … 0.1).
+pub const BENDING_STEP: f64 = 0.05;
+
+/// The beam of a cell's state at one output step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepBeam {
+    pub step: usize,
+    pub stiffness: BeamStiffness,
+    /// `EI` (N m²), when the bending branch is the lowest of its block near the
+    /// translation ([`bending_of`]).
+    pub bending: Option<f64>,
+}
+
+/// `EI` (N m²) of the cell's state from [`bending_stiffness`] at [`BENDING_STEP`]: under an
+/// axial force `F` the mode's metric is calibrated by the branch's limit `a` (then
+/// `EI = F b/a`, `b` the `q²` coefficient), which must be `4hF/(mΛ)` within 10 % (else
+/// another mode is the lowest there and `None`); at `F = 0` the sections' rigid turn gives
+/// the metric (`EI = b mΛ/(4h)`).
+pub fn bending_of(
+    model: &DiscreteModel,
+    system: &System,
+    x: &[f64],
+    stiffness: &BeamStiffness,
+) -> Option<f64> {
+    let (ei, limit) = bending_stiffness(model, system, x, BENDING_STEP)?;
+    let cell = model.assembly.cell.as_ref()?;
+    let h = model.height0() * (1.0 - stiffness.eps);
+    let total = model.length() * model.rods.len() as f64;
+    let expected = 4.0 * h * stiffness.force / (cell.m as f64 * total);
+    // a force below the fit's resolution of the limit: the rigid sections' metric
+    if expected.abs() < 1e-6 * stiffness.axial.abs() * h / total {
+        return Some(ei);
+    }
+    let ratio = limit / expected;
+    ((0.9..1.1).contains(&ratio)).then_some(ei / ratio)
+}
+
+/// The length (in turns of the helices) at which a column of the tube with effective
+/// length factor `factor` (Euler's: 1 pinned–pinned and clamped–sliding, 0.5 clamped–clamped,
+/// 2 clamped–free) buckles at this state: `L = (π/K) √(EI/P)`, `P = −F` the compression
+/// (`None` unless compressed and `EI` known).
+pub fn column_turns(beam: &StepBeam, factor: f64) -> Option<f64> {
+    let (ei, p) = (beam.bending?, -beam.stiffness.force);
+    (p > 0.0 && ei > 0.0 && factor > 0.0)
+        .then(|| std::f64::consts::PI / factor * (ei / p).sqrt() / beam.stiffness.turn_rise)
+}
