@@ -8,6 +8,7 @@
 //! their types, read by serde), `tables` checks the values table by table against their
 //! physical and numerical ranges and fills in the defaults.
 
+mod design;
 mod error;
 mod helices;
 mod imperfection;
@@ -24,6 +25,7 @@ mod size;
 mod tables;
 mod target;
 
+pub use design::DesignKey;
 pub(crate) use error::plain_types;
 pub use error::CaseError;
 pub use helices::{Refused, HELICES_RANGE};

@@ -25,6 +25,8 @@ pub enum Action {
     Reset,
     Export,
     Precision,
+    CriticalCurve,
+    CurveKey,
     Cancel,
     CriticalPoints,
     SwitchBranch,
@@ -70,7 +72,7 @@ pub struct Binding {
 
 /// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
 /// help is shown any key closes it).
-pub const BINDINGS: [Binding; 22] = {
+pub const BINDINGS: [Binding; 23] = {
     use Action::*;
     [
         Binding {
@@ -159,9 +161,14 @@ pub const BINDINGS: [Binding; 22] = {
             help: "work-precision chart of the case (on/off)",
         },
         Binding {
+            label: "u U",
+            keys: &[(Char('u'), CriticalCurve), (Char('U'), CurveKey)],
+            help: "critical curve of the scene, its key ±10 % (on/off) / key: turns → a → L → B3",
+        },
+        Binding {
             label: "c",
             keys: &[(Char('c'), Cancel)],
-            help: "cancel the solve (keeps the last converged state)",
+            help: "cancel the solve (keeps the last converged state) and the critical curve",
         },
         Binding {
             label: "x",
