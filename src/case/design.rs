@@ -7,7 +7,8 @@ use super::helices::{elements_message, joints_message, Refused};
 use super::limits::{
     num, LENGTH_RANGE, PITCH_RATIO, STIFFNESS_RANGE, STIFFNESS_RATIO, TURNS_RANGE,
 };
-use super::Case;
+use super::settings::Geometry;
+use crate::model::stiffness::Stiffness;
 use std::f64::consts::PI;
 
 /// A numeric key of the design, as a case file names it.
@@ -61,34 +62,38 @@ impl DesignKey {
         DesignKey::ALL[(k + 1) % DesignKey::ALL.len()]
     }
 
-    /// Whether `case` has this key to vary (a straight rod has no turns or radius).
-    pub fn applies(self, case: &Case) -> bool {
-        case.geometry.radius > 0.0 || !matches!(self, DesignKey::Turns | DesignKey::Radius)
+    /// Whether `geometry` has this key to vary (a straight rod has no turns or radius).
+    pub fn applies(self, geometry: &Geometry) -> bool {
+        geometry.radius > 0.0 || !matches!(self, DesignKey::Turns | DesignKey::Radius)
     }
 
-    /// The key's value in `case`.
-    pub fn value(self, case: &Case) -> f64 {
-        let g = &case.geometry;
+    /// The key's value in `geometry` and `stiffness`.
+    pub fn value(self, geometry: &Geometry, stiffness: &Stiffness) -> f64 {
         match self {
-            DesignKey::Turns => g.turns(),
-            DesignKey::Radius => g.radius,
-            DesignKey::Length => g.length,
-            DesignKey::TorsionalStiffness => case.stiffness.b3,
+            DesignKey::Turns => geometry.turns(),
+            DesignKey::Radius => geometry.radius,
+            DesignKey::Length => geometry.length,
+            DesignKey::TorsionalStiffness => stiffness.b3,
         }
     }
 }
 
-impl Case {
-    /// The same case with the design key `key` at `value`, refused as the case reader
-    /// would refuse the key's value in a file (a straight rod has no turns or radius to
-    /// vary).
-    pub fn with_design(&self, key: DesignKey, value: f64) -> Result<Case, Refused> {
+/// Sets the design key `key` to `value` in `geometry` and `stiffness`, refused as the case
+/// reader would refuse the key's value in a file, with `elements` per rod when the mesh is
+/// given by its count (a straight rod has no turns or radius to vary).
+pub(super) fn set_design(
+    key: DesignKey,
+    value: f64,
+    geometry: &mut Geometry,
+    stiffness: &mut Stiffness,
+    elements: Option<usize>,
+) -> Result<(), Refused> {
+    {
         let refuse = |message: String| Refused {
             key: key.key(),
             message,
         };
-        let mut c = self.clone();
-        let g = &mut c.geometry;
+        let g = &mut *geometry;
         let helix = g.radius > 0.0;
         if !helix && matches!(key, DesignKey::Turns | DesignKey::Radius) {
             return Err(refuse("a straight rod has no helix to vary".into()));
@@ -127,16 +132,16 @@ impl Case {
             }
             DesignKey::Length => g.length = value,
             DesignKey::TorsionalStiffness => {
-                let ratio = value / c.stiffness.b1;
+                let ratio = value / stiffness.b1;
                 if !within(STIFFNESS_RANGE)
                     || !(STIFFNESS_RATIO.0..=STIFFNESS_RATIO.1).contains(&ratio)
                 {
                     return Err(expected("a torsional stiffness in N m²", STIFFNESS_RANGE));
                 }
-                c.stiffness.b3 = value;
+                stiffness.b3 = value;
             }
         }
-        let g = &c.geometry;
+        let g = &*geometry;
         if !(LENGTH_RANGE.0..=LENGTH_RANGE.1).contains(&g.length) {
             return Err(refuse(format!(
                 "the rod length L would be {} m; expected L from {} to {} m",
@@ -149,13 +154,11 @@ impl Case {
             if let Some(m) = joints_message(g) {
                 return Err(refuse(m));
             }
-            if c.discretisation.accuracy.is_none() {
-                if let Some(m) = elements_message(g, c.discretisation.elements) {
-                    return Err(refuse(m));
-                }
+            if let Some(m) = elements.and_then(|e| elements_message(g, e)) {
+                return Err(refuse(m));
             }
         }
-        Ok(c)
+        Ok(())
     }
 }
 

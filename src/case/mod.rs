@@ -232,6 +232,24 @@ impl Case {
         Ok(case)
     }
 
+    /// The same case with the design key `key` at `value` (the explorer's critical curve),
+    /// refused as the case reader would refuse the key's value in a file.
+    pub fn with_design(&self, key: DesignKey, value: f64) -> Result<Case, Refused> {
+        let mut c = self.clone();
+        let elements = c
+            .discretisation
+            .accuracy
+            .is_none()
+            .then_some(c.discretisation.elements);
+        design::set_design(key, value, &mut c.geometry, &mut c.stiffness, elements)?;
+        Ok(c)
+    }
+
+    /// The value of the design key `key` in this case.
+    pub fn design_value(&self, key: DesignKey) -> f64 {
+        key.value(&self.geometry, &self.stiffness)
+    }
+
     /// The case as the explorer solves it interactively (a model no bigger than
     /// the scene): one symmetric pair standing for the assembly when it has the symmetry,
     /// its stability judged by the pair's Bloch blocks (the count of unstable directions at

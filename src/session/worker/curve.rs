@@ -103,7 +103,7 @@ fn both_sides(
     running: &Running,
     progress: &mut dyn FnMut(CurveProgress),
 ) -> Result<CurveDone, CurveError> {
-    let value = job.key.value(&job.case);
+    let value = job.case.design_value(job.key);
     let total = 2 * job.rows_each - 1;
     let mut rows: Vec<CurveRow> = Vec::new();
     let mut stopped = Vec::new();

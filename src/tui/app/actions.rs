@@ -504,7 +504,7 @@ impl App {
     /// chart); the first time, asks for the curve.
     fn toggle_curve(&mut self) -> Vec<Effect> {
         self.view.show_curve = !self.view.show_curve;
-        if !self.view.curve_key.applies(&self.scene()) {
+        if !self.view.curve_key.applies(&self.scene().geometry) {
             self.view.curve_key = self.next_applying_key();
         }
         self.view.show_precision &= !self.view.show_curve;
@@ -539,7 +539,7 @@ impl App {
     fn next_applying_key(&self) -> DesignKey {
         let scene = self.scene();
         let mut key = self.view.curve_key.next();
-        while !key.applies(&scene) && key != self.view.curve_key {
+        while !key.applies(&scene.geometry) && key != self.view.curve_key {
             key = key.next();
         }
         key

@@ -156,10 +156,7 @@ fn draw_curve_chart(
     y: fn(&CurveRow) -> f64,
 ) {
     let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.value, y(r))).collect();
-    let scene = app
-        .view
-        .curve_key
-        .value(&app.case().with_helices(app.screen.helices));
+    let scene = app.case().design_value(app.view.curve_key);
     // the whole window asked for, whatever part of it the curve covers
     let xb = nice_bounds(padded_range(
         pts.iter()
