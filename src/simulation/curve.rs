@@ -397,7 +397,8 @@ fn check_spec(
         });
     }
     let forward = (spec.to - spec.from).signum();
-    if spec.at.len() == 1 || spec.at.windows(2).any(|w| !((w[1] - w[0]) * forward > 0.0)) {
+    let in_order = |w: &[f64]| (w[1] - w[0]) * forward > 0.0;
+    if spec.at.len() == 1 || !spec.at.windows(2).all(in_order) {
         return Err(CurveError::Order {
             key: spec.key.clone(),
         });

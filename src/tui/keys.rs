@@ -163,12 +163,12 @@ pub const BINDINGS: [Binding; 23] = {
         Binding {
             label: "u U",
             keys: &[(Char('u'), CriticalCurve), (Char('U'), CurveKey)],
-            help: "critical curve of the scene, its key ±10 % (on/off) / key: turns → a → L → B3",
+            help: "critical curve of the scene, key ±10 % (on/off) / key: turns a L B3",
         },
         Binding {
             label: "c",
             keys: &[(Char('c'), Cancel)],
-            help: "cancel the solve (keeps the last converged state) and the critical curve",
+            help: "cancel the solve (keeps the last converged state) and the curve",
         },
         Binding {
             label: "x",

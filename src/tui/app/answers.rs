@@ -132,10 +132,21 @@ impl App {
         if seq != self.requests.curve_seq {
             return;
         }
-        if let Some(why) = outcome.as_ref().ok().and_then(|d| d.stopped.first()) {
-            self.message = Some(Message::Info(format!(
-                "the critical curve stopped short: {why}"
-            )));
+        match &outcome {
+            Ok(d) if d.cancelled => {
+                self.message = Some(Message::Info(format!(
+                    "critical curve cancelled: the {} rows found stay",
+                    d.rows.len()
+                )));
+            }
+            Ok(d) => {
+                if let Some(why) = d.stopped.first() {
+                    self.message = Some(Message::Info(format!(
+                        "the critical curve stopped short: {why}"
+                    )));
+                }
+            }
+            Err(_) => {}
         }
         self.curve = match outcome {
             Ok(done) => CurveView::Ready(Box::new(done)),
