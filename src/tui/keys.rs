@@ -72,7 +72,7 @@ pub struct Binding {
 
 /// Every key of the explorer, in the order of the help (Ctrl-C quits too, and while the
 /// help is shown any key closes it).
-pub const BINDINGS: [Binding; 23] = {
+pub const BINDINGS: [Binding; 22] = {
     use Action::*;
     [
         Binding {
@@ -156,14 +156,13 @@ pub const BINDINGS: [Binding; 23] = {
             help: "export state and load path to CSV",
         },
         Binding {
-            label: "w",
-            keys: &[(Char('w'), Precision)],
-            help: "work-precision chart of the case (on/off)",
-        },
-        Binding {
-            label: "u U",
-            keys: &[(Char('u'), CriticalCurve), (Char('U'), CurveKey)],
-            help: "critical curve of the scene, key ±10 % (on/off) / key: turns a L B3",
+            label: "w u U",
+            keys: &[
+                (Char('w'), Precision),
+                (Char('u'), CriticalCurve),
+                (Char('U'), CurveKey),
+            ],
+            help: "work-precision chart / critical curve of the scene (on/off); U its key",
         },
         Binding {
             label: "c",
