@@ -8,6 +8,7 @@
 //! their types, read by serde), `tables` checks the values table by table against their
 //! physical and numerical ranges and fills in the defaults.
 
+mod design;
 mod error;
 mod helices;
 mod imperfection;
@@ -24,6 +25,7 @@ mod size;
 mod tables;
 mod target;
 
+pub use design::DesignKey;
 pub(crate) use error::plain_types;
 pub use error::CaseError;
 pub use helices::{Refused, HELICES_RANGE};
@@ -228,6 +230,24 @@ impl Case {
             }
         }
         Ok(case)
+    }
+
+    /// The same case with the design key `key` at `value` (the explorer's critical curve),
+    /// refused as the case reader would refuse the key's value in a file.
+    pub fn with_design(&self, key: DesignKey, value: f64) -> Result<Case, Refused> {
+        let mut c = self.clone();
+        let elements = c
+            .discretisation
+            .accuracy
+            .is_none()
+            .then_some(c.discretisation.elements);
+        design::set_design(key, value, &mut c.geometry, &mut c.stiffness, elements)?;
+        Ok(c)
+    }
+
+    /// The value of the design key `key` in this case.
+    pub fn design_value(&self, key: DesignKey) -> f64 {
+        key.value(&self.geometry, &self.stiffness)
     }
 
     /// The case as the explorer solves it interactively (a model no bigger than

@@ -45,6 +45,7 @@ pub fn critical(args: CriticalArgs) -> Result<()> {
         from: args.from,
         to: args.to,
         rows: args.rows,
+        at: Vec::new(),
     };
     curve(&args.case, &args.set, spec, &args.out)
 }

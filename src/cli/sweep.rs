@@ -4,8 +4,8 @@
 use super::signals::stop_on_signal;
 use anyhow::{bail, Result};
 use spira::sweep::{
-    merge_dirs, run_sweep, workers, CaseFinished, CaseStatus, Combine, RunOptions, Shard, Sweep,
-    SweepReport, MAX_CASES,
+    merge_dirs, run_curves, run_sweep, workers, CaseFinished, CaseStatus, Combine, RunOptions,
+    Shard, Sweep, SweepReport, MAX_CASES,
 };
 use std::io::{IsTerminal as _, Write as _};
 use std::path::{Path, PathBuf};
@@ -56,6 +56,12 @@ pub fn sweep(path: &Path, flags: SweepFlags) -> Result<()> {
         }
         println!("all {} generated cases are valid", sweep.cases.len());
         return Ok(());
+    }
+    if sweep.continued.is_some() {
+        if shard != Shard::ALL {
+            bail!("a sweep with a continued axis runs its curves in one process: drop --shard (or the Slurm array)");
+        }
+        return curves(&sweep, &out);
     }
     let terminal = std::io::stdout().is_terminal();
     let interrupt = stop_on_signal(
@@ -156,6 +162,35 @@ fn koiter_line(table: &spira::sweep::SweepTable) -> String {
             fit.coefficient, fit.exponent, fit.samples, fit.decades
         ),
         None => "Koiter: fewer than two imperfect paths turned below the perfect critical point: no drop to fit (a stable symmetric point, or the flaw's sign on the stable side of an asymmetric one)".into(),
+    }
+}
+
+/// The curves of a sweep with a continued axis, one after the other, into `out`.
+fn curves(sweep: &Sweep, out: &Path) -> Result<()> {
+    let t0 = std::time::Instant::now();
+    let report = run_curves(sweep, out, |c| match &c.curve {
+        Ok(curve) => println!("  {}: {} critical points", c.id, curve.rows.len()),
+        Err(e) => println!("  {}: no curve: {e}", c.id),
+    })?;
+    println!(
+        "{} curve(s) in {:.2} s",
+        report.curves.len(),
+        t0.elapsed().as_secs_f64()
+    );
+    for p in &report.written {
+        println!("wrote {}", p.display());
+    }
+    let short = report.short();
+    if short.is_empty() {
+        Ok(())
+    } else {
+        for (id, why) in &short {
+            eprintln!("  {id}: {why}");
+        }
+        bail!(
+            "{} curve(s) failed or stopped short (their rows up to there are written)",
+            short.len()
+        )
     }
 }
 

@@ -144,7 +144,7 @@ impl Action {
                 step_length: part.map(|p| p.step_length),
             }),
             Job::SetBoundary(bc) => Some(Action::Boundary { boundary: *bc }),
-            Job::Precision(_) => None,
+            Job::Precision(_) | Job::Curve(_) => None,
         }
     }
 

@@ -6,7 +6,7 @@
 
 use super::problem::{mean_tip_height, LoadedAssembly};
 use super::{Simulation, SolveError};
-use crate::case::{Case, CaseError, Setting};
+use crate::case::{Case, CaseError, DesignKey, Refused, Setting};
 use crate::discretisation::fields;
 use crate::discretisation::system::System;
 use crate::results::{CriticalKind, CriticalPoint};
@@ -26,6 +26,37 @@ pub struct CurveSpec {
     /// Rows: equally spaced values of the key from `from` to `to`, both included (at
     /// least 2).
     pub rows: usize,
+    /// The rows' values when they are given (a sweep's axis, from `from` to `to` in order);
+    /// empty: `rows` equally spaced values.
+    pub at: Vec<f64>,
+}
+
+impl CurveSpec {
+    /// The curve in `key` through `values` (at least 2, in increasing or decreasing order),
+    /// a row at each.
+    pub fn through(key: &str, values: &[f64]) -> CurveSpec {
+        CurveSpec {
+            key: key.to_string(),
+            from: values.first().copied().unwrap_or(f64::NAN),
+            to: values.last().copied().unwrap_or(f64::NAN),
+            rows: values.len(),
+            at: values.to_vec(),
+        }
+    }
+
+    /// The values of the key where the rows are.
+    pub fn values(&self) -> Vec<f64> {
+        if !self.at.is_empty() {
+            return self.at.clone();
+        }
+        let last = self.rows.max(2) - 1;
+        (0..=last)
+            .map(|k| match k {
+                k if k == last => self.to,
+                k => self.from + (self.to - self.from) * (k as f64 / last as f64),
+            })
+            .collect()
+    }
 }
 
 /// One point of a critical curve.
@@ -61,12 +92,17 @@ pub enum CurveError {
     /// The key (or its value at the start) is not one the case accepts.
     #[error("--vary {key}: {cause}")]
     Key { key: String, cause: Box<CaseError> },
+    /// A design key's value the case reader would refuse.
+    #[error("{cause} (at {value})")]
+    Refused { value: f64, cause: Refused },
     #[error("--vary {key}: expected a numeric key of the case file (a number, such as geometry.length or stiffness.b3), but the case reads it as {found}")]
     NotNumeric { key: String, found: String },
     #[error("--vary {key}: the key sets the number of unknowns (the mesh, the helices), which must stay fixed along a critical curve")]
     Layout { key: String },
     #[error("expected --from and --to to be finite and different, found {from} and {to}")]
     Range { from: f64, to: f64 },
+    #[error("{key}: expected the values of the rows in order from the first to the last")]
+    Order { key: String },
     #[error("the path of the case at {key} = {value} meets no critical point up to its target {target}{}", .reason.as_ref().map(|r| format!(" (it stopped: {r})")).unwrap_or_default())]
     NoCriticalPoint {
         key: String,
@@ -109,12 +145,24 @@ const LAYOUT_KEYS: [&str; 4] = [
     "discretisation.accuracy",
 ];
 
+/// Where the members of a [`CaseFamily`] come from.
+enum Source {
+    /// The case text read again at every value of the key, with the settings (the route
+    /// of `--set`).
+    Text {
+        text: String,
+        file: String,
+        stem: String,
+        settings: Vec<Setting>,
+    },
+    /// An accepted case with one design key set ([`Case::with_design`]): the explorer's
+    /// scene, which has no file of its own.
+    Design { case: Box<Case>, key: DesignKey },
+}
+
 /// The case rebuilt at every value of one key: a [`Family`] of loaded assemblies.
 pub struct CaseFamily {
-    text: String,
-    file: String,
-    stem: String,
-    settings: Vec<Setting>,
+    source: Source,
     key: String,
     /// The scale of the key's central differences (the larger of its ends' sizes).
     scale: f64,
@@ -124,25 +172,56 @@ impl CaseFamily {
     /// The case of `text` (`file`, `stem` as for [`Case::parse_with`]) with `settings`,
     /// varied in `key`.
     pub fn new(text: &str, file: &str, stem: &str, settings: &[Setting], spec: &CurveSpec) -> Self {
-        CaseFamily {
+        let source = Source::Text {
             text: text.to_string(),
             file: file.to_string(),
             stem: stem.to_string(),
             settings: settings.to_vec(),
+        };
+        CaseFamily::of(source, spec)
+    }
+
+    /// `case` varied in its design key `key` (`spec.key` is that key's name).
+    pub fn design(case: &Case, key: DesignKey, spec: &CurveSpec) -> Self {
+        let source = Source::Design {
+            case: Box::new(case.clone()),
+            key,
+        };
+        CaseFamily::of(source, spec)
+    }
+
+    fn of(source: Source, spec: &CurveSpec) -> Self {
+        CaseFamily {
+            source,
             key: spec.key.clone(),
             scale: spec.from.abs().max(spec.to.abs()).max(1e-300),
         }
     }
 
     /// The case at `value` of the key.
-    pub fn case(&self, value: f64) -> Result<Case, CaseError> {
-        let mut settings = self.settings.clone();
-        settings.retain(|s| s.key != self.key);
-        settings.push(Setting {
-            key: self.key.clone(),
-            value: Value::Float(value),
-        });
-        Case::parse_with(&self.text, &self.file, &self.stem, &settings)
+    pub fn case(&self, value: f64) -> Result<Case, CurveError> {
+        match &self.source {
+            Source::Text {
+                text,
+                file,
+                stem,
+                settings,
+            } => {
+                let mut settings = settings.clone();
+                settings.retain(|s| s.key != self.key);
+                settings.push(Setting {
+                    key: self.key.clone(),
+                    value: Value::Float(value),
+                });
+                Case::parse_with(text, file, stem, &settings).map_err(|e| CurveError::Key {
+                    key: self.key.clone(),
+                    cause: Box::new(e),
+                })
+            }
+            Source::Design { case, key } => case
+                .with_design(*key, value)
+                .map_err(|cause| CurveError::Refused { value, cause }),
+        }
     }
 }
 
@@ -168,6 +247,27 @@ impl Family for CaseFamily {
     }
 }
 
+/// How far a critical curve has got, as it goes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CurveProgress {
+    /// The case's own path, which locates the critical point to continue, has reached
+    /// load parameter `parameter`.
+    Locating { parameter: f64 },
+    /// Row `done` of `total` is found.
+    Row {
+        row: CurveRow,
+        done: usize,
+        total: usize,
+    },
+}
+
+/// What the caller of a long curve sees and can do: `interrupt` stops it at its last
+/// converged point (the rows found so far are kept), and `progress` hears of each step.
+pub struct Watch<'a> {
+    pub interrupt: Interrupt,
+    pub progress: &'a mut dyn FnMut(CurveProgress),
+}
+
 /// The critical curve of the case of `text` with `settings`: its first critical point at
 /// `spec.from` (located by the case's own path), continued in `spec.key` to `spec.to`.
 /// A curve that stops on the way keeps its rows and says why in
@@ -181,8 +281,45 @@ pub fn critical_curve(
 ) -> Result<CriticalCurve, CurveError> {
     check_spec(text, file, stem, settings, spec)?;
     let family = CaseFamily::new(text, file, stem, settings, spec);
-    let case = family.case(spec.from).map_err(|e| key_error(spec, e))?;
-    let critical = first_critical(&case, spec)?;
+    let mut quiet = |_: CurveProgress| {};
+    let mut watch = Watch {
+        interrupt: Interrupt::new(),
+        progress: &mut quiet,
+    };
+    follow(family, spec, &mut watch)
+}
+
+/// The critical curve of the accepted case `case` (the explorer's scene, which has no file)
+/// in its design key `key` from `from` to `to` in `rows` rows, watched by `watch`.
+pub fn design_curve(
+    case: &Case,
+    key: DesignKey,
+    from: f64,
+    to: f64,
+    rows: usize,
+    watch: &mut Watch,
+) -> Result<CriticalCurve, CurveError> {
+    let spec = CurveSpec {
+        key: key.key().to_string(),
+        from,
+        to,
+        rows: rows.max(2),
+        at: Vec::new(),
+    };
+    if !from.is_finite() || !to.is_finite() || from == to {
+        return Err(CurveError::Range { from, to });
+    }
+    follow(CaseFamily::design(case, key, &spec), &spec, watch)
+}
+
+/// The curve of `family` from its first critical point at `spec.from`.
+fn follow(
+    family: CaseFamily,
+    spec: &CurveSpec,
+    watch: &mut Watch,
+) -> Result<CriticalCurve, CurveError> {
+    let case = family.case(spec.from)?;
+    let critical = first_critical(&case, spec, watch)?;
     let extended_error = |reason: String| CurveError::Extended {
         key: spec.key.clone(),
         value: spec.from,
@@ -198,13 +335,12 @@ pub fn critical_curve(
     let mut check = assembly(&case);
     check_holds(&mut check, &start).map_err(extended_error)?;
     let mut system = CriticalSystem::new(family, &start).map_err(extended_error)?;
-    let stop = Interrupt::new();
-    system.set_stop(Some(stop.clone()));
+    system.set_stop(Some(watch.interrupt.clone()));
     let xe = system.extend(&start.x, start.lambda);
     let settings = curve_settings(&case.solver, spec);
     let mut path = Continuation::new(system, xe, spec.from, settings)
         .map_err(|e| extended_error(e.to_string()))?;
-    path.set_interrupt(Some(stop));
+    path.set_interrupt(Some(watch.interrupt.clone()));
     let multiplicity = path.problem().borders();
     let describe = |path: &mut Continuation<CriticalSystem<CaseFamily>>| {
         let (x, lambda) = path.problem().split(&path.state().x);
@@ -214,9 +350,8 @@ pub fn critical_curve(
     };
     let mut rows = Vec::new();
     let mut stopped = None;
-    for k in 0..spec.rows {
-        let value = spec.from + (spec.to - spec.from) * (k as f64 / (spec.rows - 1) as f64);
-        let value = if k + 1 == spec.rows { spec.to } else { value };
+    let values = spec.values();
+    for (k, &value) in values.iter().enumerate() {
         if let Err(e) = path.advance_to(value) {
             let reason = path
                 .problem()
@@ -230,7 +365,14 @@ pub fn critical_curve(
             });
             break;
         }
-        rows.extend(describe(&mut path));
+        if let Some(row) = describe(&mut path) {
+            rows.push(row);
+            (watch.progress)(CurveProgress::Row {
+                row,
+                done: k + 1,
+                total: values.len(),
+            });
+        }
     }
     Ok(CriticalCurve {
         rows,
@@ -252,6 +394,13 @@ fn check_spec(
         return Err(CurveError::Range {
             from: spec.from,
             to: spec.to,
+        });
+    }
+    let forward = (spec.to - spec.from).signum();
+    let in_order = |w: &[f64]| (w[1] - w[0]) * forward > 0.0;
+    if spec.at.len() == 1 || !spec.at.windows(2).all(in_order) {
+        return Err(CurveError::Order {
+            key: spec.key.clone(),
         });
     }
     if LAYOUT_KEYS.contains(&spec.key.as_str()) {
@@ -282,16 +431,22 @@ fn key_error(spec: &CurveSpec, e: CaseError) -> CurveError {
 }
 
 /// The first critical point (not a neutral direction) of the case's path.
-fn first_critical(case: &Case, spec: &CurveSpec) -> Result<CriticalPoint, CurveError> {
+fn first_critical(
+    case: &Case,
+    spec: &CurveSpec,
+    watch: &mut Watch,
+) -> Result<CriticalPoint, CurveError> {
     let start_error = |cause| CurveError::Start {
         key: spec.key.clone(),
         value: spec.from,
         cause,
     };
     let mut sim = Simulation::from_case_on(case, 1).map_err(start_error)?;
+    sim.set_interrupt(Some(watch.interrupt.clone()));
     let mut reason = None;
     for target in case.output_parameters(case.loading.target, case.loading.steps) {
         let outcome = sim.advance_to(target);
+        (watch.progress)(CurveProgress::Locating { parameter: target });
         let found = sim
             .critical_points()
             .iter()

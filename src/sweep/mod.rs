@@ -3,7 +3,9 @@
 //! the case reader before anything runs. [`run_sweep`] runs the cases of a [`Shard`] in
 //! parallel, each into its own folder written atomically, skips cases whose results are
 //! complete, and writes one table ([`table`], `sweep.csv`); shard tables merge into one.
+//! An axis may instead be continued as a critical curve ([`curves`]).
 
+pub mod curves;
 pub mod error;
 pub mod figure;
 pub mod merge;
@@ -12,6 +14,7 @@ pub mod runner;
 pub mod shard;
 pub mod table;
 
+pub use curves::{run_curves, CurvesReport, SweptCurve, CURVES_CSV};
 pub use error::{InvalidCase, SweepError};
 pub use merge::merge_dirs;
 pub use plan::{folder_name, Axis, Combine, Sweep, SweepCase, MAX_CASES};

@@ -45,10 +45,14 @@ pub struct Sweep {
     pub name: String,
     pub combine: Combine,
     pub axes: Vec<Axis>,
+    /// The axis continued as a critical curve (`continue = "key"`), by its place in
+    /// [`Sweep::axes`]: for every combination of the other axes, the first critical point
+    /// is continued along it instead of a path being run at each of its values.
+    pub continued: Option<usize>,
     pub cases: Vec<SweepCase>,
 }
 
-const TOP_KEYS: [&str; 5] = ["name", "base", "combine", "case", "axes"];
+const TOP_KEYS: [&str; 6] = ["name", "base", "combine", "continue", "case", "axes"];
 
 /// The most cases a sweep may generate without `--force` (each is read and checked before
 /// anything runs, and listed by `--check`).
@@ -104,7 +108,7 @@ impl Sweep {
             return Err(src.key_error(
                 k,
                 format!(
-                    "unknown key `{k}`; a sweep file has `name`, `base`, `combine`, `[case]` and `[axes]`"
+                    "unknown key `{k}`; a sweep file has `name`, `base`, `combine`, `continue`, `[case]` and `[axes]`"
                 ),
             ));
         }
@@ -127,6 +131,7 @@ impl Sweep {
         };
         let base = base_case(&doc, src, dir)?;
         let axes = axes_of(&doc, src)?;
+        let continued = continued_axis(&doc, src, &axes, combine)?;
         count_cases(&axes, combine, src, max_cases)?;
         let combos = combinations(&axes, combine, file)?;
         let cases = generated_cases(&base, &axes, combos, file)?;
@@ -135,6 +140,7 @@ impl Sweep {
             name,
             combine,
             axes,
+            continued,
             cases,
         })
     }
@@ -226,6 +232,50 @@ fn base_file(path: &Path, src: Source, line: usize) -> Result<Table, SweepError>
             key: "base".into(),
             message: format!("{base_file}: {}", e.message().trim()),
         })
+}
+
+/// The axis `continue` names, if any: an axis of numbers, at least two, in increasing or
+/// decreasing order, of a product (each combination of the other axes is one curve).
+fn continued_axis(
+    doc: &Table,
+    src: Source,
+    axes: &[Axis],
+    combine: Combine,
+) -> Result<Option<usize>, SweepError> {
+    let Some(v) = doc.get("continue") else {
+        return Ok(None);
+    };
+    let error = |message: String| Err(src.key_error("continue", message));
+    let Value::String(key) = v else {
+        return error(format!("expected the key of an axis, found {v}"));
+    };
+    let Some(k) = axes.iter().position(|a| a.key == *key) else {
+        let keys: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
+        return error(format!(
+            "`{key}` is not an axis; the axes are {}",
+            keys.join(", ")
+        ));
+    };
+    if combine == Combine::Zip && axes.len() > 1 {
+        return error("a continued axis needs `combine = \"product\"`: each combination of the other axes is one curve along it".into());
+    }
+    let numbers: Option<Vec<f64>> = axes[k]
+        .values
+        .iter()
+        .map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+        .collect();
+    let ordered = |x: &[f64]| {
+        x.len() >= 2
+            && x.iter().all(|v| v.is_finite())
+            && (x.windows(2).all(|w| w[1] > w[0]) || x.windows(2).all(|w| w[1] < w[0]))
+    };
+    match numbers {
+        Some(x) if ordered(&x) => Ok(Some(k)),
+        _ => error(format!(
+            "the continued axis `{key}` needs at least two numbers in increasing or decreasing order, found {}",
+            Value::Array(axes[k].values.clone())
+        )),
+    }
 }
 
 /// The axes of the `[axes]` table of `doc`: at least one.

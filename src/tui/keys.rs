@@ -25,6 +25,8 @@ pub enum Action {
     Reset,
     Export,
     Precision,
+    CriticalCurve,
+    CurveKey,
     Cancel,
     CriticalPoints,
     SwitchBranch,
@@ -154,14 +156,18 @@ pub const BINDINGS: [Binding; 22] = {
             help: "export state and load path to CSV",
         },
         Binding {
-            label: "w",
-            keys: &[(Char('w'), Precision)],
-            help: "work-precision chart of the case (on/off)",
+            label: "w u U",
+            keys: &[
+                (Char('w'), Precision),
+                (Char('u'), CriticalCurve),
+                (Char('U'), CurveKey),
+            ],
+            help: "work-precision chart / critical curve of the scene (on/off); U its key",
         },
         Binding {
             label: "c",
             keys: &[(Char('c'), Cancel)],
-            help: "cancel the solve (keeps the last converged state)",
+            help: "cancel the solve (keeps the last converged state) and the curve",
         },
         Binding {
             label: "x",

@@ -202,7 +202,9 @@ fn install_panic_hook() {
             let name = std::thread::current().name().map(str::to_string);
             if matches!(
                 name.as_deref(),
-                Some(worker::THREAD_NAME | worker::PRECISION_THREAD_NAME)
+                Some(
+                    worker::THREAD_NAME | worker::PRECISION_THREAD_NAME | worker::CURVE_THREAD_NAME
+                )
             ) {
                 return;
             }
@@ -222,6 +224,7 @@ fn apply(effects: Vec<Effect>, app: &mut App, worker: &Worker) -> bool {
                 }
             }
             Effect::Cancel(through) => worker.cancel(through),
+            Effect::CancelCurve(through) => worker.cancel_curve(through),
             Effect::Export => {
                 app.export();
             }

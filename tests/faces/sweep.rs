@@ -671,3 +671,54 @@ fn a_sweep_over_the_flaw_amplitude_reports_koiters_fit_or_that_no_path_turned() 
     assert!((fit.exponent - 2.0 / 3.0).abs() < 1e-9, "{fit:?}");
     assert!((fit.decades - 3.0).abs() < 1e-9);
 }
+
+#[test]
+fn a_continued_axis_must_be_an_ordered_axis_of_numbers_of_a_product() {
+    let parse = |head: &str, axes: &str| {
+        Sweep::parse(
+            &format!("{head}\n[case]\ngeometry = {{ helices = 1 }}\n[axes]\n{axes}\n"),
+            "curve.toml",
+            "curve",
+            Path::new("."),
+        )
+    };
+    let ok = parse(
+        "continue = \"geometry.turns\"",
+        "\"stiffness.b3\" = [2.0, 2.5]\n\"geometry.turns\" = [6.0, 6.1]",
+    )
+    .expect("valid sweep");
+    assert_eq!(ok.continued, Some(1));
+    for (head, axes, says) in [
+        (
+            "continue = \"geometry.radius\"",
+            "\"geometry.turns\" = [6.0, 6.1]",
+            "`geometry.radius` is not an axis; the axes are geometry.turns",
+        ),
+        (
+            "continue = \"geometry.turns\"\ncombine = \"zip\"",
+            "\"stiffness.b3\" = [2.0, 2.5]\n\"geometry.turns\" = [6.0, 6.1]",
+            "needs `combine = \"product\"`",
+        ),
+        (
+            "continue = \"geometry.turns\"",
+            "\"geometry.turns\" = [6.0, 6.2, 6.1]",
+            "at least two numbers in increasing or decreasing order",
+        ),
+        (
+            "continue = \"geometry.turns\"",
+            "\"geometry.turns\" = [6.0]",
+            "at least two numbers",
+        ),
+        (
+            "continue = 3",
+            "\"geometry.turns\" = [6.0, 6.1]",
+            "expected the key of an axis",
+        ),
+    ] {
+        let e = parse(head, axes).expect_err(head).to_string();
+        assert!(
+            e.starts_with("curve.toml:1: key `continue`:") && e.contains(says),
+            "{head}: {e}"
+        );
+    }
+}

@@ -2743,3 +2743,159 @@ fn nothing_that_carries_meaning_is_cut_at_80x24() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// ---- critical curve of the scene ----
+
+/// The one critical-curve request in `effects`, and its job.
+fn curve_request(effects: &[Effect]) -> (Request, spira::session::worker::CurveJob) {
+    let r: Vec<&Request> = requests(effects)
+        .into_iter()
+        .filter(|r| matches!(r.job, Job::Curve(_)))
+        .collect();
+    assert_eq!(r.len(), 1, "expected one curve request, got {effects:?}");
+    match &r[0].job {
+        Job::Curve(job) => (r[0].clone(), (**job).clone()),
+        _ => unreachable!(),
+    }
+}
+
+#[test]
+fn u_asks_for_the_curve_of_the_scene_and_capital_u_changes_its_key() {
+    use spira::case::DesignKey;
+    use spira::simulation::curve::{CurveProgress, CurveRow};
+    use spira::tui::app::CurveView;
+    let mut app = App::new(small_case(2), PathBuf::from("."));
+    app.start();
+    let (first, job) = curve_request(&app.handle_key(ch('u')));
+    assert!(app.view.show_curve && !app.view.show_precision);
+    assert_eq!((job.key, job.case.geometry.helices), (DesignKey::Turns, 2));
+    assert!(
+        !app.busy() || app.requests.solving.is_none(),
+        "the curve does not hold the solver"
+    );
+    // U: the next key, the curve in progress stopped, a new one asked for
+    let effects = app.handle_key(ch('U'));
+    assert!(
+        effects.contains(&Effect::CancelCurve(first.seq)),
+        "{effects:?}"
+    );
+    let (second, job) = curve_request(&effects);
+    assert_eq!(job.key, DesignKey::Radius);
+    // a row of the stopped curve is not drawn; one of the new curve is
+    let row = CurveRow {
+        value: 0.06,
+        parameter: 0.3,
+        eps: 0.3,
+        fz: -100.0,
+        torque: 0.0,
+        kind: spira::results::CriticalKind::Bifurcation,
+        wavenumber: None,
+        multiplicity: 1,
+    };
+    for (seq, expect) in [(first.seq, 0), (second.seq, 1)] {
+        app.on_worker_event(WorkerEvent::CurveProgress {
+            generation: 0,
+            seq,
+            progress: CurveProgress::Row {
+                row,
+                done: 1,
+                total: 11,
+            },
+        });
+        let CurveView::Running { rows, .. } = &app.curve else {
+            panic!("{:?}", app.curve)
+        };
+        assert_eq!(rows.len(), expect);
+    }
+    // c stops it
+    assert!(app
+        .handle_key(ch('c'))
+        .contains(&Effect::CancelCurve(second.seq)));
+    // the work-precision chart takes the panel's place
+    app.handle_key(ch('w'));
+    assert!(app.view.show_precision && !app.view.show_curve);
+}
+
+/// The explorer's curve of Euler's clamped column against its length, on the curve thread:
+/// every row arrives as it is found and is Euler's, |fz| L²/(4π² B) = 1 to 1e-6 (the
+/// 48-element mesh's error is 4e-7); then a curve cancelled at once says so.
+#[test]
+fn the_curve_thread_draws_eulers_column_against_its_length_and_cancels() {
+    use spira::case::DesignKey;
+    use spira::tui::app::CurveView;
+    let source = include_str!("../../cases/euler-clamped.toml");
+    let case = Case::parse(source, "euler-clamped.toml", "euler-clamped").expect("valid case");
+    let worker = Worker::spawn().expect("threads");
+    let mut app = App::new(case, std::env::temp_dir());
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    let t0 = Instant::now();
+    let (r, job) = curve_request(&app.handle_key(ch('u')));
+    // a straight rod has no turns or radius: the curve goes to its length
+    assert_eq!(job.key, DesignKey::Length);
+    assert!(worker.send(r));
+    let mut rows_heard = 0;
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while matches!(app.curve, CurveView::Running { .. }) {
+        assert!(Instant::now() < deadline, "no curve");
+        if let Ok(ev) = worker.events.recv_timeout(Duration::from_millis(200)) {
+            if let WorkerEvent::CurveProgress {
+                progress: spira::simulation::curve::CurveProgress::Row { .. },
+                ..
+            } = ev
+            {
+                rows_heard += 1;
+            }
+            app.on_worker_event(ev);
+        }
+    }
+    let CurveView::Ready(done) = &app.curve else {
+        panic!("{:?}", app.curve)
+    };
+    eprintln!("curve of 11 rows in {:.2} s", t0.elapsed().as_secs_f64());
+    assert!(!done.cancelled && done.stopped.is_empty(), "{done:?}");
+    assert_eq!(done.rows.len(), 11);
+    assert_eq!(rows_heard, 11, "a progress report per row");
+    let (lo, hi) = (done.rows[0].value, done.rows[10].value);
+    assert!(
+        (lo - 0.9).abs() < 1e-12 && (hi - 1.1).abs() < 1e-12,
+        "{lo} … {hi}"
+    );
+    for row in &done.rows {
+        let euler = row.fz.abs() * row.value.powi(2) / (4.0 * std::f64::consts::PI.powi(2));
+        assert!((euler - 1.0).abs() < 1e-6, "L = {}: {euler}", row.value);
+    }
+    app.message = None;
+    let screen = text(&draw(&app, 80, 24));
+    let panels: String = screen.lines().skip(9).take(10).collect();
+    assert!(panels.contains("critical P/Pcrit"), "{screen}");
+    assert!(panels.contains("11 points"), "{screen}");
+    assert!(panels.contains("against length L (m), ±10 %"), "{screen}");
+    assert!(
+        panels
+            .chars()
+            .any(|c| ('\u{2801}'..='\u{28ff}').contains(&c)),
+        "braille:\n{screen}"
+    );
+    // another key, cancelled at once: the curve stops and says so
+    let effects = app.handle_key(ch('U'));
+    let (r, job) = curve_request(&effects);
+    assert_eq!(job.key, DesignKey::TorsionalStiffness);
+    let seq = r.seq;
+    assert!(worker.send(r));
+    let effects = app.handle_key(ch('c'));
+    assert!(effects.contains(&Effect::CancelCurve(seq)));
+    worker.cancel_curve(seq);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while matches!(app.curve, CurveView::Running { .. }) {
+        assert!(Instant::now() < deadline, "the cancel was not heard");
+        if let Ok(ev) = worker.events.recv_timeout(Duration::from_millis(200)) {
+            app.on_worker_event(ev);
+        }
+    }
+    match &app.curve {
+        CurveView::Ready(d) => assert!(d.cancelled && d.rows.len() < 11, "{d:?}"),
+        CurveView::Failed(e) => assert!(e.starts_with("cancelled"), "{e}"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -29,6 +29,7 @@ fn curve(
         from,
         to,
         rows,
+        at: Vec::new(),
     };
     let curve =
         critical_curve(&text, &path, "test", &settings, &spec).unwrap_or_else(|e| panic!("{e}"));
@@ -151,4 +152,48 @@ fn the_single_springs_curve_against_its_turns_agrees_with_separate_runs() {
         );
         assert!((r.eps - eps).abs() < 1e-8);
     }
+}
+
+/// A sweep whose turns axis is continued as a critical curve (`continue`), for two
+/// torsional stiffnesses: every row of `critical-curves.csv` is the first critical point of
+/// a path solved on its own at that many turns and that B3, to 1e-8 in ε.
+#[test]
+fn a_sweep_axis_continued_as_a_curve_agrees_with_separate_runs() {
+    use spira::sweep::{run_curves, Sweep, CURVES_CSV};
+    let file = format!(
+        "{}/cases/sweep-critical-turns.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let sweep = Sweep::from_file(std::path::Path::new(&file)).unwrap_or_else(|e| panic!("{e}"));
+    let out = std::env::temp_dir().join(format!("spira-sweep-curve-{}", std::process::id()));
+    let report = run_curves(&sweep, &out, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    assert!(report.short().is_empty(), "{:?}", report.short());
+    assert_eq!(report.curves.len(), 2, "one curve per B3");
+    let table = std::fs::read_to_string(out.join(CURVES_CSV)).expect("the table");
+    let rows: Vec<&str> = table
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), 10, "{table}");
+    for row in rows {
+        let cells: Vec<&str> = row.split(',').collect();
+        let (b3, turns, eps): (f64, f64, f64) = (
+            cells[0].parse().expect("b3"),
+            cells[1].parse().expect("turns"),
+            cells[2].parse().expect("parameter"),
+        );
+        let run = first_critical(
+            "thesis-n1.toml",
+            &[
+                format!("geometry.turns={turns}"),
+                format!("stiffness.b3={b3}"),
+            ],
+        );
+        assert!(
+            (eps - run).abs() < 1e-8,
+            "B3 {b3}, turns {turns}: curve ε = {eps}, separate run ε = {run}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -1,7 +1,9 @@
 //! What the solver thread reports: converged states and how each job went.
 
+use crate::case::DesignKey;
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{CriticalPoint, LoadPoint, ModeShape, ModeVertex, Snapshot, StepBulk};
+use crate::simulation::curve::{CurveProgress, CurveRow};
 use crate::solver::interrupt::Interruption;
 use crate::study::{MeshChoice, Study};
 use std::time::Duration;
@@ -35,6 +37,20 @@ pub struct CriticalMode {
     pub shape: ModeShape,
     /// Its centreline displacement at the element vertices: the rows of `mode-<k>.csv`.
     pub vertices: Vec<ModeVertex>,
+}
+
+/// A critical curve of the scene, as far as it got.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveDone {
+    pub key: DesignKey,
+    /// Its rows in increasing order of the key.
+    pub rows: Vec<CurveRow>,
+    /// The load parameter's name and unit.
+    pub parameter_label: String,
+    /// Why a side stopped short of its end, per side that did.
+    pub stopped: Vec<String>,
+    /// It was cancelled (the rows are those found before).
+    pub cancelled: bool,
 }
 
 /// What the solver thread reports.
@@ -105,6 +121,18 @@ pub enum WorkerEvent {
         seq: u64,
         study: Result<Box<Study>, String>,
     },
+    /// A critical curve has got this far.
+    CurveProgress {
+        generation: u64,
+        seq: u64,
+        progress: CurveProgress,
+    },
+    /// A critical curve is finished (or stopped, or cancelled), or why there is none.
+    Curve {
+        generation: u64,
+        seq: u64,
+        outcome: Result<CurveDone, String>,
+    },
 }
 
 impl WorkerEvent {
@@ -118,7 +146,9 @@ impl WorkerEvent {
             | WorkerEvent::Progress { generation, .. }
             | WorkerEvent::MeshChosen { generation, .. }
             | WorkerEvent::PrecisionProgress { generation, .. }
-            | WorkerEvent::Precision { generation, .. } => *generation,
+            | WorkerEvent::Precision { generation, .. }
+            | WorkerEvent::CurveProgress { generation, .. }
+            | WorkerEvent::Curve { generation, .. } => *generation,
         }
     }
 }

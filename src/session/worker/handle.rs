@@ -2,6 +2,7 @@
 //! studies): requests out, cancels, events in.
 
 use super::cancel::Cancel;
+use super::curve::{run_curve, Running};
 use super::event::WorkerEvent;
 use super::job::{Job, Request};
 use super::precision::run_precision;
@@ -16,6 +17,8 @@ use std::time::Duration;
 pub const THREAD_NAME: &str = "spira-solver";
 /// Name of the thread of work-precision studies.
 pub const PRECISION_THREAD_NAME: &str = "spira-precision";
+/// Name of the thread of critical curves.
+pub const CURVE_THREAD_NAME: &str = "spira-curve";
 /// Time budget of one request on the solver thread: a solve still running after this long
 /// stops by itself at its last converged state (reason
 /// [`Interruption::Deadline`](crate::solver::interrupt::Interruption::Deadline)), so a path
@@ -30,6 +33,9 @@ pub struct Worker {
     requests: Sender<Request>,
     cancel: Arc<Mutex<Cancel>>,
     precision: Latest<Request>,
+    curve: Latest<Request>,
+    /// The interrupt of the curve running now.
+    curve_running: Arc<Running>,
     pub events: Receiver<WorkerEvent>,
     thread: Option<JoinHandle<()>>,
 }
@@ -45,6 +51,11 @@ impl Worker {
         let (requests, rx) = mpsc::channel();
         let (tx, events) = mpsc::channel();
         let precision = Latest::spawn(PRECISION_THREAD_NAME, tx.clone(), run_precision)?;
+        let curve_running = Arc::new(Running::default());
+        let theirs = Arc::clone(&curve_running);
+        let curve = Latest::spawn(CURVE_THREAD_NAME, tx.clone(), move |r, ctx| {
+            run_curve(r, ctx, &theirs)
+        })?;
         let cancel = Arc::new(Mutex::new(Cancel {
             budget,
             ..Cancel::default()
@@ -57,6 +68,8 @@ impl Worker {
             requests,
             cancel,
             precision,
+            curve,
+            curve_running,
             events,
             thread: Some(thread),
         })
@@ -67,6 +80,11 @@ impl Worker {
     pub fn send(&self, request: Request) -> bool {
         match request.job {
             Job::Precision(_) => self.precision.submit(request),
+            Job::Curve(_) => {
+                // the curve in progress is of no more use
+                self.curve_running.cancel(request.seq.saturating_sub(1));
+                self.curve.submit(request)
+            }
             _ => self.requests.send(request).is_ok(),
         }
     }
@@ -90,6 +108,13 @@ impl Worker {
         }
     }
 
+    /// Cancels the critical curves of requests up to sequence number `through`: the one in
+    /// progress stops at its last converged point (its rows so far are reported), one still
+    /// to start reports at once that it was cancelled.
+    pub fn cancel_curve(&self, through: u64) {
+        self.curve_running.cancel(through);
+    }
+
     /// Whether the solver thread has ended (it only does when its channels close or it
     /// failed beyond recovery).
     pub fn is_finished(&self) -> bool {
@@ -102,6 +127,8 @@ impl Worker {
         let (closed, _) = mpsc::channel();
         drop(std::mem::replace(&mut self.requests, closed));
         self.precision.close();
+        self.curve_running.cancel(u64::MAX);
+        self.curve.close();
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }

@@ -2,7 +2,7 @@
 //! up while a solve runs: every step asked for is solved, a run of other changes only for
 //! its last.
 
-use crate::case::Case;
+use crate::case::{Case, DesignKey};
 use crate::model::boundary::BoundaryConditions;
 use std::collections::VecDeque;
 
@@ -33,6 +33,19 @@ pub enum Job {
     SetBoundary(BoundaryConditions),
     /// A work-precision study of `case`'s path (on the precision thread).
     Precision(Box<Case>),
+    /// The critical curve of a scene in one of its design keys (on the curve thread).
+    Curve(Box<CurveJob>),
+}
+
+/// The critical curve of the scene `case`: its first critical point continued in `key`
+/// from the key's value to `(1 ± width)` times it, `rows_each` rows on each side (the
+/// value itself one of them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveJob {
+    pub case: Case,
+    pub key: DesignKey,
+    pub width: f64,
+    pub rows_each: usize,
 }
 
 impl Job {
@@ -63,6 +76,7 @@ impl Job {
             Job::Precision(case) => {
                 format!("work-precision study, n = {}", case.geometry.helices)
             }
+            Job::Curve(c) => format!("critical curve in {}", c.key.key()),
         }
     }
 }

@@ -15,12 +15,17 @@
 //! holds up the user's steps; there the last request wins too, and a newer request stops the
 //! study in progress after its current mesh.
 //!
+//! Critical curves of the scene ([`Job::Curve`]) run on a third thread, a `Latest` job
+//! as well, which a cancel (`Worker::cancel_curve`) or a newer request stops at its last
+//! converged point.
+//!
 //! One file per job: the handle the explorer holds (`handle`), the requests and their
 //! scheduling (`job`), the answers (`event`), the cancels shared with the thread
 //! (`cancel`), the thread's loop (`serve`), the solves it runs (`solver`), the
-//! failures in the user's terms (`failure`) and the studies (`precision`).
+//! failures in the user's terms (`failure`), the studies (`precision`) and the curves (`curve`).
 
 mod cancel;
+mod curve;
 mod event;
 mod failure;
 mod handle;
@@ -29,8 +34,8 @@ mod precision;
 mod serve;
 mod solver;
 
-pub use event::{CriticalMode, Solved, WorkerEvent};
-pub use handle::{Worker, PRECISION_THREAD_NAME, SOLVE_BUDGET, THREAD_NAME};
-pub use job::{coalesce, Job, Part, Request};
+pub use event::{CriticalMode, CurveDone, Solved, WorkerEvent};
+pub use handle::{Worker, CURVE_THREAD_NAME, PRECISION_THREAD_NAME, SOLVE_BUDGET, THREAD_NAME};
+pub use job::{coalesce, CurveJob, Job, Part, Request};
 pub use precision::PRECISION_REPEATS;
 pub use solver::{run_jobs, Runner, PROGRESS_INTERVAL};

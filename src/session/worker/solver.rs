@@ -244,10 +244,11 @@ impl Solver {
                 part,
             } => self.switch(seq, t0, (index, sign), parameter, part),
             Job::SetBoundary(bc) => self.set_boundary(generation, seq, t0, bc),
-            Job::Precision(_) => vec![WorkerEvent::Failed {
+            Job::Precision(_) | Job::Curve(_) => vec![WorkerEvent::Failed {
                 generation,
                 seq,
-                reason: "work-precision studies run on their own thread".into(),
+                reason: "work-precision studies and critical curves run on their own threads"
+                    .into(),
                 boundary: None,
                 interrupted: None,
             }],

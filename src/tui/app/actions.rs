@@ -2,10 +2,11 @@
 //! solver.
 
 use super::explorer::{
-    default_step, App, Effect, Message, PrecisionView, CANCELLING, CONFIRM_DISCARD, HELICES, STEPS,
-    STUDY_STARTED,
+    default_step, App, CurveView, Effect, Message, PrecisionView, CANCELLING, CONFIRM_DISCARD,
+    HELICES, STEPS, STUDY_STARTED,
 };
 use super::state::CURSOR_STEPS;
+use crate::case::DesignKey;
 use crate::model::boundary::{BoundaryConditions, Rotation, Translation};
 use crate::model::loading::Component;
 use crate::session::export::SessionEvent;
@@ -47,14 +48,24 @@ impl App {
     /// state stays.
     fn cancel(&mut self) -> Vec<Effect> {
         self.requests.running = false;
+        let mut effects = Vec::new();
+        if let CurveView::Running { cancelling, .. } = &mut self.curve {
+            *cancelling = true;
+            effects.push(Effect::CancelCurve(self.requests.curve_seq));
+        }
         if !self.busy() {
+            if !effects.is_empty() {
+                self.message = Some(Message::Info(CANCELLING.into()));
+                return effects;
+            }
             self.message = Some(Message::Info(
                 "nothing to cancel: the solver is idle".into(),
             ));
             return vec![];
         }
         self.message = Some(Message::Info(CANCELLING.into()));
-        vec![Effect::Cancel(self.requests.last_sent)]
+        effects.push(Effect::Cancel(self.requests.last_sent));
+        effects
     }
 
     /// Next request of continuous loading, if the target is not reached.
@@ -203,6 +214,8 @@ impl App {
             Action::Reset => self.reset(),
             Action::Export => vec![Effect::Export],
             Action::Precision => self.toggle_precision(),
+            Action::CriticalCurve => self.toggle_curve(),
+            Action::CurveKey => self.next_curve_key(),
         }
     }
 
@@ -487,9 +500,55 @@ impl App {
         self.restart_from(previous, "reset".into())
     }
 
+    /// Shows or hides the critical curve of the scene (in place of the work-precision
+    /// chart); the first time, asks for the curve.
+    fn toggle_curve(&mut self) -> Vec<Effect> {
+        self.view.show_curve = !self.view.show_curve;
+        if !self.view.curve_key.applies(&self.scene().geometry) {
+            self.view.curve_key = self.next_applying_key();
+        }
+        self.view.show_precision &= !self.view.show_curve;
+        if self.view.show_curve && self.curve == CurveView::None {
+            self.message = Some(Message::Info(format!(
+                "critical curve of the scene in {} started on its own thread; c cancels, U changes the key",
+                self.view.curve_key.key()
+            )));
+            vec![self.request_curve()]
+        } else {
+            vec![]
+        }
+    }
+
+    /// The next design key of the critical curve; a new curve when the panel is shown.
+    fn next_curve_key(&mut self) -> Vec<Effect> {
+        self.view.curve_key = self.next_applying_key();
+        self.message = Some(Message::Info(format!(
+            "critical curve in {} (U cycles){}",
+            self.view.curve_key.key(),
+            if self.view.show_curve {
+                ""
+            } else {
+                "; u shows it"
+            }
+        )));
+        self.curve_obsolete()
+    }
+
+    /// The design key after the current one that the scene has (a straight rod has no
+    /// turns or radius).
+    fn next_applying_key(&self) -> DesignKey {
+        let scene = self.scene();
+        let mut key = self.view.curve_key.next();
+        while !key.applies(&scene.geometry) && key != self.view.curve_key {
+            key = key.next();
+        }
+        key
+    }
+
     /// Shows or hides the work-precision chart; the first time, asks for the study.
     fn toggle_precision(&mut self) -> Vec<Effect> {
         self.view.show_precision = !self.view.show_precision;
+        self.view.show_curve &= !self.view.show_precision;
         if self.view.show_precision && self.precision == PrecisionView::None {
             self.message = Some(Message::Info(STUDY_STARTED.into()));
             vec![self.request_precision()]

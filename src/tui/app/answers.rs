@@ -1,18 +1,29 @@
 //! The solver's answers: each moves the requests' bookkeeping on, and a converged state or
 //! a failure changes what is on screen.
 
-use super::explorer::{App, Effect, Message, PrecisionView, CANCELLING, STUDY_STARTED};
+use super::explorer::{App, CurveView, Effect, Message, PrecisionView, CANCELLING, STUDY_STARTED};
 use super::state::Progress;
 use crate::model::boundary::BoundaryConditions;
 use crate::model::loading::Component;
 use crate::results::Snapshot;
-use crate::session::worker::{Solved, WorkerEvent};
+use crate::session::worker::{CurveDone, Solved, WorkerEvent};
+use crate::simulation::curve::CurveProgress;
 use crate::solver::interrupt::Interruption;
 
 impl App {
     /// Transition on an answer from the solver thread (answers of an older simulation are
     /// dropped).
     pub fn on_worker_event(&mut self, event: WorkerEvent) -> Vec<Effect> {
+        // a curve is of the scene, not of one simulation: its sequence number says if it
+        // is the one asked for last
+        if let WorkerEvent::CurveProgress { seq, progress, .. } = event {
+            self.on_curve_progress(seq, progress);
+            return vec![];
+        }
+        if let WorkerEvent::Curve { seq, outcome, .. } = event {
+            self.on_curve(seq, outcome);
+            return vec![];
+        }
         if event.generation() != self.screen.generation {
             return vec![];
         }
@@ -85,7 +96,62 @@ impl App {
                 interrupted,
                 ..
             } => self.on_failed(seq, reason, boundary, interrupted),
+            WorkerEvent::CurveProgress { .. } | WorkerEvent::Curve { .. } => vec![],
         }
+    }
+
+    /// A row of the critical curve asked for last, or how far its locating path got.
+    fn on_curve_progress(&mut self, seq: u64, progress: CurveProgress) {
+        if seq != self.requests.curve_seq {
+            return;
+        }
+        if let CurveView::Running {
+            rows,
+            done,
+            total,
+            locating,
+            ..
+        } = &mut self.curve
+        {
+            match progress {
+                CurveProgress::Locating { parameter } => *locating = Some(parameter),
+                CurveProgress::Row {
+                    row,
+                    done: d,
+                    total: t,
+                } => {
+                    rows.push(row);
+                    (*done, *total, *locating) = (d, t, None);
+                }
+            }
+        }
+    }
+
+    /// The critical curve asked for last is finished, stopped or cancelled, or has failed.
+    fn on_curve(&mut self, seq: u64, outcome: Result<CurveDone, String>) {
+        if seq != self.requests.curve_seq {
+            return;
+        }
+        match &outcome {
+            Ok(d) if d.cancelled => {
+                self.message = Some(Message::Info(format!(
+                    "critical curve cancelled: the {} rows found stay",
+                    d.rows.len()
+                )));
+            }
+            Ok(d) => {
+                if let Some(why) = d.stopped.first() {
+                    self.message = Some(Message::Info(format!(
+                        "the critical curve stopped short: {why}"
+                    )));
+                }
+            }
+            Err(_) => {}
+        }
+        self.curve = match outcome {
+            Ok(done) => CurveView::Ready(Box::new(done)),
+            Err(e) => CurveView::Failed(e),
+        };
     }
 
     /// A converged state of request `seq` (`done`: the job's last).

@@ -4,7 +4,8 @@
 use super::state::{Replay, Requests, Screen, View};
 use crate::case::Case;
 use crate::model::loading::{Control, LoadParameter};
-use crate::session::worker::{Job, Request};
+use crate::session::worker::{CurveDone, CurveJob, Job, Request};
+use crate::simulation::curve::CurveRow;
 use crate::study::Study;
 use crate::tui::keys::Action;
 use crate::tui::stability;
@@ -40,6 +41,9 @@ pub enum Effect {
     SaveSession,
     /// Write the current state and load path to CSV ([`App::export`]).
     Export,
+    /// Cancel the critical curves asked for up to this sequence number (the one in
+    /// progress stops at its last converged point).
+    CancelCurve(u64),
     /// Leave the explorer.
     Quit,
 }
@@ -55,6 +59,30 @@ pub enum PrecisionView {
         total: usize,
     },
     Ready(Box<Study>),
+    Failed(String),
+}
+
+/// How far on each side of the design key's value the explorer's critical curve goes, as
+/// a fraction of the value: ±10 %, a designer's neighbourhood of the scene.
+pub const CURVE_WIDTH: f64 = 0.1;
+/// Rows of the explorer's critical curve on each side of the value (the value included).
+pub const CURVE_ROWS_EACH: usize = 6;
+
+/// The explorer's critical curve of the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CurveView {
+    /// None asked for since the scene last changed.
+    None,
+    /// Running: the rows found so far (in the order found), `done` of `total`, and the
+    /// load parameter the path that locates the critical point has reached.
+    Running {
+        rows: Vec<CurveRow>,
+        done: usize,
+        total: usize,
+        locating: Option<f64>,
+        cancelling: bool,
+    },
+    Ready(Box<CurveDone>),
     Failed(String),
 }
 
@@ -94,6 +122,9 @@ pub struct App {
     pub replay: Replay,
     pub message: Option<Message>,
     pub precision: PrecisionView,
+    pub curve: CurveView,
+    /// The scene the curve on screen (or in progress) is of.
+    pub(super) curve_scene: Option<Box<Case>>,
     /// A key that must be pressed again to confirm (a change of `n` discarding a path).
     pub confirm: Option<Action>,
     /// The key in hand is the confirmation [`App::confirm`] asked for.
@@ -119,6 +150,8 @@ impl App {
             replay: Replay::default(),
             message: None,
             precision: PrecisionView::None,
+            curve: CurveView::None,
+            curve_scene: None,
             confirm: None,
             confirmed: false,
             previous: None,
@@ -258,24 +291,78 @@ impl App {
         let seq = self.requests.next();
         self.requests.precision_seq = seq;
         self.precision = PrecisionView::Running { done: 0, total: 0 };
-        let mut case = self.case.with_helices(self.screen.helices);
-        case.boundary = self.screen.boundary;
         Effect::Solve(Request {
             generation: self.screen.generation,
             seq,
-            job: Job::Precision(Box::new(case)),
+            job: Job::Precision(Box::new(self.scene())),
         })
     }
 
-    /// The case or its conditions changed: the study on screen is of another problem. A new
-    /// one is asked for when the chart is shown.
+    /// The case or its conditions changed: the study and the curve on screen are of another
+    /// problem. New ones are asked for when they are shown.
     pub(super) fn precision_obsolete(&mut self) -> Vec<Effect> {
         self.precision = PrecisionView::None;
+        let mut effects = Vec::new();
         if self.view.show_precision {
-            vec![self.request_precision()]
-        } else {
-            vec![]
+            effects.push(self.request_precision());
         }
+        // a curve is of the scene: a branch switch or a new path leaves it as it is
+        if self
+            .curve_scene
+            .as_deref()
+            .is_some_and(|c| *c != self.scene())
+        {
+            effects.extend(self.curve_obsolete());
+        }
+        effects
+    }
+
+    /// The scene as a case: the case with the current `n` and conditions.
+    pub(super) fn scene(&self) -> Case {
+        let mut case = self.case.with_helices(self.screen.helices);
+        case.boundary = self.screen.boundary;
+        case
+    }
+
+    /// The critical curve of the scene in the chosen design key, on the curve thread; it
+    /// does not make the app busy.
+    pub(super) fn request_curve(&mut self) -> Effect {
+        let seq = self.requests.next();
+        self.requests.curve_seq = seq;
+        let scene = self.scene();
+        self.curve_scene = Some(Box::new(scene.clone()));
+        self.curve = CurveView::Running {
+            rows: Vec::new(),
+            done: 0,
+            total: 2 * CURVE_ROWS_EACH - 1,
+            locating: None,
+            cancelling: false,
+        };
+        Effect::Solve(Request {
+            generation: self.screen.generation,
+            seq,
+            job: Job::Curve(Box::new(CurveJob {
+                case: scene,
+                key: self.view.curve_key,
+                width: CURVE_WIDTH,
+                rows_each: CURVE_ROWS_EACH,
+            })),
+        })
+    }
+
+    /// The scene changed: a curve in progress is stopped, and a new one asked for when the
+    /// panel is shown.
+    pub(super) fn curve_obsolete(&mut self) -> Vec<Effect> {
+        let mut effects = Vec::new();
+        if matches!(self.curve, CurveView::Running { .. }) {
+            effects.push(Effect::CancelCurve(self.requests.curve_seq));
+        }
+        self.curve = CurveView::None;
+        self.curve_scene = None;
+        if self.view.show_curve {
+            effects.push(self.request_curve());
+        }
+        effects
     }
 
     /// The first request: solve the case's natural state.

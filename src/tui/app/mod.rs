@@ -15,6 +15,7 @@ pub mod state;
 
 pub use actions::fmt_step;
 pub use explorer::{
-    App, Effect, Message, PrecisionView, CONFIRM_DISCARD, HELICES, MAX_STEP, MIN_STEP, STEPS,
+    App, CurveView, Effect, Message, PrecisionView, CONFIRM_DISCARD, CURVE_ROWS_EACH, CURVE_WIDTH,
+    HELICES, MAX_STEP, MIN_STEP, STEPS,
 };
 pub use state::{LoadSeries, Progress, Replay, Requests, Screen, View, ViewMode, CURSOR_STEPS};

@@ -2,6 +2,7 @@
 //! how it is shown ([`View`]), the requests in flight ([`Requests`]) and the jobs the solver
 //! ran for a replay ([`Replay`]).
 
+use crate::case::DesignKey;
 use crate::model::boundary::BoundaryConditions;
 use crate::results::{CriticalPoint, LoadPoint};
 use crate::session::export::SessionEvent;
@@ -211,6 +212,10 @@ pub struct View {
     pub show_help: bool,
     /// The work-precision chart replaces the curvature and load plots.
     pub show_precision: bool,
+    /// The critical curve of the scene (`u`) replaces the curvature and load plots.
+    pub show_curve: bool,
+    /// The design key the critical curve is continued in (`U` cycles).
+    pub curve_key: DesignKey,
     /// The critical-point list (`x`) is over the screen.
     pub show_critical: bool,
     pub mode: ViewMode,
@@ -234,6 +239,8 @@ impl Default for View {
         View {
             show_help: false,
             show_precision: false,
+            show_curve: false,
+            curve_key: DesignKey::Turns,
             show_critical: false,
             mode: ViewMode::All,
             load_series: LoadSeries::Loads,
@@ -277,6 +284,8 @@ pub struct Requests {
     pub(super) last_done: u64,
     /// Sequence number of the last study asked for (answers to older ones are dropped).
     pub(super) precision_seq: u64,
+    /// Sequence number of the last critical curve asked for.
+    pub(super) curve_seq: u64,
     /// Sequence number of the new simulation's request while its natural state solves.
     pub(super) start_seq: Option<u64>,
     /// Sequence number of the last branch switch asked for.

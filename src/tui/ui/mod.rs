@@ -1,7 +1,7 @@
 //! Drawing the explorer: [`draw`] lays out the screen and each panel has a file of its
 //! own, drawn by one function taking the [`App`] read-only: the three projections of the
 //! assembly ([`shapes`]), the curvature of the selected rod (`curvature`), the load path
-//! (`load`), the work-precision chart (`precision`), the status lines (`status`), and
+//! (`load`), the work-precision chart (`precision`), the critical curve of the scene (`curve`), the status lines (`status`), and
 //! the overlays of the critical points (`critical`) and the keys (`help`). Only the 16
 //! ANSI colours are used ([`colours`]), so the screen reads the same on any terminal and
 //! over SSH.
@@ -10,6 +10,7 @@ mod chart;
 pub mod colours;
 mod critical;
 mod curvature;
+mod curve;
 mod help;
 mod load;
 mod numbers;
@@ -60,6 +61,8 @@ pub fn draw(frame: &mut Frame, app: &App) {
     shapes::draw_views(frame, views, app);
     if app.view.show_precision {
         precision::draw_precision(frame, plots, app);
+    } else if app.view.show_curve {
+        curve::draw_curve(frame, plots, app);
     } else {
         curvature::draw_curvature(frame, curvature, app);
         load::draw_load_path(frame, load, app);
