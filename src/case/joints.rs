@@ -9,7 +9,7 @@ use crate::model::boundary::{JointStiffness, Joints};
 use toml::Value;
 
 /// The names `boundary.joints` takes besides `true` (pin) and `false` (none).
-pub const JOINT_NAMES: [&str; 4] = ["pin", "welded", "elastic", "none"];
+pub const JOINT_NAMES: [&str; 5] = ["pin", "welded", "elastic", "sliding", "none"];
 
 /// The joints of `[boundary]`: pins when not given; springs given exactly when elastic.
 pub(super) fn joints(b: &RawBoundary, ck: &Checker) -> Result<Joints, CaseError> {
@@ -25,6 +25,7 @@ pub(super) fn joints(b: &RawBoundary, ck: &Checker) -> Result<Joints, CaseError>
             Value::String(s) if s == "pin" => Joints::Pin,
             Value::String(s) if s == "none" => Joints::None,
             Value::String(s) if s == "welded" => Joints::Welded,
+            Value::String(s) if s == "sliding" => Joints::Sliding,
             Value::String(s) if s == "elastic" => Joints::Elastic(stiffness(b, ck)?),
             Value::String(s) => {
                 return Err(ck.invalid(
