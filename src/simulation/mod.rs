@@ -39,6 +39,10 @@ use reduction::{CriticalModes, Reduction};
 /// The continuation of a loaded assembly.
 type Continuation = crate::solver::continuation::Continuation<LoadedAssembly>;
 
+/// Passes of re-centring the sliding joints' windows after a solve (each moves a window by
+/// up to its half-width).
+const MAX_RECENTRING: usize = 20;
+
 /// The continuation could not reach its target; the last converged state is kept.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error(
@@ -194,13 +198,17 @@ impl Simulation {
         let problem = LoadedAssembly::new(model, system).with_threads(threads);
         let path = Continuation::new_with(problem, x, lambda, settings, interrupt, observer)
             .map_err(|e| solve_error(e, control, eps))?;
-        Ok(Simulation {
+        let mut sim = Simulation {
             path,
             critical: Vec::new(),
             reduced: None,
             threads,
             flaw: None,
-        })
+        };
+        // contacts that a start far from their crossings moves past their windows
+        sim.recentre_slides()
+            .map_err(|e| solve_error(e, control, eps))?;
+        Ok(sim)
     }
 
     /// The perfect-helix equilibria of docs/theory.md §6 (Love): every rod held at both ends
@@ -430,14 +438,19 @@ impl Simulation {
     /// Re-centres the pattern's windows of the sliding joints whose contacts have come near
     /// their edges, and re-solves the state there (the same unknowns: the branch goes on).
     fn recentre_slides(&mut self) -> Result<(), ContinuationError> {
-        let (model, system) = (self.model(), self.system());
-        let x = &self.path.state().x;
-        if !system.slides_stale(model, x) {
-            return Ok(());
+        // each pass moves a window by up to its half-width: a contact far from its
+        // window's element comes home in a few
+        for _ in 0..MAX_RECENTRING {
+            let (model, system) = (self.model(), self.system());
+            let x = &self.path.state().x;
+            if !system.slides_stale(model, x) {
+                break;
+            }
+            let system = system.recentred(model, x);
+            let problem = LoadedAssembly::new(model.clone(), system).with_threads(self.threads);
+            self.path.reshape(problem)?;
         }
-        let system = system.recentred(model, x);
-        let problem = LoadedAssembly::new(model.clone(), system).with_threads(self.threads);
-        self.path.reshape(problem)
+        Ok(())
     }
 
     /// Number of unstable directions of the current state: negative eigenvalues of the

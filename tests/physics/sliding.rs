@@ -75,3 +75,66 @@ fn sliding_terms_are_the_derivatives_of_the_contact() {
         "KKT against differences {worst:e} (scale {scale:e})"
     );
 }
+
+/// Composite Simpson's rule over equally spaced samples `f` (an even number of intervals).
+fn simpson(f: &[f64], step: f64) -> f64 {
+    let n = f.len() - 1;
+    assert!(n % 2 == 0);
+    let inner: f64 = (1..n)
+        .map(|k| if k % 2 == 1 { 4.0 * f[k] } else { 2.0 * f[k] })
+        .sum();
+    step / 3.0 * (f[0] + inner + f[n])
+}
+
+/// The slip of every joint of the snapshot's rod `rod`, by arc length.
+fn slips(sim: &Simulation, rod: usize) -> Vec<(f64, f64)> {
+    let snap = sim.snapshot();
+    let shape = &snap.rods[rod];
+    shape
+        .joints
+        .iter()
+        .zip(&shape.joint_states)
+        .map(|(&s, j)| (s, j.slip))
+        .collect()
+}
+
+#[test]
+fn thesis_n2_sliding_stores_the_work_of_its_supports_with_the_slips_its_symmetry_says() {
+    // cases/thesis-n2.toml with sliding joints, to ε = 0.2 in 40 equal steps
+    let mut case = Case::from_file(std::path::Path::new("cases/thesis-n2.toml")).unwrap();
+    case.boundary.joints = Joints::Sliding;
+    case.loading.target = 0.2;
+    case.loading.steps = 40;
+    let (points, _, sim) = path(&case);
+    // Σ_rods ∫ Fz dh: the tips move by equal steps of h
+    let fz: Vec<f64> = points
+        .iter()
+        .map(|p| p.reactions.iter().map(|r| r.tip.force[2]).sum())
+        .collect();
+    let dh = points[1].height - points[0].height;
+    let work = simpson(&fz, dh);
+    let energy = points.last().unwrap().energy - points[0].energy;
+    let rel = (energy - work).abs() / energy;
+    assert!(rel < 1e-8, "energy {energy} J, work {work} J ({rel:e})");
+    // the mirror that swaps the right and the left rod keeps arc lengths: equal slips on
+    // both rods; the half-turn about a horizontal axis at mid-height maps each rod onto
+    // itself with s → L − s: the slip is odd about the middle
+    let (right, left) = (slips(&sim, 0), slips(&sim, 1));
+    let length = case.geometry.length;
+    let largest = right.iter().fold(0.0f64, |m, j| m.max(j.1.abs()));
+    assert!(largest > 1e-3 * length, "the contacts slide: {right:?}");
+    for (r, l) in right.iter().zip(&left) {
+        assert!((r.0 - l.0).abs() < 1e-12 && (r.1 - l.1).abs() < 1e-6 * largest, "{r:?} vs {l:?}");
+    }
+    for (k, r) in right.iter().enumerate() {
+        let opposite = right[right.len() - 1 - k];
+        assert!((r.0 + opposite.0 - length).abs() < 1e-9 * length);
+        assert!((r.1 + opposite.1).abs() < 1e-6 * largest, "{r:?} vs {opposite:?}");
+    }
+    // and the tube is softer than the pinned one
+    case.boundary.joints = Joints::Pin;
+    case.loading.steps = 2;
+    let (pins, _, _) = path(&case);
+    let (slide, pin) = (points.last().unwrap().load[2], pins.last().unwrap().load[2]);
+    assert!(slide.abs() < 0.97 * pin.abs(), "sliding {slide} vs pin {pin}");
+}
