@@ -3,11 +3,15 @@
 //! the symmetry of the thesis geometry, Love's helix of a rod whose crossings all slide, and
 //! the bulk of long tubes against the helix of radius a0.
 
+use nalgebra::Vector3;
 use spira::case::Case;
 use spira::discretisation::system::System;
-use spira::model::boundary::Joints;
+use spira::model::boundary::{BoundaryConditions, Joints};
+use spira::model::helix::Helix;
+use spira::model::loading::Control;
 use spira::results::{CriticalPoint, LoadPoint};
 use spira::simulation::Simulation;
+use spira::solver::continuation::ContinuationSettings;
 
 /// The thesis tube of `n` helices over `turns` turns, compressed to `target` in `steps`
 /// output steps, with sliding joints and the extra case text `extra` (its own tables).
@@ -137,4 +141,83 @@ fn thesis_n2_sliding_stores_the_work_of_its_supports_with_the_slips_its_symmetry
     let (pins, _, _) = path(&case);
     let (slide, pin) = (points.last().unwrap().load[2], pins.last().unwrap().load[2]);
     assert!(slide.abs() < 0.97 * pin.abs(), "sliding {slide} vs pin {pin}");
+}
+
+/// Axial force F (tension positive) and axial couple M on the tip of a rod held as the
+/// helix (a, b) whose natural helix is (a0, b0), B1 = B2 = `bend`, B3 = `twist`:
+/// docs/theory.md §6 (Love), written out here from the balance laws.
+fn love(a0: f64, b0: f64, a: f64, b: f64, bend: f64, twist: f64, chi: f64) -> (f64, f64) {
+    let (c0, c) = (a0.hypot(b0), a.hypot(b));
+    let (k0, t0) = (a0 / (c0 * c0), b0 / (c0 * c0));
+    let (k, t) = (a / (c * c), b / (c * c));
+    let f = (twist * (t - t0) * a - bend * (k - k0) * b) / (a * c);
+    let m = chi * (bend * (k - k0) * a + twist * (t - t0) * b) / c;
+    (f, m)
+}
+
+#[test]
+fn rods_whose_crossings_slide_stay_loves_helices_of_another_arc_length_per_turn() {
+    // the thesis pair (n = 2, 3.5 turns), both ends of both rods clamped on the helix
+    // a = a0, b = b0/2: c ≠ c0, so the natural crossings are no longer crossings of the
+    // held helices — pins could not hold them there, sliding contacts move to where the
+    // helices cross, s = s0 c/c0, and carry no force (a helix and its mirror image meet on
+    // the mirror's plane), so each rod is Love's helix
+    let (a0, b0) = (0.06, 0.025);
+    let (a, b) = (a0, b0 / 2.0);
+    let mut case = Case::from_file(std::path::Path::new("cases/thesis-n2.toml")).unwrap();
+    case.discretisation.elements = 192;
+    let model = case.model();
+    let targets: Vec<Helix> = model
+        .rods
+        .iter()
+        .map(|r| Helix {
+            radius: a,
+            pitch: b,
+            ..r.helix
+        })
+        .collect();
+    let x = model.helix_state(&targets);
+    let bc = BoundaryConditions {
+        joints: Joints::Sliding,
+        ..Default::default()
+    };
+    let settings = ContinuationSettings::default();
+    let sim = Simulation::from_state(model, bc, Control::Displacement, x, settings)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let length = case.geometry.length;
+    let lp = sim.load_point(0);
+    for (rod, target) in lp.reactions.iter().zip(&targets) {
+        let chi = target.chirality.sign();
+        let (f, m) = love(a0, b0, a, b, 1.0, 2.0, chi);
+        let force = Vector3::from(rod.tip.force);
+        let tip = target.position(length);
+        // moment about the helix axis: the couple plus the moment of the tip force
+        let moment =
+            Vector3::from(rod.tip.moment) + Vector3::new(tip[0], tip[1], 0.0).cross(&force);
+        assert!(
+            (force[2] - f).abs() < 1e-5 * f.abs(),
+            "{:?}: Fz = {} vs Love {f}",
+            target.chirality,
+            force[2]
+        );
+        assert!(
+            (moment[2] - m).abs() < 1e-5 * m.abs(),
+            "{:?}: Mz = {} vs Love {m}",
+            target.chirality,
+            moment[2]
+        );
+    }
+    // the contacts sit where the held helices cross
+    let c_ratio = a.hypot(b) / a0.hypot(b0);
+    for rod in 0..2 {
+        for (s, slip) in slips(&sim, rod) {
+            if s > 1e-9 * length && s < (1.0 - 1e-9) * length {
+                assert!(
+                    (slip - s * (c_ratio - 1.0)).abs() < 1e-6 * length,
+                    "rod {rod}, joint at {s}: slip {slip} vs {}",
+                    s * (c_ratio - 1.0)
+                );
+            }
+        }
+    }
 }
