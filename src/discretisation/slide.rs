@@ -19,9 +19,11 @@ use crate::model::assembly::RodId;
 use crate::model::symmetry::TurnZ;
 
 /// Elements on either side of the contact's element that the KKT pattern holds for it: the
-/// contact is re-centred when it comes within one element of the edge (see
-/// [`SlideWindow::stale`]); beyond the edge its element's field is extrapolated.
-pub const WINDOW: usize = 3;
+/// contact is re-centred when it reaches the window's edge element (see
+/// [`SlideWindow::stale`]); beyond the edge, the edge element's field is extended. One: the
+/// multipliers of a joint couple every element of its windows, and a wider window costs
+/// fill in the factorisation (three on each side made the n = 8 tube ten times slower).
+pub const WINDOW: usize = 1;
 
 /// One side of a sliding joint: the rod, its arc-length unknown and the elements of the
 /// pattern.
@@ -74,9 +76,8 @@ impl SlideWindow {
             .collect()
     }
 
-    /// Whether the contact of a side of this joint in the state `x` has come within one
-    /// element of its window's edge (away from the rod's ends), so that the window should be
-    /// re-centred.
+    /// Whether the contact of a side of this joint in the state `x` is in its window's edge
+    /// element or beyond (away from the rod's ends), so that the window should be re-centred.
     pub fn stale(&self, model: &DiscreteModel, x: &[f64]) -> bool {
         self.sides.iter().any(|side| {
             let mesh = &model.rods[side.rod].mesh;
