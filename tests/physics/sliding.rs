@@ -221,3 +221,64 @@ fn rods_whose_crossings_slide_stay_loves_helices_of_another_arc_length_per_turn(
         }
     }
 }
+
+#[test]
+fn the_bulk_of_a_clamped_sliding_tube_keeps_its_arc_length_per_turn() {
+    // n = 8, 3.5 turns, clamped tips at their natural azimuth: each rod keeps its total turn,
+    // so its uniform bulk keeps c = c0 and rises b = b0 (1 − ε) (docs/theory.md §7), the
+    // pinned tube's helix a = √(c0² − b²) — not the radius a0
+    let case = sliding_tube(8, 3.5, 48, 0.1, 2);
+    let (a0, b0) = (case.geometry.radius, case.geometry.pitch);
+    let c0 = a0.hypot(b0);
+    let (points, _, sim) = path(&case);
+    let point = points.last().unwrap();
+    let step = spira::discretisation::bulk::step_bulk(sim.model(), &sim.snapshot(), point);
+    assert_eq!(step.rods.len(), 8);
+    let b = b0 * (1.0 - point.compression_ratio);
+    let a = (c0 * c0 - b * b).sqrt();
+    for rb in &step.rods {
+        assert!(
+            rb.end_over_l() - rb.start_over_l() > 0.9,
+            "the bulk spans the rod: {} to {}",
+            rb.start_over_l(),
+            rb.end_over_l()
+        );
+        let c = rb.radius.hypot(rb.pitch);
+        assert!((c - c0).abs() < 1e-4 * c0, "c = {c} vs c0 = {c0}");
+        assert!((rb.radius - a).abs() < 2e-4 * a, "a = {} vs {a}", rb.radius);
+        // the clamped ends' boundary layers take a little of the height: the bulk rises
+        // 6e-4 more than the mean
+        assert!((rb.pitch - b).abs() < 1e-3 * b, "b = {} vs {b}", rb.pitch);
+    }
+    // the joints carry no force on this symmetric path: a helix and its mirror image meet
+    // on the mirror's plane
+    let force = (0..sim.system().slides.len())
+        .map(|k| {
+            let row = sim.system().slide_row(k);
+            Vector3::new(sim.state()[row], sim.state()[row + 1], sim.state()[row + 2]).norm()
+        })
+        .fold(0.0f64, f64::max);
+    let tip = point.load[2].abs() * sim.pcrit();
+    assert!(force < 1e-6 * tip, "largest joint force {force} N, tip load {tip} N");
+}
+
+#[test]
+fn a_compressed_sliding_tube_is_stable_with_the_same_path_at_two_meshes() {
+    // n = 8 to ε = 0.3 (short of the fold near 0.338) on 24 and 48 elements per rod: stable
+    // at every step, no critical point at either mesh, and the load converging
+    let (coarse, coarse_critical, _) = path(&sliding_tube(8, 3.5, 24, 0.3, 3));
+    let (fine, fine_critical, _) = path(&sliding_tube(8, 3.5, 48, 0.3, 3));
+    assert!(coarse_critical.is_empty() && fine_critical.is_empty());
+    for (c, f) in coarse.iter().zip(&fine).skip(1) {
+        let counts = |p: &LoadPoint| p.stability.as_ref().map(|s| s.unstable_directions);
+        assert_eq!(counts(c), Some(0), "step {}", c.step);
+        assert_eq!(counts(f), Some(0), "step {}", f.step);
+        assert!(
+            (c.load[2] - f.load[2]).abs() <= 1e-3 * f.load[2].abs(),
+            "step {}: {} vs {}",
+            c.step,
+            c.load[2],
+            f.load[2]
+        );
+    }
+}
