@@ -4,6 +4,7 @@
 use super::error::CaseError;
 use super::limits::{num, JOINT_STIFFNESS_MAX};
 use super::raw::RawBoundary;
+use super::settings::Discretisation;
 use super::tables::{span, Checker};
 use crate::model::boundary::{JointStiffness, Joints};
 use toml::Value;
@@ -102,4 +103,35 @@ fn stiffness(b: &RawBoundary, ck: &Checker) -> Result<JointStiffness, CaseError>
         scissor: one("scissor", &inner.scissor)?,
         out_of_plane: one("out_of_plane", &inner.out_of_plane)?,
     })
+}
+
+/// The model of a case whose joints slide: the whole assembly. The contacts' arc lengths
+/// are unknowns of the joints that the symmetric pair ties to images of its rods (their
+/// Bloch phases are not written for them) and the cell has no joints of its own, so the
+/// automatic choice falls back to the full model, and an explicit pair or cell is refused.
+pub(super) fn sliding_model(
+    discretisation: &mut Discretisation,
+    ck: &Checker,
+) -> Result<(), CaseError> {
+    let refuse = |key: &str, message: &str| CaseError::Invalid {
+        file: ck.file.to_string(),
+        line: ck.line_of_key(key),
+        key: format!("discretisation.{key}"),
+        message: message.to_string(),
+    };
+    if discretisation.cell {
+        return Err(refuse(
+            "model",
+            "expected \"full\" or \"auto\" with boundary.joints = \"sliding\": the cell of the infinite tube does not carry sliding joints (its bulk in closed form: docs/joints.md)",
+        ));
+    }
+    if discretisation.symmetric && !discretisation.symmetric_auto {
+        return Err(refuse(
+            "model",
+            "expected \"full\" or \"auto\" with boundary.joints = \"sliding\": the symmetric pair does not carry sliding joints (the automatic choice is the full model)",
+        ));
+    }
+    discretisation.symmetric = false;
+    discretisation.symmetric_auto = false;
+    Ok(())
 }

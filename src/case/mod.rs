@@ -163,7 +163,7 @@ impl Case {
             discretisation.symmetric_auto = false;
         }
         if boundary.joints.slides() {
-            model_key::sliding_model(&mut discretisation, &ck)?;
+            joints::sliding_model(&mut discretisation, &ck)?;
         }
         // a branch switched onto may break the symmetry: the automatic choice is then the
         // full model

@@ -114,7 +114,11 @@ fn root(g: &mut [usize], mut i: usize) -> usize {
 /// The rods as rigid bodies: the body of each rod (right and left rods crossing three times
 /// or more at joints that `pinned` says hold a material point of both move as one), and the
 /// component of each (bodies tied by the remaining joints).
-fn bodies(rods: usize, joints: &[Joint], pinned: impl Fn(&Joint) -> bool) -> (Vec<usize>, Vec<usize>) {
+fn bodies(
+    rods: usize,
+    joints: &[Joint],
+    pinned: impl Fn(&Joint) -> bool,
+) -> (Vec<usize>, Vec<usize>) {
     let mut group: Vec<usize> = (0..rods).collect();
     let mut crossings = std::collections::HashMap::<(usize, usize), usize>::new();
     for j in joints.iter().filter(|j| pinned(j)) {

@@ -156,8 +156,9 @@ pub fn rod_point(
         let w = gp.weight;
         // f-contracted gradient and Hessian of d3 at the point
         let fd: [f64; 4] = std::array::from_fn(|k| (0..3).map(|j| f[j] * d[j][k]).sum());
-        let fh: [[f64; 4]; 4] =
-            std::array::from_fn(|k| std::array::from_fn(|l| (0..3).map(|j| f[j] * hess[j][k][l]).sum()));
+        let fh: [[f64; 4]; 4] = std::array::from_fn(|k| {
+            std::array::from_fn(|l| (0..3).map(|j| f[j] * hess[j][k][l]).sum())
+        });
         let fh_qx: [f64; 4] = std::array::from_fn(|k| (0..4).map(|l| fh[k][l] * qx[l]).sum());
         for j in 0..3 {
             let d_qx: f64 = (0..4).map(|k| d[j][k] * qx[k]).sum();
@@ -201,7 +202,15 @@ pub fn point_in_element(
     let h = r.mesh.vertices[e + 1] - r.mesh.vertices[e];
     let q = model.element_quaternions(x, r, e);
     let start = std::array::from_fn(|k| x[r.r_dof(e, k)]);
-    rod_point(model.order, &model.rule, h, start, &q, s - r.mesh.vertices[e], f)
+    rod_point(
+        model.order,
+        &model.rule,
+        h,
+        start,
+        &q,
+        s - r.mesh.vertices[e],
+        f,
+    )
 }
 
 /// The element a side's contact is taken in: the one holding its arc length, kept in the
@@ -244,11 +253,7 @@ pub fn assemble(
             std::array::from_fn(|j| std::array::from_fn(|i| cols[i][j]))
         };
         for (i, side) in slide.sides.iter().enumerate() {
-            let (sign, f) = if i == 0 {
-                (1.0, nu)
-            } else {
-                (-1.0, back)
-            };
+            let (sign, f) = if i == 0 { (1.0, nu) } else { (-1.0, back) };
             // ∂g_j/∂(side's r_i) = sign · M[j][i], M = I on the right, T on the left
             let m = |j: usize, k: usize| -> f64 {
                 if i == 0 {

@@ -128,19 +128,28 @@ fn thesis_n2_sliding_stores_the_work_of_its_supports_with_the_slips_its_symmetry
     let largest = right.iter().fold(0.0f64, |m, j| m.max(j.1.abs()));
     assert!(largest > 1e-3 * length, "the contacts slide: {right:?}");
     for (r, l) in right.iter().zip(&left) {
-        assert!((r.0 - l.0).abs() < 1e-12 && (r.1 - l.1).abs() < 1e-6 * largest, "{r:?} vs {l:?}");
+        assert!(
+            (r.0 - l.0).abs() < 1e-12 && (r.1 - l.1).abs() < 1e-6 * largest,
+            "{r:?} vs {l:?}"
+        );
     }
     for (k, r) in right.iter().enumerate() {
         let opposite = right[right.len() - 1 - k];
         assert!((r.0 + opposite.0 - length).abs() < 1e-9 * length);
-        assert!((r.1 + opposite.1).abs() < 1e-6 * largest, "{r:?} vs {opposite:?}");
+        assert!(
+            (r.1 + opposite.1).abs() < 1e-6 * largest,
+            "{r:?} vs {opposite:?}"
+        );
     }
     // and the tube is softer than the pinned one
     case.boundary.joints = Joints::Pin;
     case.loading.steps = 2;
     let (pins, _, _) = path(&case);
     let (slide, pin) = (points.last().unwrap().load[2], pins.last().unwrap().load[2]);
-    assert!(slide.abs() < 0.97 * pin.abs(), "sliding {slide} vs pin {pin}");
+    assert!(
+        slide.abs() < 0.97 * pin.abs(),
+        "sliding {slide} vs pin {pin}"
+    );
 }
 
 /// Axial force F (tension positive) and axial couple M on the tip of a rod held as the
@@ -259,7 +268,10 @@ fn the_bulk_of_a_clamped_sliding_tube_keeps_its_arc_length_per_turn() {
         })
         .fold(0.0f64, f64::max);
     let tip = point.load[2].abs() * sim.pcrit();
-    assert!(force < 1e-6 * tip, "largest joint force {force} N, tip load {tip} N");
+    assert!(
+        force < 1e-6 * tip,
+        "largest joint force {force} N, tip load {tip} N"
+    );
 }
 
 #[test]

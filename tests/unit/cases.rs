@@ -514,7 +514,10 @@ fn sliding_joints_on_the_symmetric_pair_are_refused() {
         &e,
         7,
         "discretisation.model",
-        &["\"full\" or \"auto\"", "symmetric pair does not carry sliding joints"],
+        &[
+            "\"full\" or \"auto\"",
+            "symmetric pair does not carry sliding joints",
+        ],
     );
 }
 
