@@ -178,6 +178,18 @@ impl Simulation {
             threads,
         } = start;
         x.truncate(model.n_primal);
+        if bc.joints.slides()
+            && (model.assembly.symmetry.is_some() || model.assembly.cell.is_some())
+        {
+            return Err(SolveError {
+                control: loads.control(),
+                reached: 0.0,
+                compression_ratio: 0.0,
+                target: 0.0,
+                step: 0.0,
+                reason: StopReason::SlidingNeedsFull,
+            });
+        }
         // the contacts of sliding joints are unknowns of the model
         let (model, x) = if model.slides.is_empty() == bc.joints.slides() {
             let sliding = model.clone().with_sliding_joints(bc.joints.slides());
