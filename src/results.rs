@@ -136,6 +136,9 @@ pub struct JointState {
     /// side is zero. `moment_after − moment_before + moment = 0` is the balance of the node.
     pub moment_before: [f64; 3],
     pub moment_after: [f64; 3],
+    /// Slip (m) of a sliding joint's contact along this rod, `s_contact − s` (zero for the
+    /// other kinds).
+    pub slip: f64,
 }
 
 /// The shape of every rod in a state.

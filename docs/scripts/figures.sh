@@ -13,12 +13,12 @@ done
 "$SPIRA" plot out/docs/n1 out/docs/n2 out/docs/n4 out/docs/n8 --out docs/figures --only load
 "$SPIRA" plot out/docs/n1 out/docs/n8 --out docs/figures --eps 0.5 --only curvature
 "$SPIRA" plot out/docs/n8 --out docs/figures --eps 0.5 --only views
-# the joints side by side (docs/joints.md): n = 8 pinned, elastic, welded
-for kind in pin elastic welded; do
+# the joints side by side (docs/joints.md): n = 8 pinned, elastic, welded, sliding
+for kind in pin elastic welded sliding; do
     case $kind in pin) c=cases/thesis-n8.toml ;; *) c=cases/thesis-n8-$kind.toml ;; esac
     "$SPIRA" run $c --out out/docs/joints/$kind > /dev/null
 done
-"$SPIRA" plot out/docs/joints/pin out/docs/joints/elastic out/docs/joints/welded --out out/docs/joints --only load
+"$SPIRA" plot out/docs/joints/pin out/docs/joints/elastic out/docs/joints/welded out/docs/joints/sliding --out out/docs/joints --only load
 cp out/docs/joints/load.svg docs/figures/joints-load.svg
 for n in 1 8; do
     "$SPIRA" precision cases/thesis-n$n.toml --out out/docs/precision-n$n --repeats 3 > out/docs/precision-n$n.txt

@@ -4,12 +4,13 @@
 use super::error::CaseError;
 use super::limits::{num, JOINT_STIFFNESS_MAX};
 use super::raw::RawBoundary;
+use super::settings::Discretisation;
 use super::tables::{span, Checker};
 use crate::model::boundary::{JointStiffness, Joints};
 use toml::Value;
 
 /// The names `boundary.joints` takes besides `true` (pin) and `false` (none).
-pub const JOINT_NAMES: [&str; 4] = ["pin", "welded", "elastic", "none"];
+pub const JOINT_NAMES: [&str; 5] = ["pin", "welded", "elastic", "sliding", "none"];
 
 /// The joints of `[boundary]`: pins when not given; springs given exactly when elastic.
 pub(super) fn joints(b: &RawBoundary, ck: &Checker) -> Result<Joints, CaseError> {
@@ -25,6 +26,7 @@ pub(super) fn joints(b: &RawBoundary, ck: &Checker) -> Result<Joints, CaseError>
             Value::String(s) if s == "pin" => Joints::Pin,
             Value::String(s) if s == "none" => Joints::None,
             Value::String(s) if s == "welded" => Joints::Welded,
+            Value::String(s) if s == "sliding" => Joints::Sliding,
             Value::String(s) if s == "elastic" => Joints::Elastic(stiffness(b, ck)?),
             Value::String(s) => {
                 return Err(ck.invalid(
@@ -101,4 +103,35 @@ fn stiffness(b: &RawBoundary, ck: &Checker) -> Result<JointStiffness, CaseError>
         scissor: one("scissor", &inner.scissor)?,
         out_of_plane: one("out_of_plane", &inner.out_of_plane)?,
     })
+}
+
+/// The model of a case whose joints slide: the whole assembly. The contacts' arc lengths
+/// are unknowns of the joints that the symmetric pair ties to images of its rods (their
+/// Bloch phases are not written for them) and the cell has no joints of its own, so the
+/// automatic choice falls back to the full model, and an explicit pair or cell is refused.
+pub(super) fn sliding_model(
+    discretisation: &mut Discretisation,
+    ck: &Checker,
+) -> Result<(), CaseError> {
+    let refuse = |key: &str, message: &str| CaseError::Invalid {
+        file: ck.file.to_string(),
+        line: ck.line_of_key(key),
+        key: format!("discretisation.{key}"),
+        message: message.to_string(),
+    };
+    if discretisation.cell {
+        return Err(refuse(
+            "model",
+            "expected \"full\" or \"auto\" with boundary.joints = \"sliding\": the cell of the infinite tube does not carry sliding joints (its bulk in closed form: docs/joints.md)",
+        ));
+    }
+    if discretisation.symmetric && !discretisation.symmetric_auto {
+        return Err(refuse(
+            "model",
+            "expected \"full\" or \"auto\" with boundary.joints = \"sliding\": the symmetric pair does not carry sliding joints (the automatic choice is the full model)",
+        ));
+    }
+    discretisation.symmetric = false;
+    discretisation.symmetric_auto = false;
+    Ok(())
 }

@@ -164,6 +164,9 @@ impl Case {
             discretisation.symmetric = false;
             discretisation.symmetric_auto = false;
         }
+        if boundary.joints.slides() {
+            joints::sliding_model(&mut discretisation, &ck)?;
+        }
         // a branch switched onto may break the symmetry: the automatic choice is then the
         // full model
         if discretisation.symmetric_auto && loading.branch == Branch::Switch {
@@ -192,7 +195,10 @@ impl Case {
             return c;
         }
         // the symmetric reduction needs n = 2m, m ≥ 2
-        let has = n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
+        let has = n >= 4
+            && n % 2 == 0
+            && c.loads().keeps_cyclic_symmetry()
+            && !c.boundary.joints.slides();
         c.discretisation.symmetric = if c.discretisation.symmetric_auto {
             has && c.loading.branch != Branch::Switch
         } else {
@@ -362,6 +368,7 @@ impl Case {
             self.rod,
             self.discretisation.reference,
         )
+        .with_sliding_joints(self.boundary.joints.slides())
     }
 
     /// What the case applies to the assembly: the component stepped under the case's

@@ -69,7 +69,9 @@ pub fn free_motion_of(
         scale: geometry.length.max(geometry.radius).max(f64::MIN_POSITIVE),
         tip_height_held,
     };
-    let (mut body, comps) = bodies(rods, joints);
+    let length = geometry.length;
+    let at_end = |j: &Joint| j.s <= 1e-9 * length || j.s >= length * (1.0 - 1e-9);
+    let (mut body, comps) = bodies(rods, joints, |j| !b.joints.slides() || at_end(j));
     let mut seen = Vec::new();
     for &comp in &comps {
         if seen.contains(&comp) {
@@ -110,11 +112,16 @@ fn root(g: &mut [usize], mut i: usize) -> usize {
 }
 
 /// The rods as rigid bodies: the body of each rod (right and left rods crossing three times
-/// or more move as one), and the component of each (bodies tied by the remaining joints).
-fn bodies(rods: usize, joints: &[Joint]) -> (Vec<usize>, Vec<usize>) {
+/// or more at joints that `pinned` says hold a material point of both move as one), and the
+/// component of each (bodies tied by the remaining joints).
+fn bodies(
+    rods: usize,
+    joints: &[Joint],
+    pinned: impl Fn(&Joint) -> bool,
+) -> (Vec<usize>, Vec<usize>) {
     let mut group: Vec<usize> = (0..rods).collect();
     let mut crossings = std::collections::HashMap::<(usize, usize), usize>::new();
-    for j in joints {
+    for j in joints.iter().filter(|j| pinned(j)) {
         *crossings.entry((j.right, j.left)).or_default() += 1;
     }
     for (&(r, l), &count) in &crossings {
@@ -235,6 +242,11 @@ impl Supports<'_> {
                 free_directions(b.base.translation, &x)
             } else if j.s >= assembly.length * (1.0 - 1e-9) {
                 free_directions(b.tip.translation, &x)
+            } else if b.joints.slides() {
+                // the contact slides along both tangents: only the normal to both is tied
+                let tangent = |rod: usize| assembly.rods[rod].directors(j.s).column(2).into_owned();
+                let (tr, tl) = (tangent(j.right), tangent(j.left));
+                vec![tr.cross(&tl).normalize()]
             } else {
                 vec![Vector3::x(), Vector3::y(), Vector3::z()]
             };
@@ -282,7 +294,7 @@ fn rotation_axes(joints: Joints, x: &Vector3<f64>) -> Vec<Vector3<f64>> {
             }
             axes
         }
-        Joints::Pin | Joints::None => Vec::new(),
+        Joints::Pin | Joints::None | Joints::Sliding => Vec::new(),
     }
 }
 

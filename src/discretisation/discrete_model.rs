@@ -84,8 +84,14 @@ pub struct DiscreteModel {
     height0: f64,
     pub order: Order,
     pub rule: Vec<QuadraturePoint>,
-    /// Number of primal unknowns (quaternions and positions).
+    /// Number of primal unknowns (quaternions and positions, then the contacts' arc
+    /// lengths of sliding joints).
     pub n_primal: usize,
+    /// The joints (indices into the assembly's) that slide: each has two arc-length
+    /// unknowns (m), on its right and its left rod, after the rods' unknowns.
+    pub slides: Vec<usize>,
+    /// First arc-length unknown of the sliding joints (the rods' unknowns end there).
+    slide_offset: usize,
     /// The element count the meshes were asked for (before joints split them).
     pub requested_elements: usize,
 }
@@ -156,6 +162,8 @@ impl DiscreteModel {
             reference,
             order,
             n_primal: offset,
+            slides: Vec::new(),
+            slide_offset: offset,
             requested_elements: elements,
         };
         if reference == Reference::Discrete && !model.rods.is_empty() {
@@ -169,6 +177,53 @@ impl DiscreteModel {
         model
     }
 
+    /// This model with its crossings sliding (`true`) or not: every joint strictly inside the
+    /// rods gets two arc-length unknowns (a joint at a rod end is held by the supports there
+    /// and stays a pin). A cell's crossings are not joints of its assembly and do not slide.
+    pub fn with_sliding_joints(mut self, sliding: bool) -> DiscreteModel {
+        let l = self.length();
+        self.slides = if sliding && self.assembly.cell.is_none() {
+            let inside = |s: f64| s > 1e-9 * l && s < l * (1.0 - 1e-9);
+            (0..self.assembly.joints.len())
+                .filter(|&j| inside(self.assembly.joints[j].s))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        self.n_primal = self.slide_offset + 2 * self.slides.len();
+        self
+    }
+
+    /// Unknown of the arc length (m) of sliding joint `k`'s contact on its right (`side`
+    /// 0) or left (`side` 1) rod.
+    pub fn slide_dof(&self, k: usize, side: usize) -> usize {
+        self.slide_offset + 2 * k + side
+    }
+
+    /// The sliding joint (index into [`DiscreteModel::slides`]) of the assembly's joint
+    /// `joint`, if it slides.
+    pub fn slide_of(&self, joint: usize) -> Option<usize> {
+        self.slides.iter().position(|&j| j == joint)
+    }
+
+    /// The primal state `x` of this model carried to `other` (the same rods and meshes,
+    /// with or without sliding joints): the rods' unknowns copied, the contacts' arc lengths
+    /// of `other` where this model has them, else at their crossings' natural arc lengths.
+    pub fn carry_state(&self, x: &[f64], other: &DiscreteModel) -> Vec<f64> {
+        let mut y = vec![0.0; other.n_primal];
+        let rods = self.slide_offset.min(other.slide_offset);
+        y[..rods].copy_from_slice(&x[..rods]);
+        for (k, &joint) in other.slides.iter().enumerate() {
+            for side in 0..2 {
+                y[other.slide_dof(k, side)] = match self.slide_of(joint) {
+                    Some(m) => x[self.slide_dof(m, side)],
+                    None => other.assembly.joints[joint].s,
+                };
+            }
+        }
+        y
+    }
+
     /// For a symmetric pair: the full model it stands for (same meshes).
     pub fn full_model(&self) -> Option<DiscreteModel> {
         let sym = self.assembly.symmetry?;
@@ -179,14 +234,17 @@ impl DiscreteModel {
             pair[0].pitch,
             self.length(),
         );
-        Some(DiscreteModel::with_hypotheses(
-            full,
-            self.stiffness,
-            self.requested_elements,
-            self.order,
-            self.elasticity,
-            self.reference,
-        ))
+        Some(
+            DiscreteModel::with_hypotheses(
+                full,
+                self.stiffness,
+                self.requested_elements,
+                self.order,
+                self.elasticity,
+                self.reference,
+            )
+            .with_sliding_joints(!self.slides.is_empty()),
+        )
     }
 
     /// Rod length `L` (m).
@@ -250,6 +308,11 @@ impl DiscreteModel {
         }
         if let Some(cell) = &self.assembly.cell {
             centre_on_axis(self, cell, &mut x);
+        }
+        for (k, &joint) in self.slides.iter().enumerate() {
+            for side in 0..2 {
+                x[self.slide_dof(k, side)] = self.assembly.joints[joint].s;
+            }
         }
         x
     }

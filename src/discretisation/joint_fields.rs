@@ -56,6 +56,10 @@ pub fn joint_states(
             if let Some(measure) = JointRotation::measure(model, &natural, index, joint) {
                 state.rotation = measure.rotation(x).into();
             }
+            if let Some(k) = model.slide_of(index) {
+                let side = usize::from(joint.right != id);
+                state.slip = x[model.slide_dof(k, side)] - joint.s;
+            }
             let held = system.rotations.iter().position(|r| r.joint == index);
             if let Some(i) = held {
                 let (right, left) =

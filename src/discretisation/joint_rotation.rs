@@ -71,7 +71,7 @@ impl JointRotation {
         let mut out = JointRotation::measure(model, natural, index, joint)?;
         let n = Vector3::from(out.axes.row(0).transpose());
         out.resistance = match bc.joints {
-            Joints::Pin | Joints::None => return None,
+            Joints::Pin | Joints::None | Joints::Sliding => return None,
             Joints::Elastic(k) => Resistance::Elastic {
                 stiffness: Matrix3::identity() * k.out_of_plane
                     + n * n.transpose() * (k.scissor - k.out_of_plane),

@@ -16,6 +16,7 @@ pub mod mirror;
 pub mod pressure;
 mod reactions;
 pub mod shape;
+pub mod slide;
 pub mod support;
 pub mod symmetry;
 pub mod system;

@@ -6,7 +6,9 @@
 //!   force `n` (N) carried by the element;
 //! - per quaternion node, `μ` for `|q|² − 1 = 0`;
 //! - linear constraints: supports, prescribed tip height, the positions of joints;
-//! - welded joints: the relative rotation of the two rods (bilinear rows, after the linear).
+//! - welded joints: the relative rotation of the two rods (bilinear rows, after the linear);
+//! - sliding joints: the contact's position on both rods (three rows each, after those;
+//!   their arc-length unknowns are primal, [`slide`]).
 //!
 //! Stationarity of `E + Σ λ·gap + Σ μ (|q|²−1) + Σ ν (a·x − b)` gives the residual; its
 //! Jacobian is the symmetric KKT matrix `[[H, Jᵀ], [J, 0]]`, assembled into a sparse
@@ -18,6 +20,7 @@ use super::discrete_model::{DiscreteModel, End};
 use super::element::{self, ElementLoad, ElementTerms};
 use super::joint_rotation::{self, JointRotation};
 use super::pressure;
+use super::slide::{self, SlideWindow};
 use super::support::SupportPose;
 use crate::model::assembly::RodId;
 use crate::model::boundary::BoundaryConditions;
@@ -68,6 +71,11 @@ pub struct System {
     pub rotations: Vec<JointRotation>,
     /// First row of each rotational part's constraints.
     rotation_rows: Vec<usize>,
+    /// The sliding joints and the elements of the pattern around their contacts; their
+    /// rows follow the rotational parts'.
+    pub slides: Vec<SlideWindow>,
+    /// First row of each sliding joint's three multipliers.
+    slide_rows: Vec<usize>,
     /// First row of each rod's inextensibility multipliers.
     compat_rows: Vec<usize>,
     /// First row of each rod's unit-norm multipliers.
@@ -97,6 +105,7 @@ struct Frame {
     height0: f64,
     pcrit: f64,
     rotations: Vec<JointRotation>,
+    slides: Vec<SlideWindow>,
 }
 
 /// What an evaluation of the system returns besides the residual.
@@ -147,10 +156,18 @@ impl System {
         end_constraints(model, x, &bc, tip, &mut linear);
         if bc.joints.active() && model.assembly.cell.is_none() {
             for (j, joint) in model.assembly.joints.iter().enumerate() {
-                joint_constraints(model, x, &bc, j, joint, &mut linear);
+                // a sliding joint's rows are its own; one at a rod end stays a pin
+                if model.slide_of(j).is_none() {
+                    joint_constraints(model, x, &bc, j, joint, &mut linear);
+                }
             }
         }
         let rotations = joint_rotation::of_assembly(model, x, &bc, tip);
+        let slides = if bc.joints.slides() {
+            SlideWindow::of_model(model, x)
+        } else {
+            Vec::new()
+        };
         let frame = Frame {
             compat_rows,
             unit_rows,
@@ -158,6 +175,7 @@ impl System {
             height0,
             pcrit,
             rotations,
+            slides,
         };
         System::with_constraints(model, bc, frame, linear, x, loads, lambda)
     }
@@ -180,6 +198,7 @@ impl System {
             height0: self.height0,
             pcrit: self.pcrit,
             rotations: self.rotations.clone(),
+            slides: self.slides.clone(),
         };
         let primal = &x[..model.n_primal];
         System::with_constraints(
@@ -228,13 +247,19 @@ impl System {
             height0,
             pcrit,
             rotations,
+            slides,
         } = frame;
-        // the joints' rotation rows follow the linear constraints
+        // the joints' rotation rows follow the linear constraints, the sliding joints' those
         let mut row = linear_row + linear.len();
         let mut rotation_rows = Vec::new();
         for r in &rotations {
             rotation_rows.push(row);
             row += r.rows();
+        }
+        let mut slide_rows = Vec::new();
+        for _ in &slides {
+            slide_rows.push(row);
+            row += 3;
         }
         let n = row;
         let mut sys = System {
@@ -242,6 +267,8 @@ impl System {
             linear,
             rotations,
             rotation_rows,
+            slides,
+            slide_rows,
             compat_rows,
             unit_rows,
             linear_row,
@@ -253,7 +280,36 @@ impl System {
             pattern: SymbolicSparseColMat::new_checked(n, n, vec![0; n + 1], None, vec![]),
             slots: Vec::new(),
         };
-        // record the pattern with the same code that assembles the values
+        sys.record_pattern(model, x);
+        sys
+    }
+
+    /// This system with the windows of its sliding joints re-centred on where the state `x`
+    /// (all unknowns) has their contacts: the same unknowns and rows, another pattern.
+    pub fn recentred(&self, model: &DiscreteModel, x: &[f64]) -> System {
+        let mut sys = self.clone();
+        sys.slides = SlideWindow::of_model(model, x);
+        sys.record_pattern(model, x);
+        sys
+    }
+
+    /// Whether a sliding joint's contact in the state `x` is near its window's edge
+    /// ([`SlideWindow::stale`]): then [`System::recentred`] should follow.
+    pub fn slides_stale(&self, model: &DiscreteModel, x: &[f64]) -> bool {
+        self.slides.iter().any(|w| w.stale(model, x))
+    }
+
+    /// Row of sliding joint `k`'s first multiplier `ν` (N), of `g = r_R − T r_L`: the joint
+    /// pushes the right rod with `−ν` and the left one with `Tᵀ ν`.
+    pub fn slide_row(&self, k: usize) -> usize {
+        self.slide_rows[k]
+    }
+
+    /// Records the KKT pattern at the state `x` (primal unknowns at least) with the same
+    /// code that assembles the values.
+    fn record_pattern(&mut self, model: &DiscreteModel, x: &[f64]) {
+        let sys = self;
+        let n = sys.n;
         let mut full = x.to_vec();
         full.resize(n, 0.0);
         let mut rec = Recorder(Vec::new());
@@ -272,7 +328,6 @@ impl System {
             })
             .collect();
         sys.pattern = pattern;
-        sys
     }
 
     /// The sparsity pattern of the KKT matrix.
@@ -413,6 +468,15 @@ impl System {
         for (i, c) in self.linear.iter().enumerate() {
             if c.terms.iter().any(|&(dof, _)| is_position[dof]) {
                 weights[self.linear_row(i)] = 1.0 / l;
+            }
+        }
+        // a contact's arc length balances forces along the rods (N); its rows are lengths
+        for (k, row) in self.slide_rows.iter().enumerate() {
+            for side in 0..2 {
+                weights[model.slide_dof(k, side)] = l * l / b1;
+            }
+            for j in 0..3 {
+                weights[row + j] = 1.0 / l;
             }
         }
     }
@@ -596,6 +660,8 @@ impl System {
         potential += self.assemble_pressure(model, x, residual, sink);
         self.assemble_linear(x, residual, sink);
         energy += self.assemble_rotations(x, residual, sink);
+        let mut add = |row: usize, col: usize, v: f64| sink.add(row, col, v);
+        slide::assemble(model, &self.slides, &self.slide_rows, x, residual, &mut add);
         Evaluation { energy, potential }
     }
 

@@ -83,6 +83,9 @@ pub enum Joints {
     Welded,
     /// Positions shared, the relative rotation resisted by springs.
     Elastic(JointStiffness),
+    /// The crossing point slides along both rods, without friction: the two rods share a
+    /// point whose arc length on each is free, rotations free.
+    Sliding,
 }
 
 impl Joints {
@@ -91,24 +94,31 @@ impl Joints {
         !matches!(self, Joints::None)
     }
 
-    /// The kind after this one in the cycle pin → welded → elastic → none → pin; elastic
-    /// joints get the springs `springs`.
+    /// The kind after this one in the cycle pin → welded → elastic → sliding → none → pin;
+    /// elastic joints get the springs `springs`.
     pub fn next(&self, springs: JointStiffness) -> Joints {
         match self {
             Joints::Pin => Joints::Welded,
             Joints::Welded => Joints::Elastic(springs),
-            Joints::Elastic(_) => Joints::None,
+            Joints::Elastic(_) => Joints::Sliding,
+            Joints::Sliding => Joints::None,
             Joints::None => Joints::Pin,
         }
     }
 
-    /// Short name: `none`, `pin`, `welded`, `elastic`.
+    /// Whether the crossings slide along the rods.
+    pub fn slides(&self) -> bool {
+        matches!(self, Joints::Sliding)
+    }
+
+    /// Short name: `none`, `pin`, `welded`, `elastic`, `sliding`.
     pub fn name(&self) -> &'static str {
         match self {
             Joints::None => "none",
             Joints::Pin => "pin",
             Joints::Welded => "welded",
             Joints::Elastic(_) => "elastic",
+            Joints::Sliding => "sliding",
         }
     }
 }
@@ -129,6 +139,7 @@ enum JointName {
     None,
     Pin,
     Welded,
+    Sliding,
 }
 
 impl Serialize for Joints {
@@ -137,6 +148,7 @@ impl Serialize for Joints {
             Joints::None => JointsForm::Flag(false),
             Joints::Pin => JointsForm::Flag(true),
             Joints::Welded => JointsForm::Name(JointName::Welded),
+            Joints::Sliding => JointsForm::Name(JointName::Sliding),
             Joints::Elastic(k) => JointsForm::Elastic { elastic: k },
         }
         .serialize(s)
@@ -149,6 +161,7 @@ impl<'de> Deserialize<'de> for Joints {
             JointsForm::Flag(false) | JointsForm::Name(JointName::None) => Joints::None,
             JointsForm::Flag(true) | JointsForm::Name(JointName::Pin) => Joints::Pin,
             JointsForm::Name(JointName::Welded) => Joints::Welded,
+            JointsForm::Name(JointName::Sliding) => Joints::Sliding,
             JointsForm::Elastic { elastic } => Joints::Elastic(elastic),
         })
     }

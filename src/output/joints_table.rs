@@ -37,6 +37,8 @@ struct JointRow {
     rod_my_after: f64,
     #[serde(serialize_with = "format::e10")]
     rod_mz_after: f64,
+    #[serde(serialize_with = "format::e10")]
+    slip: f64,
 }
 
 /// `joints.csv`: the active joints of every rod (a joint ties two rods, so it has a row on
@@ -55,7 +57,8 @@ pub fn joints_csv(case: &str, snapshot: &Snapshot) -> String {
          product; mx,my,mz: moment the joint applies to the rod (N m, zero for a pin); \
          rod_mx_before,rod_my_before,rod_mz_before,rod_mx_after,rod_my_after,rod_mz_after: \
          the rod's internal moment just before and just after the crossing (N m, zero beyond \
-         an end), so that after - before + joint moment = 0"
+         an end), so that after - before + joint moment = 0; slip: how far a sliding joint's \
+         contact has slid along the rod from s (m, zero for the other kinds)"
             .to_string(),
     ];
     let length = snapshot
@@ -84,6 +87,7 @@ pub fn joints_csv(case: &str, snapshot: &Snapshot) -> String {
                 rod_mx_after: j.moment_after[0],
                 rod_my_after: j.moment_after[1],
                 rod_mz_after: j.moment_after[2],
+                slip: j.slip,
             }
         })
     });

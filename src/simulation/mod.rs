@@ -40,6 +40,10 @@ use reduction::{CriticalModes, Reduction};
 /// The continuation of a loaded assembly.
 type Continuation = crate::solver::continuation::Continuation<LoadedAssembly>;
 
+/// Passes of re-centring the sliding joints' windows after a solve (each moves a window by
+/// up to its half-width).
+const MAX_RECENTRING: usize = 20;
+
 /// The continuation could not reach its target; the last converged state is kept.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error(
@@ -175,6 +179,26 @@ impl Simulation {
             threads,
         } = start;
         x.truncate(model.n_primal);
+        if bc.joints.slides()
+            && (model.assembly.symmetry.is_some() || model.assembly.cell.is_some())
+        {
+            return Err(SolveError {
+                control: loads.control(),
+                reached: 0.0,
+                compression_ratio: 0.0,
+                target: 0.0,
+                step: 0.0,
+                reason: StopReason::SlidingNeedsFull,
+            });
+        }
+        // the contacts of sliding joints are unknowns of the model
+        let (model, x) = if model.slides.is_empty() == bc.joints.slides() {
+            let sliding = model.clone().with_sliding_joints(bc.joints.slides());
+            let y = model.carry_state(&x, &sliding);
+            (sliding, y)
+        } else {
+            (model, x)
+        };
         let settings = settings.in_units(parameter_unit(&model, &loads));
         let (model, x) = match loads.preload() {
             Some(preload) => preloaded(model, bc, &preload, x, &settings, &interrupt, threads)?,
@@ -187,13 +211,17 @@ impl Simulation {
         let problem = LoadedAssembly::new(model, system).with_threads(threads);
         let path = Continuation::new_with(problem, x, lambda, settings, interrupt, observer)
             .map_err(|e| solve_error(e, control, eps))?;
-        Ok(Simulation {
+        let mut sim = Simulation {
             path,
             critical: Vec::new(),
             reduced: None,
             threads,
             flaw: None,
-        })
+        };
+        // contacts that a start far from their crossings moves past their windows
+        sim.recentre_slides()
+            .map_err(|e| solve_error(e, control, eps))?;
+        Ok(sim)
     }
 
     /// The perfect-helix equilibria of docs/theory.md §6 (Love): every rod held at both ends
@@ -412,9 +440,30 @@ impl Simulation {
         // a flawed path bends sharply near the perfect bifurcation: followed by arclength
         self.path
             .set_arclength(self.flaw.is_some() || self.path.state().arclength);
-        let outcome = self.path.advance_to(target);
+        let mut outcome = self.path.advance_to(target);
+        if outcome.is_ok() {
+            outcome = self.recentre_slides();
+        }
         self.record_critical();
         outcome.map_err(|e| self.error(e))
+    }
+
+    /// Re-centres the pattern's windows of the sliding joints whose contacts have come near
+    /// their edges, and re-solves the state there (the same unknowns: the branch goes on).
+    fn recentre_slides(&mut self) -> Result<(), ContinuationError> {
+        // each pass moves a window by up to its half-width: a contact far from its
+        // window's element comes home in a few
+        for _ in 0..MAX_RECENTRING {
+            let (model, system) = (self.model(), self.system());
+            let x = &self.path.state().x;
+            if !system.slides_stale(model, x) {
+                break;
+            }
+            let system = system.recentred(model, x);
+            let problem = LoadedAssembly::new(model.clone(), system).with_threads(self.threads);
+            self.path.reshape(problem)?;
+        }
+        Ok(())
     }
 
     /// Number of unstable directions of the current state: negative eigenvalues of the
@@ -449,8 +498,28 @@ impl Simulation {
             (Driven::Tip(SupportAxis::Z), Control::Force) => -self.load_point(0).load[2],
             _ => self.parameter(),
         };
-        let model = self.model().clone();
-        let x = self.state();
+        let old = self.model();
+        if bc.joints.slides() && (old.assembly.symmetry.is_some() || old.assembly.cell.is_some()) {
+            let state = self.path.state();
+            return Err(SolveError {
+                control,
+                reached: state.lambda,
+                compression_ratio: self.compression_ratio(),
+                target: state.lambda,
+                step: 0.0,
+                reason: StopReason::SlidingNeedsFull,
+            });
+        }
+        let model = old.clone().with_sliding_joints(bc.joints.slides());
+        let carried;
+        let x = if model.n_primal == old.n_primal {
+            self.state()
+        } else {
+            // joints that start or stop sliding: the contacts' arc lengths come or go, the
+            // multipliers restart from zero
+            carried = old.carry_state(self.state(), &model);
+            &carried[..]
+        };
         let mut system = System::new(&model, bc, &x[..model.n_primal], &loads, lambda);
         // a branch held by a phase condition stays held: every support condition and axial
         // control keeps the symmetry the condition stands on (the rotation about the axis

@@ -131,6 +131,14 @@ impl<P: Problem> Continuation<P> {
         })
     }
 
+    /// Replaces the problem by `problem`, the same one with the same unknowns (another
+    /// sparsity pattern): the state is corrected where it is, and the branch goes on as it
+    /// was. On failure the old problem and state are kept.
+    pub fn reshape(&mut self, problem: P) -> Result<(), ContinuationError> {
+        let (x, lambda) = (self.state.x.clone(), self.state.lambda);
+        self.with_problem(problem, x, lambda, |this| this.correct_in_place())
+    }
+
     /// Replaces the problem by `problem`: the same one with a constraint added that the
     /// current state satisfies (a phase condition), its multiplier zero at row `row` (the
     /// unknowns from there on move one row down). The state is checked where it is, and the

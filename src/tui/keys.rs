@@ -133,7 +133,7 @@ pub const BINDINGS: [Binding; 22] = {
         Binding {
             label: "p",
             keys: &[(Char('p'), PinJoints)],
-            help: "joints: pin → welded → elastic → none",
+            help: "joints: pin → welded → elastic → sliding → none",
         },
         Binding {
             label: "n N",

@@ -698,10 +698,10 @@ fn the_solver_thread_answers_every_step_and_coalesces_toggles() {
         app.screen.path.len() <= n + 1,
         "the toggle back and forth coalesces"
     );
-    // welded → elastic → none
+    // welded → elastic → sliding
     assert_eq!(
         app.screen.state.as_ref().unwrap().boundary.joints,
-        Joints::None
+        Joints::Sliding
     );
     worker.join();
 }

@@ -14,5 +14,6 @@ mod mirror;
 mod precision;
 mod robustness;
 mod rods;
+mod sliding;
 mod stability;
 mod symmetry;

@@ -121,6 +121,7 @@ const FIXTURES: &[&str] = &[
     "loose-tolerance",
     "number-for-name",
     "sliding-both-ends",
+    "sliding-on-a-pair",
     "stiffness-ratio",
     "tiny-turns",
     "too-many-joints",
@@ -506,6 +507,33 @@ fn springs_on_joints_that_are_not_elastic_are_refused() {
 }
 
 #[test]
+fn sliding_joints_on_the_symmetric_pair_are_refused() {
+    let e = rejected("sliding-on-a-pair");
+    assert!(is_invalid(&e), "{e:?}");
+    check(
+        &e,
+        7,
+        "discretisation.model",
+        &[
+            "\"full\" or \"auto\"",
+            "symmetric pair does not carry sliding joints",
+        ],
+    );
+}
+
+#[test]
+fn sliding_joints_choose_the_full_model_automatically() {
+    let case = Case::parse(
+        "[geometry]\nhelices = 8\n[boundary]\njoints = \"sliding\"\n",
+        "s.toml",
+        "s",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(!case.discretisation.symmetric);
+    assert_eq!(case.model().rods.len(), 8);
+}
+
+#[test]
 fn joint_kinds_read_as_their_names_and_flags() {
     use spira::model::boundary::JointStiffness;
     let read = |text: &str| {
@@ -519,6 +547,7 @@ fn joint_kinds_read_as_their_names_and_flags() {
     assert_eq!(read("joints = false"), Joints::None);
     assert_eq!(read("joints = \"none\""), Joints::None);
     assert_eq!(read("joints = \"welded\""), Joints::Welded);
+    assert_eq!(read("joints = \"sliding\""), Joints::Sliding);
     assert_eq!(
         read("joints = \"elastic\"\njoint_stiffness = { scissor = 0.5, out_of_plane = 0 }"),
         Joints::Elastic(JointStiffness {
