@@ -78,7 +78,11 @@ impl JointRotation {
             },
             Joints::Welded => {
                 let length = model.length();
-                let end = if joint.s <= 1e-9 * length {
+                // a cell's rods end at crossings but have no supports there: its periodic
+                // conditions tie the ends' frames to their images, not to the world
+                let end = if model.assembly.cell.is_some() {
+                    None
+                } else if joint.s <= 1e-9 * length {
                     Some(bc.base.rotation)
                 } else if joint.s >= length * (1.0 - 1e-9) {
                     Some(bc.tip.rotation)
