@@ -452,8 +452,14 @@ fn welded_and_elastic_cells_store_the_work_of_their_axial_forces() {
                 joints,
                 ..BoundaryConditions::default()
             };
-            let mut sim = Simulation::with_loads(model, bc, Loads::axial(Control::Displacement), x, equilibrium_only())
-                .expect("the natural state solves");
+            let mut sim = Simulation::with_loads(
+                model,
+                bc,
+                Loads::axial(Control::Displacement),
+                x,
+                equilibrium_only(),
+            )
+            .expect("the natural state solves");
             let points: Vec<_> = (0..=steps)
                 .map(|i| {
                     sim.advance_to(0.2 * i as f64 / steps as f64)
@@ -472,7 +478,10 @@ fn welded_and_elastic_cells_store_the_work_of_their_axial_forces() {
             let energy = points[steps].energy - points[0].energy;
             let rel = (work - energy).abs() / energy;
             println!("n = {n}, {joints:?}: energy {energy:.12} J, work {work:.12} J ({rel:.1e}), fz {:.6} N", fz[steps]);
-            assert!(rel < 1e-8, "n = {n}, {joints:?}: work {work} vs energy {energy}");
+            assert!(
+                rel < 1e-8,
+                "n = {n}, {joints:?}: work {work} vs energy {energy}"
+            );
             forces.push(fz[steps]);
         }
         // compressive forces: the welded cell carries the most, the pinned one the least
