@@ -706,6 +706,40 @@ fn the_solver_thread_answers_every_step_and_coalesces_toggles() {
     worker.join();
 }
 
+/// Sliding crossings are solved on the whole assembly: on n = 4, which the explorer solves
+/// as a symmetric pair, `p` up to sliding starts over from ε = 0 as the full model (the
+/// status line says so), and the path then steps under sliding joints.
+#[test]
+fn sliding_joints_start_a_pair_over_as_the_whole_assembly() {
+    let worker = Worker::spawn().expect("thread");
+    let mut app = App::new(small_case(4), std::env::temp_dir());
+    let start = app.start();
+    settle(&mut app, &worker, start);
+    assert_eq!(app.model_name(), "pair");
+    let effects = app.handle_key(ch('l'));
+    settle(&mut app, &worker, effects);
+    assert_close(app.compression_ratio(), 0.05);
+    // pin → welded → elastic → sliding
+    for _ in 0..3 {
+        let effects = app.handle_key(ch('p'));
+        settle(&mut app, &worker, effects);
+    }
+    let state = app.screen.state.as_ref().expect("a state");
+    assert_eq!(state.boundary.joints, Joints::Sliding);
+    assert_eq!(app.model_name(), "full");
+    assert_close(app.compression_ratio(), 0.0);
+    let screen = text(&draw(&app, 80, 24));
+    assert!(screen.lines().any(|l| l.contains("n 4 full")), "{screen}");
+    let effects = app.handle_key(ch('l'));
+    settle(&mut app, &worker, effects);
+    assert_close(app.compression_ratio(), 0.05);
+    assert_eq!(
+        app.screen.state.as_ref().unwrap().boundary.joints,
+        Joints::Sliding
+    );
+    worker.join();
+}
+
 #[test]
 fn quick_key_presses_give_a_point_each_on_screen_in_the_export_and_the_session() {
     let worker = Worker::spawn().expect("thread");
