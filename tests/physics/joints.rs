@@ -93,37 +93,14 @@ fn check_derivatives(joints: Joints) {
         let noise = ((i * 7919 + 13) % 1009) as f64 / 1009.0 - 0.5;
         *v += if i < np { 0.05 * noise } else { 3.0 * noise };
     }
-    let mut values = sys.new_values();
-    let mut r0 = vec![0.0; sys.n];
-    sys.evaluate(&model, &x, &mut r0, &mut values);
-    let m = sys.matrix(&values);
-    let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
-    let h = 1e-6;
-    let (mut rp, mut rm) = (vec![0.0; sys.n], vec![0.0; sys.n]);
-    let mut worst: f64 = 0.0;
-    let mut scale: f64 = 0.0;
     // the joints' quaternions and the welds' multipliers
     let mut columns: Vec<usize> = Vec::new();
     for (i, rot) in sys.rotations.iter().enumerate() {
         columns.extend(rot.dofs);
         columns.extend(sys.rotation_row(i)..sys.rotation_row(i) + rot.rows());
     }
-    for &j in &columns {
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[j] += h;
-        xm[j] -= h;
-        sys.residual(&model, &xp, &mut rp);
-        sys.residual(&model, &xm, &mut rm);
-        let mut column = vec![0.0; sys.n];
-        for p in cp[j]..cp[j + 1] {
-            column[ri[p]] += m.val()[p];
-        }
-        for i in 0..sys.n {
-            let fd = (rp[i] - rm[i]) / (2.0 * h);
-            worst = worst.max((fd - column[i]).abs());
-            scale = scale.max(fd.abs());
-        }
-    }
+    let (worst, scale) = crate::kkt_against_differences(&sys, &model, &x, columns);
+    let h = 1e-6;
     assert!(
         worst < 1e-6 * scale,
         "{joints:?}: KKT against differences {worst:e} (scale {scale:e})"

@@ -49,31 +49,7 @@ fn sliding_terms_are_the_derivatives_of_the_contact() {
         let noise = ((i * 7919 + 13) % 1009) as f64 / 1009.0 - 0.5;
         *v += if i < np { 0.01 * noise } else { 3.0 * noise };
     }
-    let mut values = sys.new_values();
-    let mut r0 = vec![0.0; sys.n];
-    sys.evaluate(&model, &x, &mut r0, &mut values);
-    let m = sys.matrix(&values);
-    let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
-    let h = 1e-6;
-    let (mut rp, mut rm) = (vec![0.0; sys.n], vec![0.0; sys.n]);
-    let mut worst: f64 = 0.0;
-    let mut scale: f64 = 0.0;
-    for j in 0..sys.n {
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[j] += h;
-        xm[j] -= h;
-        sys.residual(&model, &xp, &mut rp);
-        sys.residual(&model, &xm, &mut rm);
-        let mut column = vec![0.0; sys.n];
-        for p in cp[j]..cp[j + 1] {
-            column[ri[p]] += m.val()[p];
-        }
-        for i in 0..sys.n {
-            let fd = (rp[i] - rm[i]) / (2.0 * h);
-            worst = worst.max((fd - column[i]).abs());
-            scale = scale.max(fd.abs());
-        }
-    }
+    let (worst, scale) = crate::kkt_against_differences(&sys, &model, &x, 0..sys.n);
     assert!(
         worst < 1e-6 * scale,
         "KKT against differences {worst:e} (scale {scale:e})"
