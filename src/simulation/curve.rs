@@ -128,13 +128,20 @@ pub enum CurveError {
         value: f64,
         reason: String,
     },
-    #[error("the critical curve stopped at {key} = {reached} (target {target}): {reason}")]
+    #[error("the critical curve stopped at {key} = {} (target {}): {reason}", short(*.reached), short(*.target))]
     Stopped {
         key: String,
         reached: f64,
         target: f64,
         reason: String,
     },
+}
+
+/// A value reached by continuation for a message, to ten significant digits (so that
+/// 1.8800000000000001 reads 1.88).
+fn short(x: f64) -> String {
+    let rounded = format!("{x:.9e}").parse::<f64>().unwrap_or(x);
+    crate::case::num(rounded)
 }
 
 /// Keys whose value sets the layout of the state (never varied along a curve).
@@ -553,5 +560,18 @@ fn row(
         kind: critical.kind,
         wavenumber: critical.wavenumber,
         multiplicity: critical.multiplicity.max(multiplicity),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short;
+
+    #[test]
+    fn values_reached_by_continuation_read_to_ten_digits() {
+        assert_eq!(short(1.8800000000000001), "1.88");
+        assert_eq!(short(6.025), "6.025");
+        assert_eq!(short(-0.1 - 0.2), "-0.3");
+        assert_eq!(short(2.5e-7), "2.5e-7");
     }
 }
