@@ -173,24 +173,13 @@ fn the_stiffnesses_are_the_derivatives_of_whole_solves() {
 /// the state changes sign, by bisection.
 fn band_edge(sim: &Simulation, p: usize, lo: f64, hi: f64) -> f64 {
     let mut judge = CellJudge::new(sim.model(), sim.system(), 2).expect("a cell");
-    let mut unstable = |k: f64| {
+    let unstable = |k: f64| {
         judge
             .lowest_at(sim.model(), sim.system(), sim.state(), p, k)
             .expect("converges")
             < 0.0
     };
-    let (mut lo, mut hi) = (lo, hi);
-    let at_lo = unstable(lo);
-    assert_ne!(at_lo, unstable(hi), "no edge in ({lo}, {hi})");
-    while hi - lo > 1e-9 {
-        let mid = 0.5 * (lo + hi);
-        if unstable(mid) == at_lo {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    crate::bisect_change(unstable, lo, hi, 1e-9)
 }
 
 /// The compressed tube (n = 8) is an Euler column of bending stiffness EI: the band of

@@ -157,19 +157,8 @@ fn straight_rod(b: f64, c: f64, p: f64, t: f64) -> (DiscreteModel, System, Vec<f
 /// changes sign, by bisection.
 fn band_edge(rod: &mut (DiscreteModel, System, Vec<f64>, CellJudge), lo: f64, hi: f64) -> f64 {
     let (model, system, x, judge) = rod;
-    let mut sign = |k: f64| judge.lowest_at(model, system, x, 0, k).expect("converges") < 0.0;
-    let (mut lo, mut hi) = (lo, hi);
-    let unstable_lo = sign(lo);
-    assert_ne!(unstable_lo, sign(hi), "no edge in ({lo}, {hi})");
-    while hi - lo > 1e-10 {
-        let mid = 0.5 * (lo + hi);
-        if sign(mid) == unstable_lo {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    let sign = |k: f64| judge.lowest_at(model, system, x, 0, k).expect("converges") < 0.0;
+    crate::bisect_change(sign, lo, hi, 1e-10)
 }
 
 /// Helical perturbations e^{iks} of an infinite straight rod under compression P and torque

@@ -203,30 +203,12 @@ fn welded_joints_make_another_tube_than_pins() {
     assert!(w < 2.0 * p && p < 0.0, "fz/(n Pcrit): pin {p}, welded {w}");
 }
 
-/// Composite Simpson over equal steps of the values `f` (an even number of intervals).
-fn simpson(f: &[f64], step: f64) -> f64 {
-    let n = f.len() - 1;
-    assert!(n % 2 == 0);
-    let inner: f64 = (1..n)
-        .map(|k| if k % 2 == 1 { 4.0 * f[k] } else { 2.0 * f[k] })
-        .sum();
-    step / 3.0 * (f[0] + inner + f[n])
-}
-
 #[test]
 fn energy_stored_is_the_work_of_the_supports_along_welded_and_elastic_paths() {
     for joints in [Joints::Welded, springs(0.3)] {
         let case = tube(8, 24, 0.1, 40, joints);
         let (points, _) = path(&case);
-        // Σ_rods ∫ Fz dh: the tips move by equal steps of h
-        let fz: Vec<f64> = points
-            .iter()
-            .map(|p| p.reactions.iter().map(|r| r.tip.force[2]).sum())
-            .collect();
-        let dh = points[1].height - points[0].height;
-        let work = simpson(&fz, dh);
-        let energy = points.last().unwrap().energy - points[0].energy;
-        let rel = (energy - work).abs() / energy;
+        let (energy, work, rel) = crate::energy_and_tip_work(&points);
         assert!(
             rel < 1e-8,
             "{joints:?}: energy {energy} J, work {work} J ({rel:e})"

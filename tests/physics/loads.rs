@@ -216,16 +216,6 @@ fn a_twisted_straight_shaft_carries_b3_phi_over_l_and_buckles_at_greenhills_torq
     );
 }
 
-/// Composite Simpson over equal steps of the values `f` (an even number of intervals).
-fn simpson(f: &[f64], step: f64) -> f64 {
-    let n = f.len() - 1;
-    assert!(n % 2 == 0);
-    let inner: f64 = (1..n)
-        .map(|k| if k % 2 == 1 { 4.0 * f[k] } else { 2.0 * f[k] })
-        .sum();
-    step / 3.0 * (f[0] + inner + f[n])
-}
-
 /// The energy stored against the work of the loads along a path of `steps` equal steps to
 /// `target`: `∫ T dφ`, `∫ M dθ` or `−n L ∫ q d(radius)`, by composite Simpson.
 fn energy_is_work(case: &Case, target: f64, steps: usize) {
@@ -242,11 +232,11 @@ fn energy_is_work(case: &Case, target: f64, steps: usize) {
     let length = case.geometry.length;
     let h = target / steps as f64;
     let work = match case.loading.parameter {
-        spira::model::loading::Component::Twist => simpson(
+        spira::model::loading::Component::Twist => crate::simpson(
             &points.iter().map(|p| p.support.torque).collect::<Vec<_>>(),
             h,
         ),
-        spira::model::loading::Component::Tilt => simpson(
+        spira::model::loading::Component::Tilt => crate::simpson(
             &points
                 .iter()
                 .map(|p| p.support.bending_moment)
@@ -257,7 +247,7 @@ fn energy_is_work(case: &Case, target: f64, steps: usize) {
         // −n L [q radius − ∫ radius dq]
         _ => {
             let last = points.last().unwrap();
-            let integral = simpson(
+            let integral = crate::simpson(
                 &points.iter().map(|p| p.support.radius).collect::<Vec<_>>(),
                 h,
             );

@@ -56,3 +56,43 @@ pub fn kkt_against_differences(
     }
     (worst, scale)
 }
+
+/// Composite Simpson over equal steps of the values `f` (an even number of intervals).
+pub fn simpson(f: &[f64], step: f64) -> f64 {
+    let n = f.len() - 1;
+    assert!(n % 2 == 0);
+    let inner: f64 = (1..n)
+        .map(|k| if k % 2 == 1 { 4.0 * f[k] } else { 2.0 * f[k] })
+        .sum();
+    step / 3.0 * (f[0] + inner + f[n])
+}
+
+/// Along `points` of a path whose tips move by equal steps of their height: the energy
+/// stored (J), the supports' work Σ_rods ∫ Fz dh by composite Simpson (J), and their
+/// relative difference.
+pub fn energy_and_tip_work(points: &[spira::results::LoadPoint]) -> (f64, f64, f64) {
+    let fz: Vec<f64> = points
+        .iter()
+        .map(|p| p.reactions.iter().map(|r| r.tip.force[2]).sum())
+        .collect();
+    let dh = points[1].height - points[0].height;
+    let work = simpson(&fz, dh);
+    let energy = points[points.len() - 1].energy - points[0].energy;
+    (energy, work, (energy - work).abs() / energy)
+}
+
+/// The point in `(lo, hi)` where the predicate `unstable` changes, by bisection to `tol`.
+pub fn bisect_change(mut unstable: impl FnMut(f64) -> bool, lo: f64, hi: f64, tol: f64) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    let at_lo = unstable(lo);
+    assert_ne!(at_lo, unstable(hi), "no change in ({lo}, {hi})");
+    while hi - lo > tol {
+        let mid = 0.5 * (lo + hi);
+        if unstable(mid) == at_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}

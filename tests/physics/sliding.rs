@@ -56,16 +56,6 @@ fn sliding_terms_are_the_derivatives_of_the_contact() {
     );
 }
 
-/// Composite Simpson's rule over equally spaced samples `f` (an even number of intervals).
-fn simpson(f: &[f64], step: f64) -> f64 {
-    let n = f.len() - 1;
-    assert!(n % 2 == 0);
-    let inner: f64 = (1..n)
-        .map(|k| if k % 2 == 1 { 4.0 * f[k] } else { 2.0 * f[k] })
-        .sum();
-    step / 3.0 * (f[0] + inner + f[n])
-}
-
 /// The slip of every joint of the snapshot's rod `rod`, by arc length.
 fn slips(sim: &Simulation, rod: usize) -> Vec<(f64, f64)> {
     let snap = sim.snapshot();
@@ -86,15 +76,7 @@ fn thesis_n2_sliding_stores_the_work_of_its_supports_with_the_slips_its_symmetry
     case.loading.target = 0.2;
     case.loading.steps = 40;
     let (points, _, sim) = path(&case);
-    // Σ_rods ∫ Fz dh: the tips move by equal steps of h
-    let fz: Vec<f64> = points
-        .iter()
-        .map(|p| p.reactions.iter().map(|r| r.tip.force[2]).sum())
-        .collect();
-    let dh = points[1].height - points[0].height;
-    let work = simpson(&fz, dh);
-    let energy = points.last().unwrap().energy - points[0].energy;
-    let rel = (energy - work).abs() / energy;
+    let (energy, work, rel) = crate::energy_and_tip_work(&points);
     assert!(rel < 1e-8, "energy {energy} J, work {work} J ({rel:e})");
     // the mirror that swaps the right and the left rod keeps arc lengths: equal slips on
     // both rods; the half-turn about a horizontal axis at mid-height maps each rod onto
