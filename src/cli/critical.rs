@@ -77,10 +77,16 @@ fn curve(case: &Path, set: &[Setting], spec: CurveSpec, out: &Path) -> Result<()
     let written = write_folder(out, &files, |name| name == CURVE_CSV || name == CURVE_SVG)
         .with_context(|| format!("cannot write into {}", out.display()))?;
     println!(
-        "{} critical points of {stem} against {} in {:.2} s",
+        "{} critical points of {stem} against {} in {:.2} s{}",
         curve.rows.len(),
         spec.key,
-        elapsed.as_secs_f64()
+        elapsed.as_secs_f64(),
+        match curve.relocated {
+            0 => String::new(),
+            k => format!(
+                " (located afresh by the case's path {k} time(s), where the mesh's layout changed)"
+            ),
+        }
     );
     for r in &curve.rows {
         println!(

@@ -3,6 +3,8 @@
 
 use super::signals::stop_on_signal;
 use anyhow::{bail, Result};
+use spira::case::{Case, ImperfectionShape};
+use spira::simulation::normal_form::normal_form;
 use spira::sweep::{
     merge_dirs, run_curves, run_sweep, workers, CaseFinished, CaseStatus, Combine, RunOptions,
     Shard, Sweep, SweepReport, MAX_CASES,
@@ -82,6 +84,9 @@ pub fn sweep(path: &Path, flags: SweepFlags) -> Result<()> {
     }
     if report.table.column("imperfection.amplitude").is_some() {
         println!("{}", koiter_line(&report.table));
+        if let Some(first) = sweep.cases.first() {
+            println!("{}", normal_form_line(&first.case));
+        }
     }
     conclude(&report)
 }
@@ -162,6 +167,34 @@ fn koiter_line(table: &spira::sweep::SweepTable) -> String {
             fit.coefficient, fit.exponent, fit.samples, fit.decades
         ),
         None => "Koiter: fewer than two imperfect paths turned below the perfect critical point: no drop to fit (a stable symmetric point, or the flaw's sign on the stable side of an asymmetric one)".into(),
+    }
+}
+
+/// The smallest mode amplitude (rod lengths) at which the normal form samples the branch.
+const NORMAL_FORM_AMPLITUDE: f64 = 1e-3;
+
+/// The normal form of the perfect point a sweep's flaws follow, in a line: Koiter's `a`
+/// and `b` measured on its branch, its kind and the law of the drop it predicts.
+fn normal_form_line(case: &Case) -> String {
+    let Some(flaw) = case.imperfection.as_ref() else {
+        return "normal form: the sweep's base case has no imperfection".into();
+    };
+    let ImperfectionShape::Mode(index) = flaw.shape else {
+        return "normal form: the flaw is a named shape, not a critical mode".into();
+    };
+    match normal_form(case, index, NORMAL_FORM_AMPLITUDE) {
+        Ok(nf) => format!(
+            "normal form of the perfect point {index} at parameter {:.8}: λ − λc ≈ a ξ + b ξ², a = {:.4e}, b = {:.4e} (ξ the mode's largest displacement in rod lengths): {}, {}",
+            nf.parameter,
+            nf.a,
+            nf.b,
+            nf.kind.name(),
+            match nf.kind.koiter_exponent() {
+                Some(p) => format!("the limit parameter drops as |δ|^{p:.4}"),
+                None => "no drop".into(),
+            }
+        ),
+        Err(e) => format!("normal form: not measured ({e})"),
     }
 }
 

@@ -359,6 +359,12 @@ impl PhaseChain {
 }
 
 impl StabilityJudge for CellJudge {
+    /// The count is of sampled phases k: a band that widens past the next one adds to it
+    /// with no new critical point.
+    fn counts_points(&self) -> bool {
+        false
+    }
+
     /// The block that held the lowest eigenvalue last searches it; every other block counts
     /// its eigenvalues below it by one factorisation and searches its own when it has some.
     fn blocks(

@@ -84,6 +84,9 @@ pub struct CriticalCurve {
     /// The load parameter's name and unit, as the faces label it.
     pub parameter_label: String,
     pub stopped: Option<CurveError>,
+    /// Times the point was located afresh by the case's path where the layout of the
+    /// state changed between rows ([`follow`]).
+    pub relocated: usize,
 }
 
 /// Why a critical curve could not be started, or stopped.
@@ -153,6 +156,7 @@ const LAYOUT_KEYS: [&str; 4] = [
 ];
 
 /// Where the members of a [`CaseFamily`] come from.
+#[derive(Clone)]
 enum Source {
     /// The case text read again at every value of the key, with the settings (the route
     /// of `--set`).
@@ -168,6 +172,7 @@ enum Source {
 }
 
 /// The case rebuilt at every value of one key: a [`Family`] of loaded assemblies.
+#[derive(Clone)]
 pub struct CaseFamily {
     source: Source,
     key: String,
@@ -319,60 +324,116 @@ pub fn design_curve(
     follow(CaseFamily::design(case, key, &spec), &spec, watch)
 }
 
-/// The curve of `family` from its first critical point at `spec.from`.
+/// One stretch of a curve: the extended system continued from a critical point located by
+/// the case's path at one value of the key, over which the layout of the state holds.
+struct Stretch {
+    path: Continuation<CriticalSystem<CaseFamily>>,
+    critical: CriticalPoint,
+    multiplicity: usize,
+}
+
+impl Stretch {
+    /// The first critical point of the case's path at `value`, bordered and ready to be
+    /// continued.
+    fn locate(
+        family: &CaseFamily,
+        value: f64,
+        spec: &CurveSpec,
+        watch: &mut Watch,
+    ) -> Result<(Stretch, Case), CurveError> {
+        let case = family.case(value)?;
+        let critical = first_critical(&case, spec, value, watch)?;
+        let extended_error = |reason: String| CurveError::Extended {
+            key: spec.key.clone(),
+            value,
+            reason,
+        };
+        let start = CriticalStart {
+            x: critical.state.clone(),
+            lambda: critical.parameter,
+            mu: value,
+            modes: start_modes(&critical),
+            bifurcation: critical.kind == CriticalKind::Bifurcation,
+        };
+        let mut check = assembly(&case);
+        check_holds(&mut check, &start).map_err(extended_error)?;
+        let mut system = CriticalSystem::new(family.clone(), &start).map_err(extended_error)?;
+        system.set_stop(Some(watch.interrupt.clone()));
+        let xe = system.extend(&start.x, start.lambda);
+        let settings = curve_settings(&case.solver, spec);
+        let mut path = Continuation::new(system, xe, value, settings)
+            .map_err(|e| extended_error(e.to_string()))?;
+        path.set_interrupt(Some(watch.interrupt.clone()));
+        let multiplicity = path.problem().borders();
+        let stretch = Stretch {
+            path,
+            critical,
+            multiplicity,
+        };
+        Ok((stretch, case))
+    }
+
+    /// The row of the stretch's current point.
+    fn row(&mut self) -> Option<CurveRow> {
+        let (x, lambda) = self.path.problem().split(&self.path.state().x);
+        let mu = self.path.state().lambda;
+        let member = self.path.problem_mut().member_at(mu)?;
+        Some(row(
+            member,
+            &x,
+            lambda,
+            mu,
+            &self.critical,
+            self.multiplicity,
+        ))
+    }
+}
+
+/// The curve of `family` from its first critical point at `spec.from`. Where the layout of
+/// the state changes on the way (a vertex or a crossing enters the mesh as a length or a
+/// number of turns grows), the extended system of one layout cannot be continued into the
+/// next: the point is located afresh by the case's path at the next row's value, and the
+/// curve goes on from there.
 fn follow(
     family: CaseFamily,
     spec: &CurveSpec,
     watch: &mut Watch,
 ) -> Result<CriticalCurve, CurveError> {
-    let case = family.case(spec.from)?;
-    let critical = first_critical(&case, spec, watch)?;
-    let extended_error = |reason: String| CurveError::Extended {
-        key: spec.key.clone(),
-        value: spec.from,
-        reason,
-    };
-    let start = CriticalStart {
-        x: critical.state.clone(),
-        lambda: critical.parameter,
-        mu: spec.from,
-        modes: start_modes(&critical),
-        bifurcation: critical.kind == CriticalKind::Bifurcation,
-    };
-    let mut check = assembly(&case);
-    check_holds(&mut check, &start).map_err(extended_error)?;
-    let mut system = CriticalSystem::new(family, &start).map_err(extended_error)?;
-    system.set_stop(Some(watch.interrupt.clone()));
-    let xe = system.extend(&start.x, start.lambda);
-    let settings = curve_settings(&case.solver, spec);
-    let mut path = Continuation::new(system, xe, spec.from, settings)
-        .map_err(|e| extended_error(e.to_string()))?;
-    path.set_interrupt(Some(watch.interrupt.clone()));
-    let multiplicity = path.problem().borders();
-    let describe = |path: &mut Continuation<CriticalSystem<CaseFamily>>| {
-        let (x, lambda) = path.problem().split(&path.state().x);
-        let mu = path.state().lambda;
-        let member = path.problem_mut().member_at(mu)?;
-        Some(row(member, &x, lambda, mu, &critical, multiplicity))
-    };
+    let (mut stretch, case) = Stretch::locate(&family, spec.from, spec, watch)?;
     let mut rows = Vec::new();
     let mut stopped = None;
+    let mut relocated = 0;
     let values = spec.values();
     for (k, &value) in values.iter().enumerate() {
-        if let Err(e) = path.advance_to(value) {
-            let reason = path
-                .problem()
-                .refusal()
-                .map_or_else(|| e.reason.to_string(), str::to_string);
-            stopped = Some(CurveError::Stopped {
-                key: spec.key.clone(),
-                reached: e.reached,
-                target: spec.to,
-                reason,
-            });
-            break;
+        if let Err(e) = stretch.path.advance_to(value) {
+            let problem = stretch.path.problem();
+            if problem.layout_changed() {
+                // the system raised the stop at the refusal: lowered, the next stretch goes on
+                watch.interrupt.clear();
+                match Stretch::locate(&family, value, spec, watch) {
+                    Ok((next, _)) => {
+                        stretch = next;
+                        relocated += 1;
+                    }
+                    Err(why) => {
+                        stopped = Some(why);
+                        break;
+                    }
+                }
+            } else {
+                let reason = problem
+                    .refusal()
+                    .map_or_else(|| e.reason.to_string(), str::to_string);
+                stopped = Some(CurveError::Stopped {
+                    key: spec.key.clone(),
+                    reached: e.reached,
+                    target: spec.to,
+                    reason,
+                });
+                break;
+            }
         }
-        if let Some(row) = describe(&mut path) {
+        if let Some(row) = stretch.row() {
             rows.push(row);
             (watch.progress)(CurveProgress::Row {
                 row,
@@ -385,6 +446,7 @@ fn follow(
         rows,
         parameter_label: case.load_parameter().label().to_string(),
         stopped,
+        relocated,
     })
 }
 
@@ -441,11 +503,12 @@ fn key_error(spec: &CurveSpec, e: CaseError) -> CurveError {
 fn first_critical(
     case: &Case,
     spec: &CurveSpec,
+    value: f64,
     watch: &mut Watch,
 ) -> Result<CriticalPoint, CurveError> {
     let start_error = |cause| CurveError::Start {
         key: spec.key.clone(),
-        value: spec.from,
+        value,
         cause,
     };
     let mut sim = Simulation::from_case_on(case, 1).map_err(start_error)?;
@@ -462,7 +525,7 @@ fn first_critical(
             if let Some(p) = c.wavenumber.filter(|&p| p != 0) {
                 return Err(CurveError::BlochBlock {
                     key: spec.key.clone(),
-                    value: spec.from,
+                    value,
                     wavenumber: p,
                 });
             }
@@ -475,7 +538,7 @@ fn first_critical(
     }
     Err(CurveError::NoCriticalPoint {
         key: spec.key.clone(),
-        value: spec.from,
+        value,
         target: case.loading.target,
         reason,
     })

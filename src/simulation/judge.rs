@@ -81,6 +81,12 @@ pub trait StabilityJudge: Send {
         false
     }
 
+    /// Whether every change of the count is a critical point of its own (see
+    /// [`crate::solver::problem::Problem::counts_points`]).
+    fn counts_points(&self) -> bool {
+        true
+    }
+
     /// How many wavenumbers block `p` stands for.
     fn multiplicity(&self, _p: usize) -> usize {
         1

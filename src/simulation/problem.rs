@@ -239,6 +239,10 @@ impl Problem for LoadedAssembly {
         self.judge.focus(None);
     }
 
+    fn counts_points(&self) -> bool {
+        self.judge.counts_points()
+    }
+
     /// The system keeps the tip load of the converged point (reactions are read from it).
     fn restore(&mut self, _x: &[f64], lambda: f64) {
         self.system.set_parameter(lambda);

@@ -3,13 +3,17 @@
 //! eigenvalue nearest zero —, and classified as folds or bifurcations (they are left along
 //! their mode by branch switching, [`super::switching`]).
 
-use super::continuation::{Continuation, Critical};
+use super::continuation::{Continuation, Critical, MAX_CRITICAL_POINTS};
 use super::newton::{NewtonSettings, StepEquation};
 use super::problem::Problem;
 use crate::results::{CriticalKind, Stability};
 
 /// The first span of the secant that refines a located point, as a fraction of the step.
 const SECANT_SPAN: f64 = 0.02;
+
+/// Critical points of one step closer than this fraction of the step are one point of the
+/// count's whole jump (a double point).
+const MERGE_SPAN: f64 = 1e-3;
 
 /// The segment of an accepted step from `(x0, λ0)` to `(x1, λ1)` on which the critical point
 /// lies, and the step equation that puts a probe at a fraction `f` of it.
@@ -127,6 +131,26 @@ impl<P: Problem> Continuation<P> {
         };
         let block = self.problem.focus_on_crossing(x0, &saved.x);
         let bracket = self.bracket_by_count(&segment, &probe_settings, before.unstable_directions);
+        // two points crossed by one step: the count just above the first is not the
+        // count at the step's end, and the rest of the step holds the others — unless the
+        // end's count is reached within a thousandth of the step (a double point that the
+        // discretisation splits by a hair, or counts unsettled beside it): one point
+        let rest = bracket
+            .above
+            .clone()
+            .filter(|_| self.problem.counts_points())
+            .filter(|&(_, _, count, _)| count != after.unstable_directions)
+            .filter(|&(_, _, _, f)| {
+                let beyond = (f + MERGE_SPAN).min(1.0);
+                beyond < 1.0
+                    && self
+                        .probe(&segment, beyond, &probe_settings)
+                        .and_then(|p| self.problem.unstable_directions(&p.x, p.lambda).ok())
+                        .is_some_and(|c| c != after.unstable_directions)
+            });
+        let count_after = rest
+            .as_ref()
+            .map_or(after.unstable_directions, |&(_, _, count, _)| count);
         let mut best = bracket.best;
         if let Some(below) = bracket.below {
             if let Some(refined) = self.refine_by_secant(&segment, &probe_settings, below) {
@@ -166,7 +190,7 @@ impl<P: Problem> Continuation<P> {
                 block,
                 parameter: lc,
                 unstable_before: before.unstable_directions,
-                unstable_after: after.unstable_directions,
+                unstable_after: count_after,
                 state: xc,
                 mode,
             });
@@ -177,6 +201,15 @@ impl<P: Problem> Continuation<P> {
         self.problem.restore(&self.state.x, self.state.lambda);
         self.newton.discard_factorisation();
         self.newton.set_exact(false);
+        if let Some((x_above, l_above, count, _)) = rest {
+            if self.critical.len() < MAX_CRITICAL_POINTS {
+                let between = Stability {
+                    unstable_directions: count,
+                    ..before
+                };
+                self.locate_critical(&x_above, l_above, arclength, between, after);
+            }
+        }
     }
 
     /// Bisection of the segment on the unstable count: the fraction below the change (with
@@ -191,6 +224,7 @@ impl<P: Problem> Continuation<P> {
         let mut bracket = Bracket {
             best: (self.state.x.clone(), self.state.lambda),
             below: None,
+            above: None,
         };
         let mut offset = 0.5;
         while hi - lo > self.settings.critical_tolerance.max(1e-14) {
@@ -209,8 +243,9 @@ impl<P: Problem> Continuation<P> {
                     lo = mid;
                     bracket.below = Some((p.x, p.lambda, mid));
                 }
-                Ok(_) => {
+                Ok(c) => {
                     hi = mid;
+                    bracket.above = Some((p.x.clone(), p.lambda, c, mid));
                     bracket.best = (p.x, p.lambda);
                 }
                 Err(_) => {
@@ -347,4 +382,7 @@ impl<P: Problem> Continuation<P> {
 struct Bracket {
     best: (Vec<f64>, f64),
     below: Option<(Vec<f64>, f64, f64)>,
+    /// The last state above the change, with its count and its fraction of the step, when
+    /// a probe found one.
+    above: Option<(Vec<f64>, f64, usize, f64)>,
 }

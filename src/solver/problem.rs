@@ -116,6 +116,14 @@ pub trait Problem {
     /// After the location: every block counts again.
     fn clear_focus(&mut self) {}
 
+    /// Whether every change of the count of unstable directions is a critical point of its
+    /// own, so that two changes crossed by one step are located apart. A count that samples
+    /// a continuum (an infinite tube's Bloch phases, where a band that widens past the next
+    /// sampled phase adds to it) says no: the first change is the point. Yes by default.
+    fn counts_points(&self) -> bool {
+        true
+    }
+
     /// Whether the state `x` is in the problem's physical domain (for the rods: the tips
     /// above the base). The continuation stops before a step that leaves it. Every state
     /// by default.

@@ -653,6 +653,20 @@ fn a_sweep_over_the_flaw_amplitude_reports_koiters_fit_or_that_no_path_turned() 
         printed.contains("Koiter: fewer than two imperfect paths turned"),
         "{printed}"
     );
+    // the normal form measured on the perfect column's branch: the elastica's b = π²/8
+    let line = printed
+        .lines()
+        .find(|l| l.starts_with("normal form of the perfect point 0"))
+        .unwrap_or_else(|| panic!("{printed}"));
+    assert!(line.contains("stable-symmetric, no drop"), "{line}");
+    let b: f64 = line
+        .split("b = ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    let eighth = std::f64::consts::PI.powi(2) / 8.0;
+    assert!((b / eighth - 1.0).abs() < 1e-3, "{line}");
     let table = read_table(&out.join("sweep.csv"));
     assert_eq!(table.rows.len(), 4);
     for row in 0..4 {

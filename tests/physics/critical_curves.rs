@@ -197,3 +197,82 @@ fn a_sweep_axis_continued_as_a_curve_agrees_with_separate_runs() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The thesis geometry as a tube of 4 helices (16 elements per rod, the whole assembly) whose
+/// tip slides sideways, with `more` settings.
+fn sliding_tip_tube(more: &[String]) -> Vec<String> {
+    let mut settings = vec![
+        "geometry.helices=4".to_string(),
+        "discretisation.elements=16".to_string(),
+        "boundary.tip={translation=\"slide\",rotation=\"clamped\"}".to_string(),
+        "discretisation.symmetric=false".to_string(),
+    ];
+    settings.extend_from_slice(more);
+    settings
+}
+
+/// The sliding-tip tube against its turns, 3.5 to 3.65: every row is the first critical
+/// point of a path solved on its own at that many turns, to 1e-8 in ε. Past 3.5 a crossing
+/// enters the rods, and the curve is located afresh there.
+#[test]
+fn the_sliding_tip_tubes_curve_against_its_turns_agrees_with_separate_runs() {
+    let settings = sliding_tip_tube(&[]);
+    let settings: Vec<&str> = settings.iter().map(String::as_str).collect();
+    let curve = curve("thesis-n8.toml", &settings, "geometry.turns", 3.5, 3.65, 5);
+    assert_eq!(curve.rows.len(), 5);
+    assert!(curve.relocated >= 1, "the layout changes past 3.5 turns");
+    for r in &curve.rows {
+        let eps = first_critical(
+            "thesis-n8.toml",
+            &sliding_tip_tube(&[format!("geometry.turns={}", r.value)]),
+        );
+        assert!(
+            (r.parameter - eps).abs() < 1e-8,
+            "turns {}: curve ε = {}, run ε = {eps}",
+            r.value,
+            r.parameter
+        );
+        assert_eq!(r.multiplicity, 1, "two simple points, not a double one");
+    }
+    // fewer turns, a longer tube: the critical compression falls
+    assert!(curve
+        .rows
+        .windows(2)
+        .all(|w| w[1].parameter < w[0].parameter));
+}
+
+/// Two simple critical points crossed by one output step of the n = 4 sliding-tip tube
+/// (ε = 0.1 to 0.15) are located apart, 0 → 1 and 1 → 2, where a path of steps a tenth as
+/// long finds them one by one, to 1e-8.
+#[test]
+fn two_points_in_one_step_are_located_apart() {
+    let points = |steps: &str| {
+        let path = format!("{}/cases/thesis-n8.toml", env!("CARGO_MANIFEST_DIR"));
+        let settings: Vec<Setting> = sliding_tip_tube(&[
+            format!("loading.steps={steps}"),
+            "loading.target=0.15".to_string(),
+        ])
+        .iter()
+        .map(|s| s.parse().expect("a setting"))
+        .collect();
+        let case = Case::from_file_with(std::path::Path::new(&path), &settings)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let mut sim = Simulation::from_case_on(&case, 1).unwrap_or_else(|e| panic!("{e}"));
+        for target in case.output_parameters(case.loading.target, case.loading.steps) {
+            sim.advance_to(target).unwrap_or_else(|e| panic!("{e}"));
+        }
+        sim.critical_points()
+            .iter()
+            .map(|c| (c.parameter, c.unstable_before, c.unstable_after))
+            .collect::<Vec<_>>()
+    };
+    let (coarse, fine) = (points("3"), points("30"));
+    assert_eq!(coarse.len(), 2, "{coarse:?}");
+    assert_eq!(fine.len(), 2, "{fine:?}");
+    for (c, f) in coarse.iter().zip(&fine) {
+        assert!((c.0 - f.0).abs() < 1e-8, "{coarse:?} {fine:?}");
+        assert_eq!((c.1, c.2), (f.1, f.2));
+    }
+    assert_eq!((coarse[0].1, coarse[0].2, coarse[1].2), (0, 1, 2));
+    assert!(coarse[1].0 - coarse[0].0 > 1e-3, "{coarse:?}");
+}

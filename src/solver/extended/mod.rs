@@ -87,6 +87,9 @@ pub struct CriticalSystem<F: Family> {
     bordered: Bordered,
     /// The first member the family refused, said once a step fails for it.
     refusal: Option<String>,
+    /// The refusal was a member of another layout (unknowns or matrix entries) than the
+    /// start's: the family goes on there, as another system.
+    layout_changed: bool,
     /// Raised at a refusal: the family has no member there, and none beyond (a value the
     /// case refuses, a layout that changes), so the curve stops instead of cutting its
     /// step down to nothing.
@@ -156,6 +159,7 @@ impl<F: Family> CriticalSystem<F> {
             sources,
             bordered,
             refusal: None,
+            layout_changed: false,
             stop: None,
             g_scale,
             h_scale: if h_scale > 0.0 { h_scale } else { 1.0 },
@@ -197,6 +201,7 @@ impl<F: Family> CriticalSystem<F> {
             };
             let map = pattern_map(member.pattern(), &self.bordered.member_pattern);
             if member.unknowns() != self.n || map.is_none() {
+                self.layout_changed |= self.refusal.is_none();
                 self.refused(format!(
                     "at {mu} the problem has {} unknowns (at the start {}) or entries of its matrix the start's has not: the layout of the state must not change along the curve",
                     member.unknowns(),
@@ -232,6 +237,13 @@ impl<F: Family> CriticalSystem<F> {
     /// Why the family had no member where a step needed one, if it happened.
     pub fn refusal(&self) -> Option<&str> {
         self.refusal.as_deref()
+    }
+
+    /// Whether the first refusal was of a member whose layout differs from the start's (a
+    /// mesh that gains a vertex, a crossing that enters the rods): the family has members
+    /// beyond, but not of this system.
+    pub fn layout_changed(&self) -> bool {
+        self.layout_changed
     }
 
     /// The number of borders (1, or 2 at a double point).
