@@ -216,7 +216,7 @@ fn step_beam(sim: &Simulation, p: &LoadPoint) -> Option<StepBeam> {
     Some(StepBeam {
         step: p.step,
         stiffness,
-        bending: beam::bending_of(model, system, x, &stiffness),
+        bending: beam::bending_of(model, system, x),
     })
 }
 

@@ -10,13 +10,15 @@
 //! stiffness comes from the cell's Bloch block of the translation across the axis
 //! ([`bending_stiffness`]).
 
-use super::cell::CellJudge;
+use crate::discretisation::cell_blocks::CellBlocks;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::pressure;
 use crate::discretisation::support::Moving;
 use crate::discretisation::system::System;
 use crate::model::loading::{AxialHeld, Component, Control, Held, Loads};
 use crate::solver::linear::{least_squares_multipliers, LinearError, SparseLu};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{c64, linalg::solvers::Solve, Mat};
 
 /// The tube's effective beam stiffnesses per unit length at a state of its cell. Strains
 /// are increments on the current tube: `δh/h` axially, the twist per current length
@@ -196,81 +198,188 @@ pub fn beam_stiffness(
     })
 }
 
-/// The tube's bending stiffness `EI` (N m²) at the cell's state `x` under `system` (its
-/// axial force `force`, N, tension positive), from the lowest eigenvalue of the Bloch
-/// block of the translation across the axis (`p = 1`) at phases `k = ψ + j δk` beside the
-/// translation's `ψ`: a bending wave `u e^{iqz}`, `q = (k − ψ)/h`, has the energy
-/// `(EI q⁴ + F q²)|u|² h/m` per cell and the metric `Λ q²|u|²/4` (`Λ` the length of the
-/// cell's rods: its sections turn rigidly by `q u`), so `μ(q) = 4h (EI q² + F)/(m Λ) + O(q⁴)`.
-/// `μ = a + b q² + c q⁴` through `j = 1, 2, 3` gives `EI = b m Λ/(4h)`; `a` is returned
-/// too, to be checked against `4hF/(mΛ)`.
+/// The energy `E(q)` (J) per cell of the tube's bending wave of axial wavenumber `q` (1/m)
+/// at the cell's state `x` under `system`: the minimum of the quadratic form `uᴴHu` of the
+/// Bloch block `H(p, k)` of the translation across the axis (`p = 1`, `k = ψ + q h`, `ψ`
+/// the translation's phase, `h` the cell's rise) under the block's constraints and the
+/// amplitude `A(u) = 1`, `A` the mean over the cell's vertices (weighted by arc length) of
+/// the transverse displacement `(u_x − i u_y)/2` times `e^{−iqz}` (`z` the vertex's height):
+/// the axis displaced by the wave `Re[(1, i) e^{iqz}]` (one KKT solve, the amplitude's
+/// multiplier bordering the block). A bent beam's energy per length `(EI q⁴ + F q²)/2` for
+/// this unit wave gives `E(q) = (2h/m)(EI q⁴ + F q²) + O(q⁶)` (`EI` and `F` the whole
+/// tube's, tension positive; the real wave's energy per cell is `E/4`). `None` for a model
+/// that is not a cell or a singular block.
+pub fn bending_energy(
+    model: &DiscreteModel,
+    system: &System,
+    x: &[f64],
+    wavenumber: f64,
+) -> Option<f64> {
+    let blocks = CellBlocks::new(model, system)?;
+    let cell = blocks.cell();
+    let h = cell_rise(model, system);
+    let (p, k) = (
+        cell.translation_wavenumber(),
+        cell.translation_phase() + wavenumber * h,
+    );
+    let n = system.n;
+    let (mut residual, mut kkt) = (vec![0.0; n], system.new_values());
+    system.evaluate(model, x, &mut residual, &mut kkt);
+    let mut values = vec![c64::new(0.0, 0.0); kkt.len()];
+    blocks.hermitian_block(p, k, &kkt, &mut values);
+    let pattern = system.pattern();
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut triplets = Vec::with_capacity(values.len() + 6 * n / 5 + n);
+    let mut held = vec![false; n];
+    for col in 0..n {
+        for e in cp[col]..cp[col + 1] {
+            if values[e] != c64::new(0.0, 0.0) {
+                triplets.push(Triplet::new(ri[e], col, values[e]));
+                held[ri[e]] = true;
+            }
+        }
+    }
+    // the gauge rows dropped from the block: their multipliers are zero
+    for (i, _) in held
+        .iter()
+        .enumerate()
+        .filter(|(i, h)| !**h && *i >= model.n_primal)
+    {
+        triplets.push(Triplet::new(i, i, c64::new(1.0, 0.0)));
+    }
+    // the amplitude row A(u) = Σ conj(a_i) u_i and its transpose
+    let amplitude = axis_amplitude(model, x, wavenumber);
+    for &(i, a) in &amplitude {
+        triplets.push(Triplet::new(i, n, a));
+        triplets.push(Triplet::new(n, i, a.conj()));
+    }
+    let matrix = SparseColMat::<usize, c64>::try_new_from_triplets(n + 1, n + 1, &triplets).ok()?;
+    let lu = matrix.sp_lu().ok()?;
+    let mut rhs = Mat::<c64>::zeros(n + 1, 1);
+    rhs[(n, 0)] = c64::new(1.0, 0.0);
+    let u = lu.solve(&rhs);
+    // uᴴHu on the primal unknowns (the constraints hold, Cu = 0)
+    let mut energy = c64::new(0.0, 0.0);
+    for col in 0..model.n_primal {
+        for e in cp[col]..cp[col + 1] {
+            let row = ri[e];
+            if row < model.n_primal {
+                energy += u[(row, 0)].conj() * values[e] * u[(col, 0)];
+            }
+        }
+    }
+    energy.re.is_finite().then_some(energy.re)
+}
+
+/// The rise `h` (m) of the cell at the state of `system`.
+fn cell_rise(model: &DiscreteModel, system: &System) -> f64 {
+    model.height0() * (1.0 - load_values(system).0)
+}
+
+/// The coefficients `a_i` of the axis amplitude `A(u) = Σ conj(a_i) u_i` of a wave of
+/// wavenumber `q` (1/m): the arc-length-weighted mean over the cell's vertices (each rod's
+/// far vertex is another cell's near one) of `e^{−iqz}(u_x − i u_y)/2`.
+fn axis_amplitude(model: &DiscreteModel, x: &[f64], wavenumber: f64) -> Vec<(usize, c64)> {
+    let total = model.length() * model.rods.len() as f64;
+    let mut out = Vec::new();
+    for rod in &model.rods {
+        let s = &rod.mesh.vertices;
+        let count = s.len() - 1;
+        for v in 0..count {
+            let before = if v == 0 {
+                s[count] - s[count - 1]
+            } else {
+                s[v] - s[v - 1]
+            };
+            let weight = 0.5 * (before + s[v + 1] - s[v]) / total;
+            let (sin, cos) = (wavenumber * x[rod.r_dof(v, 2)]).sin_cos();
+            let phase = c64::new(cos, sin) * (0.5 * weight);
+            out.push((rod.r_dof(v, 0), phase));
+            out.push((rod.r_dof(v, 1), phase * c64::new(0.0, 1.0)));
+        }
+    }
+    out
+}
+
+/// The tube's bending stiffness `EI` (N m²) and axial force `F` (N, tension positive) at
+/// the cell's state `x` under `system`, from the bending wave's energy [`bending_energy`]:
+/// the even part of `g(q) = m E(q)/(2h q²) = F + EI q² + O(q⁴)` (a torque adds odd powers
+/// of `q`, Greenhill's `−T q`) at the wavenumbers `q_j = ±j δ/h`, `j = 1 …` [`FIT_POINTS`]
+/// (`δ` = `step`, rad per cell), interpolated by a polynomial in `q²` read at 0: `F` its
+/// value, `EI` its slope (error `O(δ^{2·FIT_POINTS})`).
 pub fn bending_stiffness(
     model: &DiscreteModel,
     system: &System,
     x: &[f64],
     step: f64,
 ) -> Option<(f64, f64)> {
-    let cell = model.assembly.cell.clone()?;
-    let mut judge = CellJudge::new(model, system, 2)?;
-    let p = cell.translation_wavenumber();
-    let psi = cell.translation_phase();
-    let h = model.height0() * (1.0 - load_values(system).0);
-    let mut mu = [0.0; 3];
-    for (j, v) in mu.iter_mut().enumerate() {
-        *v = judge.lowest_at(model, system, x, p, psi + (j + 1) as f64 * step)?;
-    }
-    // μ_j = a + b X_j + c X_j², X_j = (j δq)²: divided differences
-    let dq = step / h;
-    let xs = [1.0, 4.0, 9.0].map(|j| j * dq * dq);
-    let d01 = (mu[1] - mu[0]) / (xs[1] - xs[0]);
-    let d12 = (mu[2] - mu[1]) / (xs[2] - xs[1]);
-    let c = (d12 - d01) / (xs[2] - xs[0]);
-    let b = d01 - c * (xs[0] + xs[1]);
-    let a = mu[0] - b * xs[0] - c * xs[0] * xs[0];
-    let total = model.length() * model.rods.len() as f64;
+    let cell = model.assembly.cell.as_ref()?;
     let m = cell.m as f64;
-    let ei = b * m * total / (4.0 * h);
-    (ei.is_finite() && a.is_finite()).then_some((ei, a))
+    let h = cell_rise(model, system);
+    let mut xs = [0.0; FIT_POINTS];
+    let mut d = [0.0; FIT_POINTS];
+    for j in 0..FIT_POINTS {
+        let q = (j + 1) as f64 * step / h;
+        let even = bending_energy(model, system, x, q)? + bending_energy(model, system, x, -q)?;
+        xs[j] = q * q;
+        d[j] = m * even / (4.0 * h * q * q);
+    }
+    // Newton's divided differences of g in X = q²
+    for level in 1..FIT_POINTS {
+        for j in (level..FIT_POINTS).rev() {
+            d[j] = (d[j] - d[j - 1]) / (xs[j] - xs[j - level]);
+        }
+    }
+    // the Newton form's value and slope at X = 0 by Horner's rule
+    let (mut value, mut slope) = (0.0, 0.0);
+    for j in (0..FIT_POINTS).rev() {
+        slope = slope * (0.0 - xs[j]) + value;
+        value = value * (0.0 - xs[j]) + d[j];
+    }
+    (slope.is_finite() && value.is_finite()).then_some((slope, value))
 }
 
-/// The phase step (rad per cell) of the fit of the bending branch: small enough that the
-/// `q⁶` terms are below the fit's rounding, large enough that `EI q²` stands out of the
-/// eigenvalue's (measured on cell-n8: EI within 0.3 % for steps 0.01 … 0.1).
-pub const BENDING_STEP: f64 = 0.05;
+/// The wavenumbers of the fit of [`bending_stiffness`]: `q h = ±δ … ±5δ`.
+pub const FIT_POINTS: usize = 5;
+
+/// The phase step `δ` (rad per cell) of the fit of the bending wave's energy
+/// ([`bending_stiffness`]): its truncation error at `q h ≤ 5δ = 0.1` is below `1e-9`
+/// relative, its rounding below `1e-9` (cell-n8).
+pub const BENDING_STEP: f64 = 0.02;
 
 /// The beam of a cell's state at one output step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepBeam {
     pub step: usize,
     pub stiffness: BeamStiffness,
-    /// `EI` (N m²), when the bending branch is the lowest of its block near the
-    /// translation ([`bending_of`]).
+    /// `EI` (N m²) from the bending wave's energy, where its fits agree ([`bending_of`]).
     pub bending: Option<f64>,
 }
 
-/// `EI` (N m²) of the cell's state from [`bending_stiffness`] at [`BENDING_STEP`]: under an
-/// axial force `F` the mode's metric is calibrated by the branch's limit `a` (then
-/// `EI = F b/a`, `b` the `q²` coefficient), which must be `4hF/(mΛ)` within 10 % (else
-/// another mode is the lowest there and `None`); at `F = 0` the sections' rigid turn gives
-/// the metric (`EI = b mΛ/(4h)`).
-pub fn bending_of(
-    model: &DiscreteModel,
-    system: &System,
-    x: &[f64],
-    stiffness: &BeamStiffness,
-) -> Option<f64> {
-    let (ei, limit) = bending_stiffness(model, system, x, BENDING_STEP)?;
-    let cell = model.assembly.cell.as_ref()?;
-    let h = model.height0() * (1.0 - stiffness.eps);
-    let total = model.length() * model.rods.len() as f64;
-    let expected = 4.0 * h * stiffness.force / (cell.m as f64 * total);
-    // a force below the fit's resolution of the limit: the rigid sections' metric
-    if expected.abs() < 1e-6 * stiffness.axial.abs() * h / total {
-        return Some(ei);
+/// `EI` (N m²) of the cell's state from [`bending_stiffness`]: the fit at `δ/2` once the
+/// fits at `δ` and `δ/2` agree to [`BENDING_TOLERANCE`], `δ` halved from [`BENDING_STEP`] (the
+/// fit holds only inside the radius of convergence of `g(q)`, which another mode of the
+/// block near zero energy bounds), at most [`BENDING_HALVINGS`] times; `None` if they never
+/// agree.
+pub fn bending_of(model: &DiscreteModel, system: &System, x: &[f64]) -> Option<f64> {
+    let mut step = BENDING_STEP;
+    let mut coarse = bending_stiffness(model, system, x, step)?.0;
+    for _ in 0..BENDING_HALVINGS {
+        step *= 0.5;
+        let fine = bending_stiffness(model, system, x, step)?.0;
+        if (fine - coarse).abs() <= BENDING_TOLERANCE * fine.abs() {
+            return Some(fine);
+        }
+        coarse = fine;
     }
-    let ratio = limit / expected;
-    ((0.9..1.1).contains(&ratio)).then_some(ei / ratio)
+    None
 }
+
+/// The relative agreement of the fits of `EI` at `δ` and `δ/2` that [`bending_of`] accepts.
+pub const BENDING_TOLERANCE: f64 = 1e-6;
+
+/// The halvings of the phase step that [`bending_of`] tries.
+pub const BENDING_HALVINGS: usize = 4;
 
 /// The length (in turns of the helices) at which a column of the tube with effective
 /// length factor `factor` (Euler's: 1 pinned–pinned and clamped–sliding, 0.5 clamped–clamped,

@@ -115,7 +115,12 @@ fn the_pressed_cell_carries_the_pantographs_force() {
 /// twisted by the torque `t` and compressed by `p` (N): the state by hand (positions on
 /// the axis, frames turned about it at the rate t/c, every element's force −p e_z, the
 /// unit-norm multipliers balancing the rest) and the judge of its Bloch blocks.
-fn straight_rod(b: f64, c: f64, p: f64, t: f64) -> (DiscreteModel, System, Vec<f64>, CellJudge) {
+pub(crate) fn straight_rod(
+    b: f64,
+    c: f64,
+    p: f64,
+    t: f64,
+) -> (DiscreteModel, System, Vec<f64>, CellJudge) {
     let rate = t / c;
     let assembly = Assembly::straight_cell(1.0, rate).expect("a straight cell");
     let stiffness = Stiffness {
