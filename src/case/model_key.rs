@@ -42,7 +42,7 @@ pub(super) fn model_choice(
 /// cell `φ` (the extra turn of its screw, rad), a radial pressure or its tilt per bending
 /// cell (rad: the tube bent, docs/theory.md §8), one stepped and the others held, `ε` held
 /// as a strain; no dead axial load or branch switch, and a tilt only on a tube of `m ≥ 2`
-/// helices of each hand (`helices = 2m`). `Some` says why the case's loading is not that.
+/// helices of each hand (`helices = 2m`), untwisted. `Some` says why the case's loading is not that.
 pub(super) fn cell_loading_message(loading: &Loading, helices: usize) -> Option<&'static str> {
     let held_ratio = matches!(loading.hold.axial, AxialHeld::Ratio(_));
     let tilted = loading.parameter == Component::Tilt || loading.hold.tilt != 0.0;
@@ -58,6 +58,9 @@ pub(super) fn cell_loading_message(loading: &Loading, helices: usize) -> Option<
         _ if tilted && helices < 4 => Some(
             "a bent cell needs n = 2m helices with m >= 2 (its section's centre is the mean of its m crossings)",
         ),
+        _ if tilted && (loading.parameter == Component::Twist || loading.hold.twist != 0.0) => {
+            Some("a bent cell is not twisted: give the tilt with the twist at 0")
+        }
         _ if loading.branch != Branch::Fundamental => {
             Some("the cell follows its fundamental path (branch = \"fundamental\")")
         }

@@ -64,6 +64,8 @@ pub enum BeamError {
     Linear(#[from] LinearError),
     #[error("the bending cell needs a tube of n = 2m helices with m ≥ 2")]
     NotABendingTube,
+    #[error("the bending stiffness by curvature is computed on an untwisted tube (twist 0)")]
+    Twisted,
     #[error("the beam stiffnesses are those of the straight tube's cell, not of a bending cell")]
     Bending,
     #[error("the cell's reduced energy is flat along its {what}: no stiffness to invert")]
@@ -254,7 +256,8 @@ pub fn bending_stiffness(
 /// the bending moment `M = ∂Π/∂θ` and `EI = dM/dκ = H ∂²Π/∂θ²` at `θ = 0`, exact from the
 /// constrained tangent (one factorisation, one solve):
 /// `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)`. The tube's axis, the mean of the near
-/// crossings, keeps its length `H` (the axial strain held).
+/// crossings, keeps its length `H` (the axial strain held). An untwisted state only
+/// ([`BeamError::Twisted`] otherwise: the carrying of a twisted state is not checked).
 pub fn bending_by_curvature(
     model: &DiscreteModel,
     system: &System,
@@ -266,6 +269,9 @@ pub fn bending_by_curvature(
     }
     let m = cell.m;
     let (eps, phi, q) = load_values(system);
+    if phi != 0.0 {
+        return Err(BeamError::Twisted);
+    }
     let helix = model.assembly.rods[0];
     let assembly = Assembly::bending_cell(2 * m, helix.radius, helix.pitch)
         .map_err(|_| BeamError::NotABendingTube)?;

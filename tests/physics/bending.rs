@@ -222,19 +222,24 @@ fn the_bending_stiffness_by_curvature() {
             .advance_to(eps)
             .expect("the cell follows its strain");
         let (model, system, x) = (straight.model(), straight.system(), straight.state());
+        let clock = std::time::Instant::now();
         let curvature = bending_by_curvature(model, system, x).expect("EI by curvature");
+        let took = clock.elapsed();
         let stiffness = beam_stiffness(model, system, x).expect("the stiffnesses");
         let branch = bending_of(model, system, x, &stiffness).expect("the Bloch branch's EI");
         let delta = 1e-3;
         let moment = |theta: f64| {
             let mut bent = bending_cell(n, eps);
-            path(&mut bent, &[theta]).remove(0).support.bending_moment
+            let clock = std::time::Instant::now();
+            let m = path(&mut bent, &[theta]).remove(0).support.bending_moment;
+            println!("  one bent solve to theta = {theta}: {:?}", clock.elapsed());
+            m
         };
         let rise = 2.0 * model.height0() * (1.0 - eps);
         let solves = (moment(delta) - moment(-delta)) / (2.0 * delta / rise);
         let ei = curvature.stiffness;
         println!(
-            "eps {eps}: EI by curvature {ei:.9} N m², by bent solves {solves:.9}, Bloch branch {branch:.9} (ratio {:.5}), F {:.4} N, -F H²/2 {:.5}, M(0) {:.1e}, residual {:.1e}",
+            "eps {eps}: EI by curvature {ei:.9} N m², by bent solves {solves:.9}, Bloch branch {branch:.9} (ratio {:.5}), F {:.4} N, -F H²/2 {:.5}, M(0) {:.1e}, residual {:.1e}, EI by curvature in {took:?}",
             branch / ei,
             stiffness.force,
             -stiffness.force * rise * rise / 2.0,
