@@ -217,6 +217,9 @@ fn step_beam(sim: &Simulation, p: &LoadPoint) -> Option<StepBeam> {
         step: p.step,
         stiffness,
         bending: beam::bending_of(model, system, x),
+        bending_curvature: beam::bending_by_curvature(model, system, x)
+            .ok()
+            .map(|b| b.stiffness),
     })
 }
 

@@ -258,7 +258,7 @@ pub const KEYS: &[KeyDoc] = &[
     },
     KeyDoc {
         key: "discretisation.model",
-        meaning: "the model solved: the pair wherever the assembly has the symmetry (`\"auto\"`, as `symmetric = \"auto\"`), the pair (`\"pair\"`), the whole assembly (`\"full\"`), or the cell of the infinitely long tube of these helices (`\"cell\"`: length and supports unused, loaded by its axial strain, its twist per cell and a radial pressure, stability by the blocks H(p, k)); not with `symmetric`",
+        meaning: "the model solved: the pair wherever the assembly has the symmetry (`\"auto\"`, as `symmetric = \"auto\"`), the pair (`\"pair\"`), the whole assembly (`\"full\"`), or the cell of the infinitely long tube of these helices (`\"cell\"`: length and supports unused, loaded by its axial strain, its twist per cell and a radial pressure, stability by the blocks H(p, k); with a tilt, the bending cell of the tube bent to the curvature tilt/rise, its moment in load.csv, its stability only against perturbations of its own period); not with `symmetric`",
         unit: "",
         default: DefaultDoc::Value("\"auto\""),
         range: RangeDoc::Names(&["auto", "pair", "full", "cell"]),

@@ -141,7 +141,7 @@ impl Case {
         let mut discretisation = tables::discretisation(&raw.discretisation, &geometry, &ck)?;
         if let Some(why) = discretisation
             .cell
-            .then(|| model_key::cell_loading_message(&loading))
+            .then(|| model_key::cell_loading_message(&loading, geometry.helices))
             .flatten()
         {
             return Err(CaseError::Invalid {
@@ -352,11 +352,24 @@ impl Case {
         SizeEstimate::of(&self.geometry, &self.discretisation)
     }
 
+    /// Whether the case's cell is bent (its tilt stepped or held away from zero): the model
+    /// is then the bending cell of the tube ([`Assembly::bending_cell`]).
+    pub fn bends_cell(&self) -> bool {
+        self.discretisation.cell
+            && (self.loading.parameter == Component::Tilt || self.loading.hold.tilt != 0.0)
+    }
+
     /// The discrete model of the case.
     pub fn model(&self) -> DiscreteModel {
         let g = &self.geometry;
         let full = Assembly::new(g.helices, g.radius, g.pitch, g.length);
-        let assembly = if self.discretisation.cell {
+        let mut elements = self.discretisation.elements;
+        let assembly = if self.discretisation.cell && self.bends_cell() {
+            // the bending cell's rods span two cells: the cell's mesh twice
+            elements *= 2;
+            Assembly::bending_cell(g.helices, g.radius, g.pitch)
+                .expect("validated: a bent cell's helices make a tube of m >= 2")
+        } else if self.discretisation.cell {
             Assembly::tube_cell(g.helices, g.radius, g.pitch)
                 .expect("validated: the case's helices make a tube")
         } else if self.discretisation.symmetric {
@@ -368,7 +381,7 @@ impl Case {
         DiscreteModel::with_hypotheses(
             assembly,
             self.stiffness,
-            self.discretisation.elements,
+            elements,
             self.discretisation.order,
             self.rod,
             self.discretisation.reference,

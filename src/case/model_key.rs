@@ -39,22 +39,28 @@ pub(super) fn model_choice(
 }
 
 /// What a cell is loaded by: its axial strain `ε` (displacement control), its twist per
-/// cell `φ` (the extra turn of its screw, rad) or a radial pressure, one stepped and the
-/// others held, `ε` held as a strain; no tilt, dead axial load or branch switch. `Some`
-/// says why the case's loading is not that.
-pub(super) fn cell_loading_message(loading: &Loading) -> Option<&'static str> {
+/// cell `φ` (the extra turn of its screw, rad), a radial pressure or its tilt per bending
+/// cell (rad: the tube bent, docs/theory.md §8), one stepped and the others held, `ε` held
+/// as a strain; no dead axial load or branch switch, and a tilt only on a tube of `m ≥ 2`
+/// helices of each hand (`helices = 2m`), untwisted. `Some` says why the case's loading is not that.
+pub(super) fn cell_loading_message(loading: &Loading, helices: usize) -> Option<&'static str> {
     let held_ratio = matches!(loading.hold.axial, AxialHeld::Ratio(_));
+    let tilted = loading.parameter == Component::Tilt || loading.hold.tilt != 0.0;
     match loading.parameter {
         Component::Axial if loading.control == Control::Force => {
             Some("the cell's axial strain is prescribed (displacement control), not a dead load")
         }
-        Component::Axial | Component::Twist | Component::Pressure if !held_ratio => {
+        Component::Axial | Component::Twist | Component::Pressure | Component::Tilt
+            if !held_ratio =>
+        {
             Some("the cell's axial strain is held (hold.axial = eps), not a dead load")
         }
-        Component::Tilt => {
-            Some("the cell is loaded by its axial strain, its twist and a radial pressure only")
+        _ if tilted && helices < 4 => Some(
+            "a bent cell needs n = 2m helices with m >= 2 (its section's centre is the mean of its m crossings)",
+        ),
+        _ if tilted && (loading.parameter == Component::Twist || loading.hold.twist != 0.0) => {
+            Some("a bent cell is not twisted: give the tilt with the twist at 0")
         }
-        _ if loading.hold.tilt != 0.0 => Some("the cell holds no tilt"),
         _ if loading.branch != Branch::Fundamental => {
             Some("the cell follows its fundamental path (branch = \"fundamental\")")
         }

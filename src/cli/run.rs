@@ -194,7 +194,14 @@ fn print_heading(case: &Case, target: f64, steps: usize, set_line: Option<&str>)
     if !case.loading.hold.is_natural() || parameter != Component::Axial {
         println!("held: {}", held_line(case));
     }
-    if case.discretisation.cell {
+    if case.bends_cell() {
+        let model = case.model();
+        println!(
+            "model: the bending cell of an infinitely long tube of {n} helices, all {n} rods over 1/{} turn (L = {:.5} m), periodic under the turn by the tilt about a transverse axis; stability of a bent cell: only against perturbations of its own period (its Bloch blocks are not computed)",
+            n / 2,
+            model.length(),
+        );
+    } else if case.discretisation.cell {
         let model = case.model();
         println!(
             "model: the cell of an infinitely long tube of {n} helices, rods of 1/{n} turn (L = {:.5} m, Pcrit = {:.4} N of a cell's rod), stability by the blocks H(p, k), p = 0..{}",

@@ -108,27 +108,46 @@ fn cell_constraints(
         }
     }
     for id in 0..model.rods.len() {
-        periodic_constraints(model, x, id, cell.turns[id], height, spin, out);
+        let ends = Ends {
+            far: id,
+            near: cell.partners[id],
+            bending: cell.bending,
+        };
+        periodic_constraints(model, x, ends, cell.turns[id], height, spin, out);
     }
 }
 
-/// The periodic conditions of rod `id`, whose far end is its near end carried by the screw
-/// of turn `turn` (rad) and the cell's rise: `R_φ r_far − R_ψ r_near` held at zero in x and
-/// y, the rise at `height`, and the far frame held at `σ q_φ ∘ q_ψ ∘ q_near`, `φ` the twist
-/// per cell of `spin` (0 without one). Under a twist the rows on the far end move with the
-/// load parameter ([`Moving`]): `(R_φ e_i)·r_far` and `Im(w̄ ∘ q_far)` with
-/// `w = q_φ ∘ q_ψ ∘ q_near` (at `x`), while the rows' terms on the near end, `R_ψ r_near`
-/// and `Im(w̄ ∘ q_φ ∘ q_ψ ∘ q_near)`, do not depend on `φ`.
+/// The rods a periodic condition ties: the far end of rod `far` to the image of rod
+/// `near`'s near end; in a bending cell (`bending`) the rise is a row of the map too.
+#[derive(Clone, Copy)]
+struct Ends {
+    far: usize,
+    near: usize,
+    bending: bool,
+}
+
+/// The periodic conditions of rod `ends.far`, whose far end is the near end of rod
+/// `ends.near` (itself but in a bending cell) carried by the screw of turn `turn` (rad) and
+/// the cell's rise: `R_s^T (r_far − t) − R_ψ r_near` held at zero in x and y, the rise at
+/// `height`, and the far frame held at `σ q_s ∘ q_ψ ∘ q_near`, `R_s` (`q_s`) the turn of
+/// `spin` (the twist `φ` per cell, then a bending cell's tilt), `t` its centre (`(0, 0, h)`
+/// but under a tilt, [`SupportPose::of_cell`]). Under a turn the rows on the far end move
+/// with the load parameter ([`Moving`]): `(R_s e_i)·(r_far − t)` and `Im(w̄ ∘ q_far)` with
+/// `w = q_s ∘ q_ψ ∘ q_near` (at `x`), while the rows' terms on the near end, `R_ψ r_near`
+/// and `Im(w̄ ∘ q_s ∘ q_ψ ∘ q_near)`, do not depend on the turn. In a bending cell the rise
+/// is such a row too (`(R_s e_z)·(r_far − t) = z_near`).
 fn periodic_constraints(
     model: &DiscreteModel,
     x: &[f64],
-    id: usize,
+    ends: Ends,
     turn: f64,
     height: Option<f64>,
     spin: Option<&SupportPose>,
     out: &mut Vec<LinearConstraint>,
 ) {
+    let id = ends.far;
     let rod = &model.rods[id];
+    let partner = &model.rods[ends.near];
     let turn = TurnZ::new(turn);
     let (v, node) = (rod.end_vertex(End::Tip), rod.end_node(End::Tip));
     let tip = Role::Support {
@@ -144,11 +163,11 @@ fn periodic_constraints(
         for j in 0..2 {
             let mut e = [0.0; 3];
             e[j] = 1.0;
-            terms.push((rod.r_dof(0, j), -turn.apply(e)[i]));
+            terms.push((partner.r_dof(0, j), -turn.apply(e)[i]));
         }
         out.push(LinearConstraint {
             terms,
-            value: 0.0,
+            value: spin.map_or(0.0, |pose| a.dot(&pose.centre)),
             role: tip,
             moving: spin.map(|_| Moving::Position {
                 direction,
@@ -156,15 +175,29 @@ fn periodic_constraints(
             }),
         });
     }
-    let terms = vec![(rod.r_dof(v, 2), 1.0), (rod.r_dof(0, 2), -1.0)];
-    match height {
-        Some(h) => out.push(row(terms, h, Role::TipHeight { rod: id })),
-        None => {
-            let rise = model.vertex(x, id, v)[2] - model.vertex(x, id, 0)[2];
+    let mut terms = vec![(rod.r_dof(v, 2), 1.0), (partner.r_dof(0, 2), -1.0)];
+    match (height, spin) {
+        (Some(_), Some(pose)) if ends.bending => {
+            let a = pose.turn(&Vector3::z());
+            terms = (0..3).map(|k| (rod.r_dof(v, k), a[k])).collect();
+            terms.push((partner.r_dof(0, 2), -1.0));
+            out.push(LinearConstraint {
+                terms,
+                value: a.dot(&pose.centre),
+                role: Role::TipHeight { rod: id },
+                moving: Some(Moving::Position {
+                    direction: Vector3::z(),
+                    offset: 0.0,
+                }),
+            });
+        }
+        (Some(h), _) => out.push(row(terms, h, Role::TipHeight { rod: id })),
+        (None, _) => {
+            let rise = model.vertex(x, id, v)[2] - model.vertex(x, ends.near, 0)[2];
             out.push(row(terms, rise, tip));
         }
     }
-    let near = model.quaternion(x, id, 0);
+    let near = model.quaternion(x, ends.near, 0);
     let far = model.quaternion(x, id, node);
     let reference = turn.rotate(&near);
     let reference = reference / reference.norm();
@@ -184,7 +217,7 @@ fn periodic_constraints(
             .collect();
         for (k, tk) in turned.iter().enumerate() {
             let c: f64 = (0..4).map(|l| near_rows[i][l] * tk[l]).sum();
-            terms.push((rod.q_dof(0, k), -sigma * c));
+            terms.push((partner.q_dof(0, k), -sigma * c));
         }
         out.push(LinearConstraint {
             terms,
@@ -200,7 +233,7 @@ fn periodic_constraints(
 
 /// The gauge of a cell's rigid motions, on rod 0's near end: its height, and its azimuth
 /// (y, the vertex being at azimuth 0) off the axis; on the axis x, y and the twist of its
-/// frame about the axis.
+/// frame about the axis; for a bending cell also the mean x and y of its rods' near ends.
 fn gauge(model: &DiscreteModel, x: &[f64], out: &mut Vec<LinearConstraint>) {
     let rod = &model.rods[0];
     let r = model.vertex(x, 0, 0);
@@ -210,6 +243,20 @@ fn gauge(model: &DiscreteModel, x: &[f64], out: &mut Vec<LinearConstraint>) {
     };
     out.push(row(vec![(rod.r_dof(0, 2), 1.0)], r[2], base));
     out.push(row(vec![(rod.r_dof(0, 1), 1.0)], r[1], base));
+    if model.rods.len() > 2 {
+        // a bending cell: its near section's centre, the mean of its near ends (the m
+        // crossings at s = 0), held across the axis — a rigid translation of the straight
+        // cell, the centre of the tube's axis under a tilt, whose length it then holds
+        for k in 0..2 {
+            let terms = (0..model.rods.len())
+                .map(|id| (model.rods[id].r_dof(0, k), 1.0))
+                .collect();
+            let sum = (0..model.rods.len())
+                .map(|id| model.vertex(x, id, 0)[k])
+                .sum();
+            out.push(row(terms, sum, base));
+        }
+    }
     if rod.helix.is_straight() {
         out.push(row(vec![(rod.r_dof(0, 0), 1.0)], r[0], base));
         let held = model.quaternion(x, 0, 0);

@@ -40,6 +40,11 @@ impl CellBlocks {
     /// The blocks of a cell's system (`None` for a model that is not a cell).
     pub fn new(model: &DiscreteModel, system: &System) -> Option<CellBlocks> {
         let cell = model.assembly.cell.clone()?;
+        // a bending cell of several rods, or a cell under a tilt, has no blocks of this form
+        let own = cell.partners.iter().enumerate().all(|(i, &p)| i == p);
+        if !own || system.loads().tilts() {
+            return None;
+        }
         let entry = |row: usize, col: usize| system.entry(row, col);
         let mut entries = vec![Entry::Plain; system.nnz()];
         for (i, c) in system.linear.iter().enumerate() {

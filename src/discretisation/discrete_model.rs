@@ -7,7 +7,7 @@ use super::shape::{self, Order, QuadraturePoint, MAX_NODES};
 use crate::model::assembly::{Assembly, RodId};
 use crate::model::cell::Cell;
 use crate::model::elasticity::{Elasticity, Energy, StressFree};
-use crate::model::helix::Helix;
+use crate::model::helix::{Chirality, Helix};
 use crate::model::loading::{LineLoad, Loads};
 use crate::model::quaternion::Quat;
 use crate::model::stiffness::Stiffness;
@@ -439,7 +439,17 @@ fn centre_on_axis(model: &DiscreteModel, cell: &Cell, x: &mut [f64]) {
         if rod.helix.is_straight() {
             continue;
         }
-        let turn = TurnZ::new(cell.turns[id]);
+        // the turn of the rod's own screw: a bending cell's rod spans 1/m of a turn
+        let own = if cell.bending {
+            let m = cell.m as f64;
+            match rod.helix.chirality {
+                Chirality::Right => 2.0 * std::f64::consts::PI / m,
+                Chirality::Left => -2.0 * std::f64::consts::PI / m,
+            }
+        } else {
+            cell.turns[id]
+        };
+        let turn = TurnZ::new(own);
         let (v0, ve) = (
             model.vertex(x, id, 0),
             model.vertex(x, id, rod.mesh.elements()),
@@ -447,7 +457,7 @@ fn centre_on_axis(model: &DiscreteModel, cell: &Cell, x: &mut [f64]) {
         let image = turn.apply([v0[0], v0[1], 0.0]);
         // (I − R) c = v_far − R v_near in x–y
         let (b0, b1) = (ve[0] - image[0], ve[1] - image[1]);
-        let (cos, sin) = (cell.turns[id].cos(), cell.turns[id].sin());
+        let (cos, sin) = (own.cos(), own.sin());
         let (a00, a01, a10, a11) = (1.0 - cos, sin, -sin, 1.0 - cos);
         let det = a00 * a11 - a01 * a10;
         if det.abs() < 1e-12 {

@@ -8,6 +8,7 @@ use super::element;
 use super::joint_fields;
 use super::pressure;
 use super::shape::{self, Order, GAUSS_3, MAX_NODES};
+use super::support::{arc_chord, SupportPose};
 use super::system::System;
 use crate::model::assembly::RodId;
 use crate::model::loading::{AxisLoad, SupportAxis};
@@ -91,8 +92,12 @@ pub fn support_response(
         torque += about[2];
         bending += about[0];
     }
-    // a cell's rods are one of the m sectors of the tube's cross-section
-    let sectors = model.assembly.cell.as_ref().map_or(1.0, |c| c.m as f64);
+    if model.assembly.cell.is_some() {
+        bending = cell_bending_moment(model, system, x, reactions);
+    }
+    // a cell's rods are one of the m sectors of the tube's cross-section (a bending cell's
+    // are all of them)
+    let sectors = model.assembly.cell.as_ref().map_or(1.0, |c| c.sectors());
     torque *= sectors;
     let pressure = loads.pressure(lambda).0;
     let radius = pressure::mean_radius(model, x);
@@ -112,6 +117,37 @@ pub fn support_response(
         },
         unit_moment: model.stiffness.b1 / model.length(),
     }
+}
+
+/// The bending moment (N m) of a cell, the rate `∂Π/∂θ` of its energy with its tilt `θ`:
+/// the far ends' reactions `f`, `m` work on the motion of the map `x ↦ R_s x + t(θ)` with
+/// `θ`, a turn about x and the translation `∂t/∂θ` of the far section's centre `t`:
+/// `e_x·Σ (m + (r − t) × f) + (∂t/∂θ)·Σ f` (docs/theory.md §8).
+fn cell_bending_moment(
+    model: &DiscreteModel,
+    system: &System,
+    x: &[f64],
+    reactions: &[RodReaction],
+) -> f64 {
+    let (loads, lambda) = (system.loads(), system.parameter());
+    let theta = match loads.tip().axis(SupportAxis::RotX) {
+        AxisLoad::Motion(r) => r.at(lambda),
+        AxisLoad::Force(_) => 0.0,
+    };
+    let h = SupportPose::of(loads, model.height0(), lambda).centre[2];
+    let centre = system.pose(lambda).centre;
+    let [_, _, df, dg, _, _] = arc_chord(theta);
+    let rate = Vector3::new(0.0, -h * df, h * dg);
+    let tips = tip_positions(model, x);
+    reactions
+        .iter()
+        .zip(&tips)
+        .map(|(r, p)| {
+            let f = Vector3::from(r.tip.force);
+            let arm = Vector3::from(*p) - centre;
+            (Vector3::from(r.tip.moment) + arm.cross(&f))[0] + rate.dot(&f)
+        })
+        .sum()
 }
 
 /// The tip positions of every rod (of the full assembly for a symmetric pair), in the

@@ -42,6 +42,35 @@ impl SupportPose {
         }
     }
 
+    /// The pose of a finite tube's tip support ([`SupportPose::of`]) or, for a cell
+    /// (`cell`), of its far ends ([`SupportPose::of_cell`]).
+    pub fn at(loads: &Loads, height0: f64, lambda: f64, cell: bool) -> SupportPose {
+        if cell {
+            SupportPose::of_cell(loads, height0, lambda)
+        } else {
+            SupportPose::of(loads, height0, lambda)
+        }
+    }
+
+    /// The map carrying a cell's near ends onto its far ends, `x ↦ R_s x + t`: `R_s` the
+    /// twist `φ` about the axis then the tilt `θ` about x, and `t` the chord of the tube's
+    /// axis bent to the curvature `θ/h` (`h = h0 (1 − ε)` the cell's rise), the image of the
+    /// near section's centre (the origin) under the rotation by `θ` about the transverse
+    /// axis through the centre of curvature `(0, −h/θ, 0)`:
+    /// `t = h (0, −(1 − cos θ)/θ, sin θ/θ)`, `(0, 0, h)` at `θ = 0`.
+    pub fn of_cell(loads: &Loads, height0: f64, lambda: f64) -> SupportPose {
+        let mut pose = SupportPose::of(loads, height0, lambda);
+        let (theta, dtheta) = match loads.tip().axis(SupportAxis::RotX) {
+            AxisLoad::Motion(r) => (r.at(lambda), r.rate(lambda)),
+            AxisLoad::Force(_) => (0.0, 0.0),
+        };
+        let (h, dh) = (pose.centre[2], pose.centre_rate[2]);
+        let [f, g, df, dg, _, _] = arc_chord(theta);
+        pose.centre = Vector3::new(0.0, -h * f, h * g);
+        pose.centre_rate = Vector3::new(0.0, -(dh * f + h * df * dtheta), dh * g + h * dg * dtheta);
+        pose
+    }
+
     /// `R_s v`.
     pub fn turn(&self, v: &Vector3<f64>) -> Vector3<f64> {
         quaternion::rotation(&self.rotation) * v
@@ -55,6 +84,35 @@ impl SupportPose {
         let b = quaternion::mul(&quaternion::mul(q, &pure), &quaternion::conj(dq));
         Vector3::new(a[0] + b[0], a[1] + b[1], a[2] + b[2])
     }
+}
+
+/// `[f, g, f', g', f'', g'']` at `θ` (rad): `f = (1 − cos θ)/θ`, `g = sin θ/θ` and their
+/// first and second derivatives, by their series where `|θ| < 0.01` (then the terms left
+/// out are below 1e-16).
+pub fn arc_chord(theta: f64) -> [f64; 6] {
+    let t = theta;
+    if t.abs() < 0.01 {
+        let t2 = t * t;
+        return [
+            t / 2.0 - t * t2 / 24.0 + t * t2 * t2 / 720.0,
+            1.0 - t2 / 6.0 + t2 * t2 / 120.0,
+            0.5 - t2 / 8.0 + t2 * t2 / 144.0,
+            -t / 3.0 + t * t2 / 30.0 - t * t2 * t2 / 840.0,
+            -t / 4.0 + t * t2 / 36.0,
+            -1.0 / 3.0 + t2 / 10.0 - t2 * t2 / 168.0,
+        ];
+    }
+    let (s, c) = t.sin_cos();
+    let t2 = t * t;
+    let t3 = t2 * t;
+    [
+        (1.0 - c) / t,
+        s / t,
+        (t * s - (1.0 - c)) / t2,
+        (t * c - s) / t2,
+        (t2 * c - 2.0 * t * s + 2.0 * (1.0 - c)) / t3,
+        (-t2 * s - 2.0 * t * c + 2.0 * s) / t3,
+    ]
 }
 
 /// How a tip constraint held by a turning support depends on the load parameter.

@@ -93,6 +93,9 @@ pub struct System {
     /// dead tip load is.
     height0: f64,
     pcrit: f64,
+    /// The tip support of a cell: its tilt turns the far ends about the centre of the
+    /// tube's curvature ([`SupportPose::of_cell`]), not about the tip's centre.
+    cell: bool,
     pattern: SymbolicSparseColMat<usize>,
     slots: Vec<usize>,
 }
@@ -132,7 +135,7 @@ impl System {
         let pcrit = model.stiffness.euler_load(model.length());
         let tip = if loads.tip().turns() {
             TipPlace::Turned {
-                pose: SupportPose::of(loads, height0, lambda),
+                pose: SupportPose::at(loads, height0, lambda, model.assembly.cell.is_some()),
                 height_held: matches!(loads.tip().axis(SupportAxis::Z), AxisLoad::Motion(_)),
             }
         } else {
@@ -277,6 +280,7 @@ impl System {
             lambda,
             height0,
             pcrit,
+            cell: model.assembly.cell.is_some(),
             pattern: SymbolicSparseColMat::new_checked(n, n, vec![0; n + 1], None, vec![]),
             slots: Vec::new(),
         };
@@ -368,6 +372,11 @@ impl System {
         self.lambda
     }
 
+    /// The tip support's pose at `lambda`.
+    pub fn pose(&self, lambda: f64) -> SupportPose {
+        SupportPose::at(&self.loads, self.height0, lambda, self.cell)
+    }
+
     /// Sets the load parameter: the prescribed motions of the supports and the dead loads
     /// take their values at `lambda`.
     pub fn set_parameter(&mut self, lambda: f64) {
@@ -379,7 +388,7 @@ impl System {
                 }
             }
         }
-        let pose = SupportPose::of(&self.loads, self.height0, lambda);
+        let pose = self.pose(lambda);
         for c in &mut self.linear {
             if let Some(moving) = c.moving {
                 let (coeffs, value) = moving.coefficients(&pose, false);
@@ -555,7 +564,7 @@ impl System {
         if self.linear.iter().all(|c| c.moving.is_none()) {
             return;
         }
-        let pose = SupportPose::of(&self.loads, self.height0, lambda);
+        let pose = self.pose(lambda);
         for (i, c) in self.linear.iter().enumerate() {
             let Some(moving) = c.moving else { continue };
             let row = self.linear_row + i;

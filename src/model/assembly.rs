@@ -232,6 +232,8 @@ impl Assembly {
                 m,
                 turns: vec![turn, -turn],
                 far_sectors: vec![0, (m - cells % m) % m],
+                partners: vec![0, 1],
+                bending: false,
             }),
         })
     }
@@ -261,6 +263,8 @@ impl Assembly {
                 m: 1,
                 turns: vec![turn.abs()],
                 far_sectors: vec![0],
+                partners: vec![0],
+                bending: false,
             }),
         })
     }
@@ -289,8 +293,44 @@ impl Assembly {
                 m: 1,
                 turns: vec![turn],
                 far_sectors: vec![0],
+                partners: vec![0],
+                bending: true,
             }),
         })
+    }
+
+    /// The bending cell of the infinite tube of `n = 2m` helices (`m ≥ 2`) of radius `a` and
+    /// pitch parameter `b` (m): all `n` rods (base angles `2πk/m`) over the arc length
+    /// `2π c/m`, the tube's axial period `2π b/m` (the screw `S` twice, turned back by
+    /// `2π/m`: a pure translation). It holds the crossings at `s = 0` and `π c/m` (those at
+    /// its far ends are their images); right rod `R_j`'s far end is the image of `R_{j+1}`'s
+    /// near end, left rod `L_j`'s of `L_{j+1}`'s.
+    pub fn bending_cell(n: usize, radius: f64, pitch: f64) -> Result<Assembly, CellError> {
+        if n < 4 || n % 2 == 1 || radius <= 0.0 || !radius.is_finite() {
+            return Err(CellError::NotABendingTube { n, radius });
+        }
+        let m = n / 2;
+        let c = (radius * radius + pitch * pitch).sqrt();
+        let length = 2.0 * PI * c / m as f64;
+        let mut assembly = Assembly::new(n, radius, pitch, length);
+        assembly.joints.retain(|j| j.s < length * (1.0 - ARC_TOL));
+        let partners = (0..n)
+            .map(|id| {
+                if id < m {
+                    (id + 1) % m
+                } else {
+                    m + (id - m + 1) % m
+                }
+            })
+            .collect();
+        assembly.cell = Some(Cell {
+            m,
+            turns: vec![0.0; n],
+            far_sectors: vec![0; n],
+            partners,
+            bending: true,
+        });
+        Ok(assembly)
     }
 
     /// The rise of the cell (m): the axial distance from a rod's near end to its far end.

@@ -19,6 +19,13 @@ pub struct Cell {
     pub turns: Vec<f64>,
     /// Per rod: the sector `j` (`0 … m − 1`) of the cell `(j, 1)` its far end begins.
     pub far_sectors: Vec<usize>,
+    /// Per rod: the rod of the cell whose near end its far end is the image of (itself,
+    /// except in a bending cell).
+    pub partners: Vec<usize>,
+    /// A bending cell: the whole pattern over its axial period, periodic under a pure
+    /// translation along the axis (a turn of its frames about the axis for a straight rod),
+    /// which a tilt turns into a rotation about a transverse axis (docs/theory.md §8).
+    pub bending: bool,
 }
 
 impl Cell {
@@ -44,6 +51,17 @@ impl Cell {
         2.0 * PI * ((p * r) % self.m) as f64 / m
     }
 
+    /// The number of cells that make one rise of the whole tube's section (N m per cell to
+    /// the tube's): `m` for a cell of one right and one left rod (one sector of `m`), 1 for
+    /// a bending cell (all the rods) and a one-rod cell.
+    pub fn sectors(&self) -> f64 {
+        if self.bending {
+            1.0
+        } else {
+            self.m as f64
+        }
+    }
+
     /// The circumferential wavenumber of the rigid translation across the axis.
     pub fn translation_wavenumber(&self) -> usize {
         1 % self.m
@@ -55,6 +73,8 @@ impl Cell {
 pub enum CellError {
     #[error("a tube cell needs n = 2m helices (m ≥ 1) off the axis, found n = {n} and radius {radius} m")]
     NotATube { n: usize, radius: f64 },
+    #[error("a bending cell needs n = 2m helices with m ≥ 2 off the axis (its section's centre is the mean of its m crossings), found n = {n} and radius {radius} m")]
+    NotABendingTube { n: usize, radius: f64 },
     #[error("a one-rod cell needs a straight rod (radius 0) of positive length, found radius {radius} m and length {length} m")]
     NotStraight { radius: f64, length: f64 },
 }

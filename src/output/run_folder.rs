@@ -84,6 +84,18 @@ pub fn hypotheses_note(model: &DiscreteModel) -> String {
 
 /// Which model was solved, for the header of every file.
 pub fn model_solved(model: &DiscreteModel) -> String {
+    if let Some(cell) = model
+        .assembly
+        .cell
+        .as_ref()
+        .filter(|c| c.bending && c.m > 1)
+    {
+        return format!(
+            "model: the bending cell of an infinitely long tube of {} helices (every rod over one axial period, 1/{} of a turn, periodic under the turn by the tilt about a transverse axis through the centre of curvature); stability only against perturbations of the bending cell's own period (its Bloch blocks are not computed)",
+            2 * cell.m,
+            cell.m
+        );
+    }
     if let Some(cell) = &model.assembly.cell {
         return format!(
             "model: the cell of an infinitely long tube of {} helices (one right and one left rod from a crossing to the next, helically periodic; each rod of the cell stands for the {} rods of its chirality); stability by the blocks H(p, k), p = 0..{}",

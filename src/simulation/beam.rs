@@ -13,12 +13,18 @@
 use crate::discretisation::cell_blocks::CellBlocks;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::pressure;
+use crate::discretisation::support::arc_chord;
 use crate::discretisation::support::Moving;
 use crate::discretisation::system::System;
+use crate::model::assembly::Assembly;
 use crate::model::loading::{AxialHeld, Component, Control, Held, Loads};
+use crate::model::quaternion::Quat;
+use crate::model::symmetry::TurnZ;
 use crate::solver::linear::{least_squares_multipliers, LinearError, SparseLu};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{c64, linalg::solvers::Solve, Mat};
+use nalgebra::Vector3;
+use std::f64::consts::PI;
 
 /// The tube's effective beam stiffnesses per unit length at a state of its cell. Strains
 /// are increments on the current tube: `δh/h` axially, the twist per current length
@@ -58,6 +64,12 @@ pub enum BeamError {
     Multipliers,
     #[error(transparent)]
     Linear(#[from] LinearError),
+    #[error("the bending cell needs a tube of n = 2m helices with m ≥ 2")]
+    NotABendingTube,
+    #[error("the bending stiffness by curvature is computed on an untwisted tube (twist 0)")]
+    Twisted,
+    #[error("the beam stiffnesses are those of the straight tube's cell, not of a bending cell")]
+    Bending,
     #[error("the cell's reduced energy is flat along its {what}: no stiffness to invert")]
     Flat { what: &'static str },
 }
@@ -112,6 +124,9 @@ pub fn beam_stiffness(
     x: &[f64],
 ) -> Result<BeamStiffness, BeamError> {
     let cell = model.assembly.cell.as_ref().ok_or(BeamError::NotACell)?;
+    if (cell.bending && model.rods.len() > 1) || system.loads().tilts() {
+        return Err(BeamError::Bending);
+    }
     let (eps, phi, q) = load_values(system);
     let held = Held {
         axial: AxialHeld::Ratio(eps),
@@ -346,6 +361,172 @@ pub const FIT_POINTS: usize = 5;
 /// ([`bending_stiffness`]): its truncation error at `q h ≤ 5δ = 0.1` is below `1e-9`
 /// relative, its rounding below `1e-9` (cell-n8).
 pub const BENDING_STEP: f64 = 0.02;
+/// The tube's bending stiffness by imposed curvature at a state of its cell (the cell of
+/// one right and one left rod, [`Assembly::tube_cell`]): the state carried onto the bending
+/// cell of the same tube ([`Assembly::bending_cell`]: every rod over one axial period, two
+/// cells), whose reduced energy `Π(θ)` at the tilt `θ` per bending cell (the tube's
+/// curvature `κ = θ/H`, `H = 2h` the bending cell's rise) and the cell's held loads gives
+/// the bending moment `M = ∂Π/∂θ` and `EI = dM/dκ = H ∂²Π/∂θ²` at `θ = 0`, exact from the
+/// constrained tangent (one factorisation, one solve):
+/// `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)`. The tube's axis, the mean of the near
+/// crossings, keeps its length `H` (the axial strain held). An untwisted state only
+/// ([`BeamError::Twisted`] otherwise: the carrying of a twisted state is not checked).
+pub fn bending_by_curvature(
+    model: &DiscreteModel,
+    system: &System,
+    x: &[f64],
+) -> Result<CurvatureBending, BeamError> {
+    let cell = model.assembly.cell.as_ref().ok_or(BeamError::NotACell)?;
+    if cell.bending || model.rods.len() != 2 {
+        return Err(BeamError::NotACell);
+    }
+    let m = cell.m;
+    let (eps, phi, q) = load_values(system);
+    if phi != 0.0 {
+        return Err(BeamError::Twisted);
+    }
+    let helix = model.assembly.rods[0];
+    let assembly = Assembly::bending_cell(2 * m, helix.radius, helix.pitch)
+        .map_err(|_| BeamError::NotABendingTube)?;
+    let bent = DiscreteModel::with_hypotheses(
+        assembly,
+        model.stiffness,
+        2 * model.requested_elements,
+        model.order,
+        model.elasticity,
+        model.reference,
+    );
+    let primal = bending_state(model, &bent, x, phi);
+    let held = Held {
+        axial: AxialHeld::Ratio(eps),
+        twist: 2.0 * phi,
+        tilt: 0.0,
+        pressure: q,
+    };
+    let loads = Loads::compose(Component::Tilt, Control::Displacement, held);
+    let sys = System::new(&bent, system.bc, &primal, &loads, 0.0);
+    let mut full = primal.clone();
+    full.resize(sys.n, 0.0);
+    let (mut residual, mut kkt) = (vec![0.0; sys.n], sys.new_values());
+    sys.evaluate(&bent, &full, &mut residual, &mut kkt);
+    let nu = least_squares_multipliers(sys.pattern(), &kkt, &residual, bent.n_primal)
+        .ok_or(BeamError::Multipliers)?;
+    full[bent.n_primal..].copy_from_slice(&nu);
+    sys.evaluate(&bent, &full, &mut residual, &mut kkt);
+    let mut lu = SparseLu::default();
+    lu.factorize(sys.matrix(&kkt))?;
+    let mut rate = vec![0.0; sys.n];
+    sys.load_derivative(&bent, &full, 0.0, &mut rate);
+    let mut solved = rate.clone();
+    lu.solve(&mut solved);
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(u, v)| u * v).sum::<f64>();
+    let rise = bent.height0() * (1.0 - eps);
+    let s = tilt_curvature(&sys, &full, 0.0, rise) - dot(&rate, &solved);
+    Ok(CurvatureBending {
+        stiffness: rise * s,
+        moment: dot(&rate[bent.n_primal..], &full[bent.n_primal..]),
+        residual: residual.iter().fold(0.0, |a: f64, v| a.max(v.abs())),
+    })
+}
+
+/// The tube's bending by imposed curvature at a state ([`bending_by_curvature`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurvatureBending {
+    /// `EI = dM/dκ` (N m²) at `κ = 0`.
+    pub stiffness: f64,
+    /// The bending moment `M = ∂Π/∂θ` (N m) of the straight state: zero but for rounding.
+    pub moment: f64,
+    /// The largest residual of the carried state in the bending cell's equations (its
+    /// equilibrium there: the Newton tolerance of the cell's state).
+    pub residual: f64,
+}
+
+/// `∂²L/∂θ²` at `x`, `θ` the tilt of a cell's far ends at `theta`: on every moving row
+/// `ν ∂²g/∂θ²`. A position row `g = a·(r − t) + …` with `a = R_s d` turning about x
+/// (`∂a/∂θ = e_x × a`, `∂²a/∂θ² = (e_x·a) e_x − a`) and the far section's centre `t(θ)`
+/// ([`crate::discretisation::support::SupportPose::of_cell`], `h` the rise of `system`'s cell): `a''·(r − t) − 2 a'·t' − a·t''`; an orientation row
+/// `w·Im(conj(q_s ∘ q_ref) ∘ q)`: `q_s'' = −q_s/4`.
+fn tilt_curvature(system: &System, x: &[f64], theta: f64, h: f64) -> f64 {
+    let [f, g, df, dg, ddf, ddg] = arc_chord(theta);
+    let t = Vector3::new(0.0, -h * f, h * g);
+    let dt = Vector3::new(0.0, -h * df, h * dg);
+    let ddt = Vector3::new(0.0, -h * ddf, h * ddg);
+    let ex = Vector3::x();
+    system
+        .linear
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let nu = x[system.linear_row(i)];
+            let g2 = match c.moving? {
+                Moving::Position { .. } => {
+                    let a = Vector3::new(c.terms[0].1, c.terms[1].1, c.terms[2].1);
+                    let r = Vector3::new(x[c.terms[0].0], x[c.terms[1].0], x[c.terms[2].0]);
+                    let da = ex.cross(&a);
+                    let dda = ex * ex.dot(&a) - a;
+                    dda.dot(&(r - t)) - 2.0 * da.dot(&dt) - a.dot(&ddt)
+                }
+                Moving::Orientation { .. } => {
+                    let moving: f64 = c.terms[..4].iter().map(|&(d, a)| a * x[d]).sum();
+                    -0.25 * moving
+                }
+            };
+            Some(nu * g2)
+        })
+        .sum()
+}
+
+/// The primal state of the bending cell `bent` carried from the state `x` of the tube's
+/// cell `model` (mesh of `bent`'s rods: the cell's twice): right rod `R_j`'s segment `l`
+/// (`l = 0, 1`) is the cell's right rod turned about the axis by `2πj/m + l (π/m + φ)` and
+/// raised by `l h`, left rod `L_i`'s the cell's left rod turned by
+/// `−2πi/m − l (π/m − φ)` (the screw twisted by `φ` per cell; `h` the cell's rise in `x`),
+/// each quaternion `q_z ∘ q` with the sign that keeps the field continuous.
+fn bending_state(model: &DiscreteModel, bent: &DiscreteModel, x: &[f64], phi: f64) -> Vec<f64> {
+    let m = bent.assembly.cell.as_ref().map_or(1, |c| c.m);
+    let mf = m as f64;
+    let mut out = vec![0.0; bent.n_primal];
+    let rise = {
+        let rod = &model.rods[0];
+        model.vertex(x, 0, rod.mesh.elements())[2] - model.vertex(x, 0, 0)[2]
+    };
+    for (id, rod) in bent.rods.iter().enumerate() {
+        let (source, k) = if id < m { (0, id) } else { (1, id - m) };
+        let src = &model.rods[source];
+        let (elements, nodes) = (src.mesh.elements(), src.mesh.quaternion_nodes() - 1);
+        let mut last: Option<Quat> = None;
+        for l in 0..2 {
+            let lf = l as f64;
+            let angle = if source == 0 {
+                2.0 * PI * k as f64 / mf + lf * (PI / mf + phi)
+            } else {
+                -2.0 * PI * k as f64 / mf - lf * (PI / mf - phi)
+            };
+            let turn = TurnZ::new(angle);
+            for v in 0..=elements {
+                let r = model.vertex(x, source, v);
+                let p = turn.apply([r[0], r[1], r[2]]);
+                for (c, value) in p.iter().enumerate() {
+                    out[rod.r_dof(l * elements + v, c)] = *value;
+                }
+                out[rod.r_dof(l * elements + v, 2)] += lf * rise;
+            }
+            let mut segment: Vec<Quat> = (0..=nodes)
+                .map(|node| turn.rotate(&model.quaternion(x, source, node)))
+                .collect();
+            if last.is_some_and(|q| q.dot(&segment[0]) < 0.0) {
+                segment.iter_mut().for_each(|q| *q = -*q);
+            }
+            for (node, q) in segment.iter().enumerate() {
+                for c in 0..4 {
+                    out[rod.q_dof(l * nodes + node, c)] = q[c];
+                }
+            }
+            last = segment.last().copied();
+        }
+    }
+    out
+}
 
 /// The beam of a cell's state at one output step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -354,6 +535,8 @@ pub struct StepBeam {
     pub stiffness: BeamStiffness,
     /// `EI` (N m²) from the bending wave's energy, where its fits agree ([`bending_of`]).
     pub bending: Option<f64>,
+    /// `EI` (N m²) by imposed curvature ([`bending_by_curvature`]).
+    pub bending_curvature: Option<f64>,
 }
 
 /// `EI` (N m²) of the cell's state from [`bending_stiffness`]: the fit at `δ/2` once the

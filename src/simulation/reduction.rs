@@ -271,7 +271,7 @@ impl Reduction for TubeCell {
     }
 
     fn images(&self, model: &DiscreteModel) -> f64 {
-        model.assembly.cell.as_ref().map_or(1.0, |c| c.m as f64)
+        model.assembly.cell.as_ref().map_or(1.0, |c| c.sectors())
     }
 
     /// An infinite tube is not modelled whole.

@@ -284,22 +284,26 @@ fn the_shipped_cell_case_runs_to_loves_force_with_its_column_band() {
     }
 }
 
-/// A cell is refused a load it does not carry, saying so.
+/// A tilt makes the cell the tube's bending cell (n = 2m, m ≥ 2); a tube of two helices
+/// is refused it, saying so.
 #[test]
-fn a_cell_refuses_a_tilt() {
+fn a_cell_is_bent_only_with_two_helices_of_each_hand() {
     let text = std::fs::read_to_string("cases/cell-n8.toml").expect("the shipped case");
     let tilted = text.replace(
         "[loading]",
         "[loading]\nparameter = \"tilt\"\nhold = { axial = 0.0 }",
     );
-    let err = spira::case::Case::parse(&tilted, "tilted.toml", "tilted")
-        .expect_err("a tilted cell is refused");
+    let case = spira::case::Case::parse(&tilted, "tilted.toml", "tilted")
+        .expect("a tilted cell of 8 helices");
+    assert!(case.bends_cell());
+    let model = case.model();
+    assert_eq!(model.rods.len(), 8);
+    let two = tilted.replace("helices = 8", "helices = 2");
+    let err = spira::case::Case::parse(&two, "tilted.toml", "tilted")
+        .expect_err("a tilted cell of 2 helices is refused");
     let message = err.to_string();
     assert!(message.contains("discretisation.model"), "{message}");
-    assert!(
-        message.contains("its twist and a radial pressure"),
-        "{message}"
-    );
+    assert!(message.contains("m >= 2"), "{message}");
 }
 
 /// The loads of a cell twisted by `phi` (rad per cell, stepped) at the held strain `eps`.

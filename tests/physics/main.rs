@@ -3,6 +3,7 @@
 //! (`cargo test --release --test physics`).
 
 mod beam;
+mod bending;
 mod bulk;
 mod cell;
 mod critical_curves;

@@ -225,6 +225,11 @@ impl Loads {
         })
     }
 
+    /// Whether the tip support tilts (its turn about x is a motion that is not zero).
+    pub fn tilts(&self) -> bool {
+        matches!(self.tip.axis(SupportAxis::RotX), AxisLoad::Motion(r) if r != Ramp::ZERO)
+    }
+
     /// The tip support.
     pub fn tip(&self) -> &TipSupport {
         &self.tip
