@@ -217,3 +217,92 @@ fn the_free_motion_check_follows_the_geometry() {
         }
     }
 }
+
+/// Sliding crossings free what pins hold: n = 8 helices whose bases slide along their radii
+/// and whose tips slide in their plane (both clamped in rotation) keep no rod from
+/// translating along its base's radius when the crossings slide. A crossing of `R_i` and
+/// `L_j` lies midway in azimuth between their bases, so the same radial speed on every rod
+/// moves its two rods apart along the tube's surface only, which the contacts follow by
+/// sliding. The check names the motion, and the natural state's KKT matrix has it as a
+/// zero-energy mode: every rod translated along its base radius, the contacts' arc lengths
+/// moved along both tangents, keeps every constraint and stores no energy. With pins the
+/// same motion tears the joints, and the check names nothing.
+#[test]
+fn sliding_crossings_let_every_rod_translate_along_its_base_radius() {
+    use nalgebra::{Matrix3x2, Vector3};
+    use spira::discretisation::system::System;
+    let clamped = |translation| EndCondition {
+        translation,
+        rotation: Rotation::Clamped,
+    };
+    let mut case = tiny(8, "displacement", 0.01);
+    for joints in [Joints::Sliding, Joints::Pin] {
+        let bc = BoundaryConditions {
+            base: clamped(Translation::Radial),
+            tip: clamped(Translation::Slide),
+            joints,
+        };
+        case.boundary = bc;
+        let motion = free_motion_of(&bc, &case.geometry, true);
+        let model = case.model();
+        let x0 = model.natural_state();
+        let system = System::new(&model, bc, &x0, &case.loads(), 0.0);
+        let mut x = x0.clone();
+        x.resize(system.n, 0.0);
+        // every rod translated by its base's radial unit vector
+        let mut u = vec![0.0; model.n_primal];
+        let radial = |rod: usize| {
+            let r = model.vertex(&x0, rod, 0);
+            Vector3::new(r[0], r[1], 0.0).normalize()
+        };
+        for (k, rod) in model.rods.iter().enumerate() {
+            let e = radial(k);
+            for v in 0..=rod.mesh.elements() {
+                for c in 0..3 {
+                    u[rod.r_dof(v, c)] = e[c];
+                }
+            }
+        }
+        // the contacts follow: t_R δs_R − t_L δs_L = δr_L − δr_R (least squares)
+        let mut off_surface = 0.0f64;
+        for (k, &j) in model.slides.iter().enumerate() {
+            let joint = &model.assembly.joints[j];
+            let tangent = |rod: usize| {
+                model.assembly.rods[rod]
+                    .directors(joint.s)
+                    .column(2)
+                    .into_owned()
+            };
+            let a = Matrix3x2::from_columns(&[tangent(joint.right), -tangent(joint.left)]);
+            let b = radial(joint.left) - radial(joint.right);
+            let ds = (a.transpose() * a).try_inverse().expect("two tangents") * a.transpose() * b;
+            off_surface = off_surface.max((a * ds - b).norm());
+            u[model.slide_dof(k, 0)] = ds[0];
+            u[model.slide_dof(k, 1)] = ds[1];
+        }
+        let (hu, cu) = crate::symmetry::kkt_action(&model, &system, &x, &u);
+        let kept = cu.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let energy = hu.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        eprintln!("{}: named {:?}; constraints {kept:e}, energy rows {energy:e}, contacts off the surface {off_surface:e}", joints.name(), motion.as_ref().map(|m| &m.message));
+        match joints {
+            Joints::Sliding => {
+                let m = motion.expect("a free motion named");
+                assert_eq!(m.half, "translation");
+                assert!(m.message.contains("a free rigid motion"), "{}", m.message);
+                assert!(
+                    m.message.contains("the crossings slide")
+                        && m.message.contains("pinned, they would hold it"),
+                    "{}",
+                    m.message
+                );
+                assert!(off_surface < 1e-12, "{off_surface:e}");
+                assert!(kept < 1e-12, "the motion breaks a constraint by {kept:e}");
+                assert!(energy < 1e-9, "the motion stores energy: {energy:e}");
+            }
+            _ => {
+                assert!(motion.is_none(), "{motion:?}");
+                assert!(kept > 1e-3, "pins hold the motion: {kept:e}");
+            }
+        }
+    }
+}
