@@ -105,33 +105,20 @@ fn stiffness(b: &RawBoundary, ck: &Checker) -> Result<JointStiffness, CaseError>
     })
 }
 
-/// The model of a case whose joints slide: the whole assembly. The contacts' arc lengths
-/// are unknowns of the joints that the symmetric pair ties to images of its rods (their
-/// Bloch phases are not written for them) and the cell has no joints of its own, so the
-/// automatic choice falls back to the full model, and an explicit pair or cell is refused.
+/// The model of a case whose joints slide: the whole assembly or the symmetric pair (the
+/// contacts' arc lengths are unknowns of the pair's joints, and of its Bloch blocks); the
+/// cell, whose crossings are not joints of its own, is refused.
 pub(super) fn sliding_model(
-    discretisation: &mut Discretisation,
+    discretisation: &Discretisation,
     ck: &Checker,
 ) -> Result<(), CaseError> {
-    let refuse = |key: &str, message: &str| CaseError::Invalid {
-        file: ck.file.to_string(),
-        line: ck.line_of_key(key),
-        key: format!("discretisation.{key}"),
-        message: message.to_string(),
-    };
     if discretisation.cell {
-        return Err(refuse(
-            "model",
-            "expected \"full\" or \"auto\" with boundary.joints = \"sliding\": the cell of the infinite tube does not carry sliding joints (its bulk in closed form: docs/joints.md)",
-        ));
+        return Err(CaseError::Invalid {
+            file: ck.file.to_string(),
+            line: ck.line_of_key("model"),
+            key: "discretisation.model".to_string(),
+            message: "expected \"full\", \"pair\" or \"auto\" with boundary.joints = \"sliding\": the cell of the infinite tube does not carry sliding joints (its bulk in closed form: docs/joints.md)".to_string(),
+        });
     }
-    if discretisation.symmetric && !discretisation.symmetric_auto {
-        return Err(refuse(
-            "model",
-            "expected \"full\" or \"auto\" with boundary.joints = \"sliding\": the symmetric pair does not carry sliding joints (the automatic choice is the full model)",
-        ));
-    }
-    discretisation.symmetric = false;
-    discretisation.symmetric_auto = false;
     Ok(())
 }

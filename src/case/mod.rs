@@ -165,7 +165,7 @@ impl Case {
             discretisation.symmetric_auto = false;
         }
         if boundary.joints.slides() {
-            joints::sliding_model(&mut discretisation, &ck)?;
+            joints::sliding_model(&discretisation, &ck)?;
         }
         // a branch switched onto may break the symmetry: the automatic choice is then the
         // full model
@@ -195,10 +195,7 @@ impl Case {
             return c;
         }
         // the symmetric reduction needs n = 2m, m ≥ 2
-        let has = n >= 4
-            && n % 2 == 0
-            && c.loads().keeps_cyclic_symmetry()
-            && !c.boundary.joints.slides();
+        let has = n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
         c.discretisation.symmetric = if c.discretisation.symmetric_auto {
             has && c.loading.branch != Branch::Switch
         } else {
@@ -260,17 +257,12 @@ impl Case {
     /// the scene): one symmetric pair standing for the assembly when it has the symmetry,
     /// its stability judged by the pair's Bloch blocks (the count of unstable directions at
     /// every step, the lowest eigenvalue and its wavenumber at every point of the path).
-    /// Everything shown is still of the whole assembly. Sliding crossings are solved on the
-    /// whole assembly.
+    /// Everything shown is still of the whole assembly.
     pub fn for_explorer(&self) -> Case {
         let mut c = self.clone();
         let n = c.geometry.helices;
         c.discretisation.symmetric |=
             !c.discretisation.cell && n >= 4 && n % 2 == 0 && c.loads().keeps_cyclic_symmetry();
-        // sliding crossings are solved on the whole assembly (docs/joints.md)
-        if c.boundary.joints.slides() {
-            c.discretisation.symmetric = false;
-        }
         c
     }
 

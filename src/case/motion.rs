@@ -48,8 +48,30 @@ const RANK_TOL: f64 = 1e-7;
 
 /// The rigid motion supports `b` leave free on the assembly of `geometry` under `control`
 /// (the tip's height is free under load control), if any. The one check of the case
-/// reader and of the explorer's condition keys.
+/// reader and of the explorer's condition keys. A motion that sliding crossings free and
+/// pins would hold says so.
 pub fn free_motion_of(
+    b: &BoundaryConditions,
+    geometry: &Geometry,
+    tip_height_held: bool,
+) -> Option<FreeMotion> {
+    let mut motion = rigid_motion_of(b, geometry, tip_height_held)?;
+    if b.joints.slides() {
+        let pinned = BoundaryConditions {
+            joints: Joints::Pin,
+            ..*b
+        };
+        if rigid_motion_of(&pinned, geometry, tip_height_held).is_none() {
+            motion.message.push_str(
+                "; the crossings slide (boundary.joints = \"sliding\"): pinned, they would hold it",
+            );
+        }
+    }
+    Some(motion)
+}
+
+/// [`free_motion_of`] without the word on sliding crossings.
+fn rigid_motion_of(
     b: &BoundaryConditions,
     geometry: &Geometry,
     tip_height_held: bool,

@@ -13,7 +13,9 @@ use std::f64::consts::PI;
 /// the full model in `full_system`'s layout: every rod is the image of one rod of the pair
 /// turned about z; support and pin-joint multipliers are zero (they do not enter the
 /// Hessian); a welded joint's multipliers, a moment in the right rod's frame, are those of the
-/// pair's joint at the same arc length (where it holds all three components).
+/// pair's joint at the same arc length (where it holds all three components); a sliding
+/// joint's contacts are at the arc lengths of the pair's joint at the same arc length, and
+/// its force (which enters the Hessian) is that joint's turned with the right rod.
 /// `out` has the length of the full system's unknowns.
 pub fn expand_state(
     pair: &DiscreteModel,
@@ -58,6 +60,22 @@ pub fn expand_state(
         }
     }
     let tol = 1e-9 * pair.length();
+    // a sliding joint of right rod R_a is the image, turned by 2πa/m, of the pair's joint at
+    // the same arc length: the same contacts' arc lengths, its force turned
+    for (k, slide) in full_system.slides.iter().enumerate() {
+        let joint = &full.assembly.joints[slide.joint];
+        let Some(source) = pair_slide(pair, joint.s) else {
+            continue;
+        };
+        for side in 0..2 {
+            out[full.slide_dof(k, side)] = x[pair.slide_dof(source, side)];
+        }
+        let (_, angle) = sym.image(joint.right);
+        let from = pair_system.slide_row(source);
+        let nu = TurnZ::new(angle).apply([x[from], x[from + 1], x[from + 2]]);
+        let row = full_system.slide_row(k);
+        out[row..row + 3].copy_from_slice(&nu);
+    }
     for (i, rot) in full_system.rotations.iter().enumerate() {
         let s = full.assembly.joints[rot.joint].s;
         let source = pair_system.rotations.iter().enumerate().find(|(_, r)| {
@@ -81,6 +99,16 @@ pub fn expand_state(
     }
 }
 
+/// The sliding joint of the pair (index into its model's sliding joints) at arc length
+/// `s` (m): every crossing of the whole assembly is the image of the pair's joint at its arc
+/// length (the right rod `R_0` meets each image of `L_0` at arc lengths of its own).
+fn pair_slide(pair: &DiscreteModel, s: f64) -> Option<usize> {
+    let tol = 1e-9 * pair.length();
+    pair.slides
+        .iter()
+        .position(|&j| (pair.assembly.joints[j].s - s).abs() <= tol)
+}
+
 /// The Bloch (Fourier) blocks of the KKT matrix of a symmetric assembly (docs/theory.md §7).
 ///
 /// With every sector's unknowns in its own rotated frame, the full KKT matrix at a
@@ -89,8 +117,9 @@ pub fn expand_state(
 /// size of the pair: the pair's own KKT matrix, except that a joint tying the pair to the
 /// image of its left rod in sector `r` carries the phase `e^{2πipr/m}` on its coupling
 /// entries (row of the joint's multiplier × the left rod's positions; for a welded or elastic
-/// joint also its rows and the right rod's quaternion × the left rod's quaternion) and the
-/// conjugate phase on their transposes. Blocks `p` and `m − p` are conjugate (same spectrum); `p = 0`
+/// joint also its rows and the right rod's quaternion × the left rod's quaternion; for a
+/// sliding joint its rows and the left contact's arc length × the left rod's unknowns of the
+/// window) and the conjugate phase on their transposes. Blocks `p` and `m − p` are conjugate (same spectrum); `p = 0`
 /// (the pair itself) and `p = m/2` are real. Every block is stored in the pair's pattern:
 /// the complex ones with complex entries, factorised as `LDLᴴ`.
 #[derive(Clone, Debug)]
@@ -138,6 +167,42 @@ impl BlochBlocks {
                 for &d in &rot.dofs[4..] {
                     phase[entry(row, d)] = Some((1.0, r));
                     phase[entry(d, row)] = Some((-1.0, r));
+                }
+            }
+        }
+        // a sliding joint's multipliers and both contacts' arc lengths are unknowns of the
+        // right rod's sector: its rows and the left contact's arc length couple to the
+        // image's positions and quaternions in the window (`ν · ∂r_L`, `ν · ∂²r_L/∂s∂q`);
+        // the terms `ν · ∂²r_L/∂q∂q` are of the image alone and take no phase
+        let degree = pair.order.degree();
+        for (k, slide) in system.slides.iter().enumerate() {
+            let r = (slide.turn * m as f64 / (2.0 * PI))
+                .round()
+                .rem_euclid(m as f64) as usize;
+            if r == 0 {
+                continue;
+            }
+            let side = &slide.sides[1];
+            let rod = &pair.rods[side.rod];
+            let first = system.slide_row(k);
+            let mut mark = |row: usize, d: usize| {
+                phase[entry(row, d)] = Some((1.0, r));
+                phase[entry(d, row)] = Some((-1.0, r));
+            };
+            for e in side.first..=side.last {
+                for row in first..first + 3 {
+                    for c in 0..3 {
+                        mark(row, rod.r_dof(e, c));
+                    }
+                }
+                for node in e * degree..=(e + 1) * degree {
+                    for c in 0..4 {
+                        let d = rod.q_dof(node, c);
+                        for row in first..first + 3 {
+                            mark(row, d);
+                        }
+                        mark(side.dof, d);
+                    }
                 }
             }
         }
@@ -240,6 +305,19 @@ pub fn assembly_mode(pair: &DiscreteModel, p: usize, v: &[f64], full: &DiscreteM
             for k in 0..3 {
                 out[rod.r_dof(vtx, k)] = dr[k];
             }
+        }
+    }
+    // the contacts' arc lengths of a sliding joint are of its right rod's sector
+    for (k, &joint) in full.slides.iter().enumerate() {
+        let joint = &full.assembly.joints[joint];
+        let Some(source) = pair_slide(pair, joint.s) else {
+            continue;
+        };
+        let (_, angle) = sym.image(joint.right);
+        let r = (angle * m as f64 / (2.0 * PI)).round().rem_euclid(m as f64) as usize;
+        let (s, c) = phase_angle(m, p, r).sin_cos();
+        for side in 0..2 {
+            out[full.slide_dof(k, side)] = at(pair.slide_dof(source, side), c, s);
         }
     }
     let norm = out.iter().map(|u| u * u).sum::<f64>().sqrt();

@@ -179,16 +179,14 @@ impl Simulation {
             threads,
         } = start;
         x.truncate(model.n_primal);
-        if bc.joints.slides()
-            && (model.assembly.symmetry.is_some() || model.assembly.cell.is_some())
-        {
+        if bc.joints.slides() && model.assembly.cell.is_some() {
             return Err(SolveError {
                 control: loads.control(),
                 reached: 0.0,
                 compression_ratio: 0.0,
                 target: 0.0,
                 step: 0.0,
-                reason: StopReason::SlidingNeedsFull,
+                reason: StopReason::SlidingInCell,
             });
         }
         // the contacts of sliding joints are unknowns of the model
@@ -499,7 +497,7 @@ impl Simulation {
             _ => self.parameter(),
         };
         let old = self.model();
-        if bc.joints.slides() && (old.assembly.symmetry.is_some() || old.assembly.cell.is_some()) {
+        if bc.joints.slides() && old.assembly.cell.is_some() {
             let state = self.path.state();
             return Err(SolveError {
                 control,
@@ -507,7 +505,7 @@ impl Simulation {
                 compression_ratio: self.compression_ratio(),
                 target: state.lambda,
                 step: 0.0,
-                reason: StopReason::SlidingNeedsFull,
+                reason: StopReason::SlidingInCell,
             });
         }
         let model = old.clone().with_sliding_joints(bc.joints.slides());

@@ -103,6 +103,15 @@ impl LoadedAssembly {
         self.judge.block_mode(&self.model, &self.system, x, p)
     }
 
+    /// The eigenvalue nearest zero of block `p` at `x` (J/m; for a stable state the block's
+    /// lowest) and its mode, as [`LoadedAssembly::nearest_zero_with_mode`] gives them.
+    pub fn block_nearest_zero(&mut self, x: &[f64], p: usize) -> Option<(f64, Vec<f64>)> {
+        self.judge.focus(Some(p));
+        let found = self.nearest_zero_with_mode(x);
+        self.judge.focus(None);
+        found.map(|(mu, _, mode)| (mu, mode))
+    }
+
     /// The modes of the critical point `critical`, on the whole assembly for a reduced
     /// model.
     pub fn critical_modes(&mut self, critical: &Critical) -> CriticalModes {

@@ -81,10 +81,10 @@ pub enum StopReason {
     LeftDomain,
     #[error("switching branch needs the full model: a symmetric pair cannot follow a mode that breaks the symmetry")]
     SymmetricPair,
-    /// Sliding joints asked of a symmetric pair or a cell, whose joints to images do not
-    /// carry the contacts' arc lengths.
-    #[error("sliding joints need the whole assembly: the symmetric pair and the cell do not carry them (start over with discretisation.model = \"full\")")]
-    SlidingNeedsFull,
+    /// Sliding joints asked of the cell of an infinite tube, whose crossings are not joints
+    /// of its own.
+    #[error("sliding joints need a finite tube: the cell of the infinite tube does not carry them (start over with discretisation.model = \"full\" or \"pair\")")]
+    SlidingInCell,
     #[error("there is no critical point {index} to switch branch at")]
     NoCriticalPoint { index: usize },
     /// The critical point's state is of another problem than the path's now (a symmetric

@@ -1,8 +1,10 @@
 //! The free-motion check of the case reader is exact: for every combination of
-//! the supports (base and tip translation × rotation), with and without joints, under
+//! the supports (base and tip translation × rotation), with and without joints (pinned,
+//! welded, with a scissor spring, sliding), under
 //! displacement and load control, on 1, 2 and 8 helices, `free_motion_of` names a motion
 //! exactly when the natural state has a zero-energy mode (its lowest stability eigenvalue
-//! vanishes, or the first step meets a singular matrix); when it names none, a short solve
+//! vanishes, the first step meets a singular matrix, or, with sliding joints, the lowest
+//! eigenvalue with every unknown in the metric vanishes); when it names none, a short solve
 //! (one small step) succeeds.
 
 use rayon::prelude::*;
@@ -57,6 +59,25 @@ fn natural_state(case: &Case, step: bool) -> (f64, Option<String>) {
     }
 }
 
+/// The lowest eigenvalue of the natural state's constrained Hessian with every primal
+/// unknown in the metric (unit weight: positions and the contacts' arc lengths too), so
+/// that a rigid translation, which the rotations' metric does not see, shows as a zero
+/// eigenvalue.
+fn lowest_with_every_unknown_weighted(case: &Case) -> Option<f64> {
+    use spira::discretisation::system::System;
+    use spira::solver::stability::KktStability;
+    let model = case.model();
+    let x0 = model.natural_state();
+    let system = System::new(&model, case.boundary, &x0, &case.loads(), 0.0);
+    let mut x = x0;
+    x.resize(system.n, 0.0);
+    let mut residual = vec![0.0; system.n];
+    let mut values = system.new_values();
+    system.evaluate(&model, &x, &mut residual, &mut values);
+    let mut stability: KktStability = KktStability::new(vec![1.0; model.n_primal], model.length());
+    stability.lowest_eigenvalue(system.pattern(), &values)
+}
+
 #[test]
 fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
     let mut named = 0;
@@ -71,6 +92,11 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
             // the scale of the stiffness: the lowest eigenvalue with both ends clamped
             let (reference, e) = natural_state(&case, false);
             assert!(e.is_none() && reference > 0.0, "{e:?}");
+            // and with every unknown in the metric, sliding crossings and clamped ends
+            let mut clamped = case.clone();
+            clamped.boundary.joints = Joints::Sliding;
+            let weighted_reference = lowest_with_every_unknown_weighted(&clamped).expect("clamped");
+            assert!(weighted_reference > 0.0);
             // welded joints tie the rods' rotations, a scissor spring alone the rotation
             // about the surface normal only
             let scissor = Joints::Elastic(JointStiffness {
@@ -80,7 +106,13 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
             let joints: &[Joints] = if n == 1 {
                 &[Joints::Pin]
             } else {
-                &[Joints::Pin, Joints::None, Joints::Welded, scissor]
+                &[
+                    Joints::Pin,
+                    Joints::None,
+                    Joints::Welded,
+                    scissor,
+                    Joints::Sliding,
+                ]
             };
             let scenes: Vec<BoundaryConditions> = joints
                 .iter()
@@ -105,14 +137,20 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
                     if motion.is_some() && lowest.abs() > 1e-8 * reference {
                         (lowest, error) = natural_state(&c, true);
                     }
+                    // sliding crossings free translations of rods relative to one
+                    // another that a solve need not meet as a singular matrix: every
+                    // unknown weighted shows them
+                    let weighted = (bc.joints == Joints::Sliding)
+                        .then(|| lowest_with_every_unknown_weighted(&c).unwrap_or(0.0));
                     match motion {
                         Some(m) => {
                             // a zero-energy mode, no refusal of a solvable scene: a
                             // rotation shows in the stability (its metric is of the
                             // rotations), a translation as a singular matrix
                             let singular = error.as_deref().is_some_and(|e| e.contains("singular"));
+                            let neutral = weighted.is_some_and(|w| w.abs() <= 1e-8 * weighted_reference);
                             assert!(
-                                lowest.abs() <= 1e-8 * reference || singular,
+                                lowest.abs() <= 1e-8 * reference || singular || neutral,
                                 "{what}: named `{}` but the lowest eigenvalue is {lowest:e} (clamped {reference:e}) and the step gave {error:?}",
                                 m.message
                             );
@@ -126,6 +164,12 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
                                 lowest > 1e-3 * reference,
                                 "{what}: accepted, but the lowest eigenvalue is {lowest:e} (clamped {reference:e})"
                             );
+                            if let Some(w) = weighted {
+                                assert!(
+                                    w > 1e-3 * weighted_reference,
+                                    "{what}: accepted, but with every unknown weighted the lowest eigenvalue is {w:e} (clamped {weighted_reference:e})"
+                                );
+                            }
                             false
                         }
                     }
@@ -135,8 +179,8 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
             accepted += verdicts.iter().filter(|&&v| !v).count();
         }
     }
-    // 2 controls × (81 + 2 × 4 × 81) combinations
-    assert_eq!(named + accepted, 1458);
+    // 2 controls × (81 + 2 × 5 × 81) combinations
+    assert_eq!(named + accepted, 1782);
     println!("{named} named, {accepted} accepted");
 }
 
@@ -213,6 +257,95 @@ fn the_free_motion_check_follows_the_geometry() {
             None => {
                 assert!(!zero_mode, "{what}: lowest {lowest:e}, step {error:?}");
                 assert!(error.is_none(), "{what}: {error:?}");
+            }
+        }
+    }
+}
+
+/// Sliding crossings free what pins hold: n = 8 helices whose bases slide along their radii
+/// and whose tips slide in their plane (both clamped in rotation) keep no rod from
+/// translating along its base's radius when the crossings slide. A crossing of `R_i` and
+/// `L_j` lies midway in azimuth between their bases, so the same radial speed on every rod
+/// moves its two rods apart along the tube's surface only, which the contacts follow by
+/// sliding. The check names the motion, and the natural state's KKT matrix has it as a
+/// zero-energy mode: every rod translated along its base radius, the contacts' arc lengths
+/// moved along both tangents, keeps every constraint and stores no energy. With pins the
+/// same motion tears the joints, and the check names nothing.
+#[test]
+fn sliding_crossings_let_every_rod_translate_along_its_base_radius() {
+    use nalgebra::{Matrix3x2, Vector3};
+    use spira::discretisation::system::System;
+    let clamped = |translation| EndCondition {
+        translation,
+        rotation: Rotation::Clamped,
+    };
+    let mut case = tiny(8, "displacement", 0.01);
+    for joints in [Joints::Sliding, Joints::Pin] {
+        let bc = BoundaryConditions {
+            base: clamped(Translation::Radial),
+            tip: clamped(Translation::Slide),
+            joints,
+        };
+        case.boundary = bc;
+        let motion = free_motion_of(&bc, &case.geometry, true);
+        let model = case.model();
+        let x0 = model.natural_state();
+        let system = System::new(&model, bc, &x0, &case.loads(), 0.0);
+        let mut x = x0.clone();
+        x.resize(system.n, 0.0);
+        // every rod translated by its base's radial unit vector
+        let mut u = vec![0.0; model.n_primal];
+        let radial = |rod: usize| {
+            let r = model.vertex(&x0, rod, 0);
+            Vector3::new(r[0], r[1], 0.0).normalize()
+        };
+        for (k, rod) in model.rods.iter().enumerate() {
+            let e = radial(k);
+            for v in 0..=rod.mesh.elements() {
+                for c in 0..3 {
+                    u[rod.r_dof(v, c)] = e[c];
+                }
+            }
+        }
+        // the contacts follow: t_R δs_R − t_L δs_L = δr_L − δr_R (least squares)
+        let mut off_surface = 0.0f64;
+        for (k, &j) in model.slides.iter().enumerate() {
+            let joint = &model.assembly.joints[j];
+            let tangent = |rod: usize| {
+                model.assembly.rods[rod]
+                    .directors(joint.s)
+                    .column(2)
+                    .into_owned()
+            };
+            let a = Matrix3x2::from_columns(&[tangent(joint.right), -tangent(joint.left)]);
+            let b = radial(joint.left) - radial(joint.right);
+            let ds = (a.transpose() * a).try_inverse().expect("two tangents") * a.transpose() * b;
+            off_surface = off_surface.max((a * ds - b).norm());
+            u[model.slide_dof(k, 0)] = ds[0];
+            u[model.slide_dof(k, 1)] = ds[1];
+        }
+        let (hu, cu) = crate::symmetry::kkt_action(&model, &system, &x, &u);
+        let kept = cu.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let energy = hu.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        eprintln!("{}: named {:?}; constraints {kept:e}, energy rows {energy:e}, contacts off the surface {off_surface:e}", joints.name(), motion.as_ref().map(|m| &m.message));
+        match joints {
+            Joints::Sliding => {
+                let m = motion.expect("a free motion named");
+                assert_eq!(m.half, "translation");
+                assert!(m.message.contains("a free rigid motion"), "{}", m.message);
+                assert!(
+                    m.message.contains("the crossings slide")
+                        && m.message.contains("pinned, they would hold it"),
+                    "{}",
+                    m.message
+                );
+                assert!(off_surface < 1e-12, "{off_surface:e}");
+                assert!(kept < 1e-12, "the motion breaks a constraint by {kept:e}");
+                assert!(energy < 1e-9, "the motion stores energy: {energy:e}");
+            }
+            _ => {
+                assert!(motion.is_none(), "{motion:?}");
+                assert!(kept > 1e-3, "pins hold the motion: {kept:e}");
             }
         }
     }

@@ -252,3 +252,205 @@ fn a_compressed_sliding_tube_is_stable_with_the_same_path_at_two_meshes() {
         );
     }
 }
+
+/// `cases/thesis-n8-sliding.toml` solved as the symmetric pair (`pair`) or as the whole
+/// assembly.
+fn thesis_n8_sliding(pair: bool) -> Case {
+    let mut case = Case::from_file(std::path::Path::new("cases/thesis-n8-sliding.toml")).unwrap();
+    case.discretisation.symmetric = pair;
+    case
+}
+
+/// The tributary arc length of every primal unknown (m): the metric of the stability's
+/// eigenproblem, each node's quaternion weighted by its share of the rod, positions and
+/// contacts' arc lengths zero.
+fn rotation_metric(model: &spira::discretisation::discrete_model::DiscreteModel) -> Vec<f64> {
+    let mut metric = vec![0.0; model.n_primal];
+    let degree = model.order.degree();
+    for rod in &model.rods {
+        for e in 0..rod.mesh.elements() {
+            let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
+            for a in 0..=degree {
+                let end = a == 0 || a == degree;
+                let w = h / (if end { 2.0 } else { 1.0 } * degree as f64);
+                for q in 0..4 {
+                    metric[rod.q_dof(e * degree + a, q)] += w;
+                }
+            }
+        }
+    }
+    metric
+}
+
+/// The Bloch blocks of the sliding pair (n = 8, m = 4) at ε = 0.2 against the whole
+/// assembly's KKT matrix at the expanded state: each block's lowest eigenvalue and mode,
+/// rebuilt on the eight rods (the contacts' arc lengths included), is a direction that keeps
+/// every constraint of the whole tube — the sliding joints between sectors included — with
+/// the block's eigenvalue as its Rayleigh quotient; the lowest over the blocks is the whole
+/// tube's lowest, and the counts agree.
+#[test]
+fn bloch_blocks_of_the_sliding_pair_are_the_whole_tubes_constrained_hessian() {
+    use spira::discretisation::symmetry::{assembly_mode, expand_state};
+    use spira::model::loading::Loads;
+    use spira::simulation::problem::LoadedAssembly;
+    use spira::solver::problem::Problem;
+    let case = thesis_n8_sliding(true);
+    let mut sim = Simulation::from_case_on(&case, 1).unwrap();
+    for k in 1..=4 {
+        sim.advance_to(0.05 * k as f64).unwrap();
+    }
+    let x = sim.state().to_vec();
+    let pair = sim.model().clone();
+    assert_eq!(pair.rods.len(), 2);
+    assert!(!pair.slides.is_empty());
+    let np = pair.n_primal;
+    let eps = sim.compression_ratio();
+    let tip = &Loads::axial(Control::Displacement);
+    let pair_system = System::new(&pair, case.boundary, &x[..np], tip, eps);
+    let full = pair.full_model().expect("a symmetric pair");
+    assert_eq!(full.slides.len(), 4 * pair.slides.len());
+    let layout = System::new(&full, case.boundary, &full.natural_state(), tip, 0.0);
+    let mut xf = vec![0.0; layout.n];
+    expand_state(&pair, &pair_system, &x, &full, &layout, &mut xf);
+    let full_system = System::new(&full, case.boundary, &xf[..full.n_primal], tip, eps);
+    // the expanded state keeps every constraint of the whole tube, its sliding joints'
+    // between sectors included (the multipliers of supports and pins, which do not enter
+    // the Hessian, are not expanded: the primal rows are not compared)
+    let mut residual = vec![0.0; full_system.n];
+    full_system.residual(&full, &xf, &mut residual);
+    let worst = residual[full.n_primal..]
+        .iter()
+        .fold(0.0f64, |m, r| m.max(r.abs()));
+    assert!(worst < 1e-10, "constraints at the expanded state {worst:e}");
+    let metric = rotation_metric(&full);
+    let mut blocks = LoadedAssembly::new(pair.clone(), pair_system).with_threads(1);
+    let mut whole = LoadedAssembly::new(full.clone(), full_system.clone());
+    let mut lowest = f64::INFINITY;
+    for p in 0..=2 {
+        let (mu, v) = blocks.block_nearest_zero(&x, p).expect("an eigenvalue");
+        assert!(mu > 0.0, "p = {p}: the compressed tube is stable ({mu})");
+        lowest = lowest.min(mu);
+        // a complex block's mode v and i v: the two of the wavenumbers p and m − p
+        let mut modes = vec![v.clone()];
+        if p == 1 {
+            let half = v.len() / 2;
+            modes.push(
+                v[half..]
+                    .iter()
+                    .map(|a| -a)
+                    .chain(v[..half].iter().copied())
+                    .collect(),
+            );
+        }
+        for v in modes {
+            let u = assembly_mode(&pair, p, &v, &full);
+            let (hu, cu) = crate::symmetry::kkt_action(&full, &full_system, &xf, &u);
+            let kept = cu.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+            let uhu: f64 = u.iter().zip(&hu).map(|(a, b)| a * b).sum();
+            let umu: f64 = u.iter().zip(&metric).map(|(a, w)| w * a * a).sum();
+            let rayleigh = uhu / umu;
+            eprintln!("p = {p}: block {mu:.12e}, whole tube's Rayleigh quotient {rayleigh:.12e}, constraints {kept:e}");
+            assert!(
+                kept < 1e-9,
+                "p = {p}: the mode breaks the whole tube's constraints by {kept:e}"
+            );
+            assert!(
+                (rayleigh - mu).abs() < 1e-9 * mu,
+                "p = {p}: block {mu} vs whole tube {rayleigh}"
+            );
+        }
+    }
+    let full_lowest = whole.lowest_eigenvalue(&xf, 0.0).unwrap();
+    eprintln!("lowest over the blocks {lowest:.12e}, whole tube {full_lowest:.12e}");
+    assert!((lowest - full_lowest).abs() < 1e-9 * full_lowest);
+    assert_eq!(whole.unstable_directions(&xf, 0.0).unwrap(), 0);
+}
+
+/// The symmetric pair with sliding joints is the whole tube: `cases/thesis-n8-sliding.toml`
+/// compressed by ε = 0.02 a step to its fold, load, energy, stability and the contacts'
+/// slips of every rod the same on both, and the fold at the same ε. Every crossing lies on
+/// a mirror plane of the tube (its azimuth is a multiple of π/m), and the mirror swaps its
+/// two rods: both slide by the same amount.
+#[test]
+fn the_symmetric_pair_with_sliding_joints_is_the_whole_tube_to_its_fold() {
+    let run = |pair: bool| {
+        let case = thesis_n8_sliding(pair);
+        let mut sim = Simulation::from_case_on(&case, 1).unwrap();
+        let mut points = vec![sim.load_point(0)];
+        let mut stop = None;
+        for k in 1..=17 {
+            let done = sim.advance_to(0.02 * k as f64);
+            points.push(sim.load_point(k));
+            if let Err(e) = done {
+                stop = Some(e);
+                break;
+            }
+        }
+        (points, stop.expect("the path stops at its fold"), sim)
+    };
+    let (full, full_stop, full_sim) = run(false);
+    let (pair, pair_stop, pair_sim) = run(true);
+    assert_eq!(pair_sim.model().rods.len(), 2);
+    assert_eq!(full_sim.model().rods.len(), 8);
+    assert_eq!(full.len(), pair.len());
+    let (mut load_gap, mut energy_gap) = (0.0f64, 0.0f64);
+    for (a, b) in full.iter().zip(&pair) {
+        load_gap = load_gap.max((a.load[2] - b.load[2]).abs() / a.load[2].abs().max(1e-3));
+        energy_gap = energy_gap.max((a.energy - b.energy).abs() / a.energy.max(1e-3));
+        assert!((a.compression_ratio - b.compression_ratio).abs() < 1e-9);
+        let scale = a.load[2].abs().max(1e-3);
+        assert!(
+            (a.load[2] - b.load[2]).abs() < 1e-9 * scale,
+            "ε = {}: {} vs {}",
+            a.compression_ratio,
+            a.load[2],
+            b.load[2]
+        );
+        assert!(
+            (a.energy - b.energy).abs() < 1e-9 * a.energy.max(1e-3),
+            "ε = {}: {} vs {}",
+            a.compression_ratio,
+            a.energy,
+            b.energy
+        );
+        let (sa, sb) = (a.stability.unwrap(), b.stability.unwrap());
+        assert_eq!(sa.unstable_directions, 0);
+        assert_eq!(sb.unstable_directions, 0);
+    }
+    let (a, b) = (full.last().unwrap(), pair.last().unwrap());
+    eprintln!("largest relative gaps, pair to full: load {load_gap:e}, energy {energy_gap:e}");
+    eprintln!(
+        "stop: full ε = {:.9} ({full_stop}), pair ε = {:.9}; Σ Fz/(n Pcrit) {:.10} vs {:.10}, energy {:.10} vs {:.10} J",
+        a.compression_ratio, b.compression_ratio, a.load[2], b.load[2], a.energy, b.energy
+    );
+    use spira::solver::continuation::StopReason;
+    for stop in [&full_stop, &pair_stop] {
+        assert!(matches!(stop.reason, StopReason::Fold { .. }), "{stop}");
+    }
+    assert!(
+        (a.compression_ratio - 0.3379).abs() < 2e-4,
+        "{}",
+        a.compression_ratio
+    );
+    // the slips of every rod: the pair's images as the whole tube's rods
+    let length = thesis_n8_sliding(false).geometry.length;
+    let largest = slips(&full_sim, 0)
+        .iter()
+        .fold(0.0f64, |m, j| m.max(j.1.abs()));
+    assert!(largest > 1e-3 * length, "the contacts slide");
+    for rod in 0..8 {
+        for (f, p) in slips(&full_sim, rod).iter().zip(&slips(&pair_sim, rod)) {
+            assert!((f.0 - p.0).abs() < 1e-12);
+            assert!(
+                (f.1 - p.1).abs() < 1e-9 * length,
+                "rod {rod}: {f:?} vs {p:?}"
+            );
+        }
+    }
+    // both rods of a crossing slide alike: at each arc length s, R_0's contact is the right
+    // side and L_0's the left side of crossings of one orbit of the rotation
+    for (r, l) in slips(&pair_sim, 0).iter().zip(&slips(&pair_sim, 4)) {
+        assert!((r.0 - l.0).abs() < 1e-12);
+        assert!((r.1 - l.1).abs() < 1e-9 * length, "{r:?} vs {l:?}");
+    }
+}

@@ -203,7 +203,7 @@ fn bloch_blocks_count_the_full_models_unstable_directions_at_perturbed_states() 
 
 /// `K [u; 0]` for the KKT values of `system` at `x`: `(H u, C u)`, the Hessian's and the
 /// constraints' action on a primal direction `u`.
-fn kkt_action(
+pub(crate) fn kkt_action(
     model: &spira::discretisation::discrete_model::DiscreteModel,
     system: &spira::discretisation::system::System,
     x: &[f64],

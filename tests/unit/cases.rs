@@ -121,7 +121,7 @@ const FIXTURES: &[&str] = &[
     "loose-tolerance",
     "number-for-name",
     "sliding-both-ends",
-    "sliding-on-a-pair",
+    "sliding-in-a-cell",
     "stiffness-ratio",
     "tiny-turns",
     "too-many-joints",
@@ -507,30 +507,37 @@ fn springs_on_joints_that_are_not_elastic_are_refused() {
 }
 
 #[test]
-fn sliding_joints_on_the_symmetric_pair_are_refused() {
-    let e = rejected("sliding-on-a-pair");
+fn sliding_joints_in_a_cell_are_refused() {
+    let e = rejected("sliding-in-a-cell");
     assert!(is_invalid(&e), "{e:?}");
     check(
         &e,
-        7,
+        8,
         "discretisation.model",
         &[
-            "\"full\" or \"auto\"",
-            "symmetric pair does not carry sliding joints",
+            "\"full\", \"pair\" or \"auto\"",
+            "cell of the infinite tube does not carry sliding joints",
         ],
     );
 }
 
 #[test]
-fn sliding_joints_choose_the_full_model_automatically() {
-    let case = Case::parse(
-        "[geometry]\nhelices = 8\n[boundary]\njoints = \"sliding\"\n",
-        "s.toml",
-        "s",
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    assert!(!case.discretisation.symmetric);
-    assert_eq!(case.model().rods.len(), 8);
+fn sliding_joints_choose_the_symmetric_pair_automatically() {
+    let read = |model: &str| {
+        Case::parse(
+            &format!("[geometry]\nhelices = 8\n[boundary]\njoints = \"sliding\"\n[discretisation]\nmodel = \"{model}\"\n"),
+            "s.toml",
+            "s",
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    };
+    for (model, rods) in [("auto", 2), ("pair", 2), ("full", 8)] {
+        let case = read(model);
+        assert_eq!(case.discretisation.symmetric, rods == 2, "{model}");
+        let m = case.model();
+        assert_eq!(m.rods.len(), rods, "{model}");
+        assert!(!m.slides.is_empty(), "{model}");
+    }
 }
 
 #[test]

@@ -408,16 +408,6 @@ impl App {
         let mut bc = self.screen.boundary;
         bc.joints = bc.joints.next(self.case.joint_springs());
         let what = format!("joints {}", bc.joints.name());
-        // sliding crossings are solved on the whole assembly: a pair's path starts over as one
-        if bc.joints.slides() && self.model_name() == "pair" {
-            let previous = self.keep();
-            self.screen.boundary = bc;
-            self.message = Some(Message::Info(format!(
-                "{what}: the whole assembly carries sliding crossings, starting over from {} = 0",
-                self.symbol()
-            )));
-            return self.restart_from(previous, format!("{what}, the whole assembly, start over"));
-        }
         self.set_boundary(bc, what)
     }
 
