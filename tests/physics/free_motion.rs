@@ -103,16 +103,19 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
                 scissor: 1.0,
                 out_of_plane: 0.0,
             });
-            let joints: &[Joints] = if n == 1 {
-                &[Joints::Pin]
-            } else {
-                &[
+            // sliding crossings on two helices: on eight, each sliding scene's solve costs
+            // seconds (the 162 of them five minutes), and the motion they free there has
+            // its own test below
+            let joints: &[Joints] = match n {
+                1 => &[Joints::Pin],
+                2 => &[
                     Joints::Pin,
                     Joints::None,
                     Joints::Welded,
                     scissor,
                     Joints::Sliding,
-                ]
+                ],
+                _ => &[Joints::Pin, Joints::None, Joints::Welded, scissor],
             };
             let scenes: Vec<BoundaryConditions> = joints
                 .iter()
@@ -179,8 +182,8 @@ fn the_free_motion_check_names_a_motion_exactly_when_one_is_free() {
             accepted += verdicts.iter().filter(|&&v| !v).count();
         }
     }
-    // 2 controls × (81 + 2 × 5 × 81) combinations
-    assert_eq!(named + accepted, 1782);
+    // 2 controls × (81 + 5 × 81 + 4 × 81) combinations
+    assert_eq!(named + accepted, 1620);
     println!("{named} named, {accepted} accepted");
 }
 
