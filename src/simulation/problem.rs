@@ -140,9 +140,15 @@ impl Problem for LoadedAssembly {
 
     /// The mean tip above the base (`h > 0`), for a tube; any state of straight rods on
     /// the axis, whose ends are points that may pass each other (the elastica's loops).
-    fn in_domain(&self, x: &[f64]) -> bool {
+    fn out_of_domain(&self, x: &[f64]) -> Option<&'static str> {
         let on_axis = self.model.rods.iter().all(|r| r.helix.radius == 0.0);
-        on_axis || mean_tip_height(&self.model, x) > 0.0
+        if !on_axis && mean_tip_height(&self.model, x) <= 0.0 {
+            return Some("the tip at or below the base");
+        }
+        if crossings_pass(&self.model, x) {
+            return Some("two sliding crossings of one rod meet: the rods of one hand that make them would pass through each other, and the model has no contact between them");
+        }
+        None
     }
 
     fn primal_unknowns(&self) -> usize {
@@ -256,4 +262,21 @@ impl Problem for LoadedAssembly {
     fn restore(&mut self, _x: &[f64], lambda: f64) {
         self.system.set_parameter(lambda);
     }
+}
+
+/// Whether two sliding crossings of one rod have met or passed each other in the state `x`:
+/// along every rod the contacts' arc lengths keep the order of their natural ones, which two
+/// rods of one hand crossing it at the same point would break.
+fn crossings_pass(model: &DiscreteModel, x: &[f64]) -> bool {
+    let mut contacts: Vec<(usize, f64, f64)> = Vec::new();
+    for (k, &joint) in model.slides.iter().enumerate() {
+        let j = &model.assembly.joints[joint];
+        for (side, rod) in [j.right, j.left].into_iter().enumerate() {
+            contacts.push((rod, j.s, x[model.slide_dof(k, side)]));
+        }
+    }
+    contacts.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    contacts
+        .windows(2)
+        .any(|w| w[0].0 == w[1].0 && w[1].2 <= w[0].2)
 }

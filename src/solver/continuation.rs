@@ -77,8 +77,8 @@ pub enum StopReason {
     /// limit point: it ends there (see [`Continuation::set_stop_at_folds`]).
     #[error("the path meets a limit point (fold) at parameter {parameter:.6} and turns back there, short of the target: a path of prescribed motion ends at its fold")]
     Fold { parameter: f64 },
-    #[error("the next step leaves the physical domain (the tip at or below the base)")]
-    LeftDomain,
+    #[error("the next step leaves the physical domain ({why})")]
+    LeftDomain { why: &'static str },
     #[error("switching branch needs the full model: a symmetric pair cannot follow a mode that breaks the symmetry")]
     SymmetricPair,
     /// Sliding joints asked of the cell of an infinite tube, whose crossings are not joints
@@ -418,9 +418,9 @@ impl<P: Problem> Continuation<P> {
                         self.newton.discard_factorisation();
                         continue;
                     }
-                    if !self.problem.in_domain(&t.x) {
+                    if let Some(why) = self.problem.out_of_domain(&t.x) {
                         self.newton.discard_factorisation();
-                        return Err(self.error(target, h, StopReason::LeftDomain));
+                        return Err(self.error(target, h, StopReason::LeftDomain { why }));
                     }
                     let iterations = t.report.iterations;
                     let located_before = self.critical.len();

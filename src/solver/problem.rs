@@ -124,11 +124,12 @@ pub trait Problem {
         true
     }
 
-    /// Whether the state `x` is in the problem's physical domain (for the rods: the tips
-    /// above the base). The continuation stops before a step that leaves it. Every state
-    /// by default.
-    fn in_domain(&self, _x: &[f64]) -> bool {
-        true
+    /// Why the state `x` is outside the problem's physical domain (for the rods: the tips
+    /// at or below the base, two sliding crossings of one rod run into each other), or
+    /// `None` inside it. The continuation stops before a step that leaves it. Every state is
+    /// inside by default.
+    fn out_of_domain(&self, _x: &[f64]) -> Option<&'static str> {
+        None
     }
 
     /// Back to the converged point `(x, λ)` after a trial step (accepted or rejected) or the

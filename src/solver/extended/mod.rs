@@ -547,9 +547,9 @@ impl<F: Family> Problem for CriticalSystem<F> {
         })
     }
 
-    fn in_domain(&self, xe: &[f64]) -> bool {
+    fn out_of_domain(&self, xe: &[f64]) -> Option<&'static str> {
         let (x, _) = self.split(xe);
-        self.members.back().is_none_or(|c| c.member.in_domain(&x))
+        self.members.back().and_then(|c| c.member.out_of_domain(&x))
     }
 
     /// At a converged point the borders become its null vectors (orthonormalised), which
