@@ -9,7 +9,6 @@ use spira::discretisation::shape::Order;
 use spira::model::assembly::Assembly;
 use spira::model::boundary::BoundaryConditions;
 use spira::model::loading::{AxialHeld, Component, Control, Held, Loads};
-use spira::model::stiffness::Stiffness;
 use spira::simulation::beam::{
     beam_stiffness, bending_energy, bending_of, bending_stiffness, column_turns, BeamStiffness,
     StepBeam,
@@ -19,14 +18,7 @@ use spira::simulation::Simulation;
 use spira::solver::continuation::ContinuationSettings;
 use std::f64::consts::PI;
 
-/// The thesis helices (§4.1): a0 = 0.06 m, b0 = 0.025 m, B = 1, C = 2 N m².
-const A0: f64 = 0.06;
-const B0: f64 = 0.025;
-const STIFFNESS: Stiffness = Stiffness {
-    b1: 1.0,
-    b2: 1.0,
-    b3: 2.0,
-};
+use crate::{A0, B0, STIFFNESS};
 
 /// Continuation settings without the stability of the path.
 fn equilibrium_only() -> ContinuationSettings {

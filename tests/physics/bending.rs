@@ -17,14 +17,7 @@ use spira::simulation::Simulation;
 use spira::solver::continuation::ContinuationSettings;
 use spira::solver::newton::NewtonSettings;
 
-/// The thesis helices (§4.1): a0 = 0.06 m, b0 = 0.025 m, B = 1, C = 2 N m².
-const A0: f64 = 0.06;
-const B0: f64 = 0.025;
-const STIFFNESS: Stiffness = Stiffness {
-    b1: 1.0,
-    b2: 1.0,
-    b3: 2.0,
-};
+use crate::{A0, B0, STIFFNESS};
 
 /// Continuation without the stability of the path, Newton converged to 1e-12 (the checks
 /// at 1e-9 are then not the solver's tolerance).

@@ -10,20 +10,12 @@ use spira::discretisation::shape::Order;
 use spira::model::assembly::Assembly;
 use spira::model::helix::Chirality;
 use spira::model::love::LoveHelix;
-use spira::model::stiffness::Stiffness;
 use spira::simulation::Simulation;
 use spira::solver::continuation::ContinuationSettings;
 use std::f64::consts::PI;
 use std::path::Path;
 
-/// The thesis helices (§4.1): a0 = 0.06 m, b0 = 0.025 m, B = 1, C = 2 N m².
-const A0: f64 = 0.06;
-const B0: f64 = 0.025;
-const STIFFNESS: Stiffness = Stiffness {
-    b1: 1.0,
-    b2: 1.0,
-    b3: 2.0,
-};
+use crate::{A0, B0, STIFFNESS};
 
 fn c0() -> f64 {
     A0.hypot(B0)

@@ -39,15 +39,19 @@ fn curve(
     curve
 }
 
-/// The first critical point's load parameter on the path of `file` with `settings`.
-fn first_critical(file: &str, settings: &[String]) -> f64 {
+/// The shipped case `file` with `settings`.
+fn shipped_with(file: &str, settings: &[String]) -> Case {
     let path = format!("{}/cases/{file}", env!("CARGO_MANIFEST_DIR"));
     let settings: Vec<Setting> = settings
         .iter()
         .map(|s| s.parse().expect("a setting"))
         .collect();
-    let case = Case::from_file_with(std::path::Path::new(&path), &settings)
-        .unwrap_or_else(|e| panic!("{e}"));
+    Case::from_file_with(std::path::Path::new(&path), &settings).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The first critical point's load parameter on the path of `file` with `settings`.
+fn first_critical(file: &str, settings: &[String]) -> f64 {
+    let case = shipped_with(file, settings);
     let mut sim = Simulation::from_case_on(&case, 1).unwrap_or_else(|e| panic!("{e}"));
     for target in case.output_parameters(case.loading.target, case.loading.steps) {
         sim.advance_to(target).unwrap_or_else(|e| panic!("{e}"));
@@ -247,16 +251,13 @@ fn the_sliding_tip_tubes_curve_against_its_turns_agrees_with_separate_runs() {
 #[test]
 fn two_points_in_one_step_are_located_apart() {
     let points = |steps: &str| {
-        let path = format!("{}/cases/thesis-n8.toml", env!("CARGO_MANIFEST_DIR"));
-        let settings: Vec<Setting> = sliding_tip_tube(&[
-            format!("loading.steps={steps}"),
-            "loading.target=0.15".to_string(),
-        ])
-        .iter()
-        .map(|s| s.parse().expect("a setting"))
-        .collect();
-        let case = Case::from_file_with(std::path::Path::new(&path), &settings)
-            .unwrap_or_else(|e| panic!("{e}"));
+        let case = shipped_with(
+            "thesis-n8.toml",
+            &sliding_tip_tube(&[
+                format!("loading.steps={steps}"),
+                "loading.target=0.15".to_string(),
+            ]),
+        );
         let mut sim = Simulation::from_case_on(&case, 1).unwrap_or_else(|e| panic!("{e}"));
         for target in case.output_parameters(case.loading.target, case.loading.steps) {
             sim.advance_to(target).unwrap_or_else(|e| panic!("{e}"));

@@ -22,6 +22,15 @@ mod symmetry;
 use spira::discretisation::discrete_model::DiscreteModel;
 use spira::discretisation::system::System;
 
+/// The thesis helices (§4.1): a0 = 0.06 m, b0 = 0.025 m, B = 1, C = 2 N m².
+pub const A0: f64 = 0.06;
+pub const B0: f64 = 0.025;
+pub const STIFFNESS: spira::model::stiffness::Stiffness = spira::model::stiffness::Stiffness {
+    b1: 1.0,
+    b2: 1.0,
+    b3: 2.0,
+};
+
 /// The largest difference between the columns `columns` of the KKT matrix of `sys` at `x`
 /// and central differences (step 1e-6) of its residual, and the largest difference itself:
 /// `(worst, scale)`.
