@@ -106,3 +106,24 @@ pub fn bisect_change(mut unstable: impl FnMut(f64) -> bool, lo: f64, hi: f64, to
     }
     0.5 * (lo + hi)
 }
+
+/// The tributary arc length of every primal unknown (m): the metric of the stability's
+/// eigenproblem, each node's quaternion weighted by its share of the rod, positions and
+/// contacts' arc lengths zero.
+pub fn rotation_metric(model: &spira::discretisation::discrete_model::DiscreteModel) -> Vec<f64> {
+    let mut metric = vec![0.0; model.n_primal];
+    let degree = model.order.degree();
+    for rod in &model.rods {
+        for e in 0..rod.mesh.elements() {
+            let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
+            for a in 0..=degree {
+                let end = a == 0 || a == degree;
+                let w = h / (if end { 2.0 } else { 1.0 } * degree as f64);
+                for q in 0..4 {
+                    metric[rod.q_dof(e * degree + a, q)] += w;
+                }
+            }
+        }
+    }
+    metric
+}

@@ -261,27 +261,6 @@ fn thesis_n8_sliding(pair: bool) -> Case {
     case
 }
 
-/// The tributary arc length of every primal unknown (m): the metric of the stability's
-/// eigenproblem, each node's quaternion weighted by its share of the rod, positions and
-/// contacts' arc lengths zero.
-fn rotation_metric(model: &spira::discretisation::discrete_model::DiscreteModel) -> Vec<f64> {
-    let mut metric = vec![0.0; model.n_primal];
-    let degree = model.order.degree();
-    for rod in &model.rods {
-        for e in 0..rod.mesh.elements() {
-            let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
-            for a in 0..=degree {
-                let end = a == 0 || a == degree;
-                let w = h / (if end { 2.0 } else { 1.0 } * degree as f64);
-                for q in 0..4 {
-                    metric[rod.q_dof(e * degree + a, q)] += w;
-                }
-            }
-        }
-    }
-    metric
-}
-
 /// The Bloch blocks of the sliding pair (n = 8, m = 4) at ε = 0.2 against the whole
 /// assembly's KKT matrix at the expanded state: each block's lowest eigenvalue and mode,
 /// rebuilt on the eight rods (the contacts' arc lengths included), is a direction that keeps
@@ -322,7 +301,7 @@ fn bloch_blocks_of_the_sliding_pair_are_the_whole_tubes_constrained_hessian() {
         .iter()
         .fold(0.0f64, |m, r| m.max(r.abs()));
     assert!(worst < 1e-10, "constraints at the expanded state {worst:e}");
-    let metric = rotation_metric(&full);
+    let metric = crate::rotation_metric(&full);
     let mut blocks = LoadedAssembly::new(pair.clone(), pair_system).with_threads(1);
     let mut whole = LoadedAssembly::new(full.clone(), full_system.clone());
     let mut lowest = f64::INFINITY;

@@ -398,20 +398,7 @@ fn dense_lowest_eigenvalue(sim: &Simulation) -> f64 {
         }
     }
     // the metric: each node's quaternion weighted by its tributary arc length
-    let mut metric = vec![0.0; np];
-    let degree = model.order.degree();
-    for rod in &model.rods {
-        for e in 0..rod.mesh.elements() {
-            let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
-            for a in 0..=degree {
-                let end = a == 0 || a == degree;
-                let w = h / (if end { 2.0 } else { 1.0 } * degree as f64);
-                for q in 0..4 {
-                    metric[rod.q_dof(e * degree + a, q)] += w;
-                }
-            }
-        }
-    }
+    let metric = crate::rotation_metric(model);
     let h = k_dense.view((0, 0), (np, np)).into_owned();
     let j = k_dense.view((np, 0), (n - np, np)).into_owned();
     let gram = (j.transpose() * &j).symmetric_eigen();
