@@ -407,7 +407,7 @@ fn the_symmetric_pair_with_sliding_joints_is_the_whole_tube_to_its_stop() {
         a.compression_ratio, b.compression_ratio, a.load[2], b.load[2], a.energy, b.energy
     );
     use spira::solver::continuation::StopReason;
-    // two crossings of one rod meet short of ε = 0.3379, where the solver once turned back
+    // two crossings of one rod meet short of ε = 0.3379, where the steps find no equilibrium
     for stop in [&full_stop, &pair_stop] {
         assert!(
             matches!(stop.reason, StopReason::LeftDomain { why } if why.contains("crossings")),
