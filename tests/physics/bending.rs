@@ -84,6 +84,20 @@ fn bending_cell(n: usize, eps: f64) -> Simulation {
 /// A straight rod as a one-rod cell bent by the tilt θ over its length ℓ is an arc of a
 /// circle at any θ: M = B θ/ℓ (B = 1.3 N m², ℓ = 0.7 m), to 1e-9, up to θ = 2 rad (64
 /// elements: the discrete arc's moment is off by O((θ/N)⁴), 4e-9 at θ = 1 with 16).
+/// The straight cell of the thesis tube of `n` helices compressed to `eps`.
+fn straight_cell(n: usize, eps: f64) -> Simulation {
+    let mut straight = start(
+        Assembly::tube_cell(n, A0, B0).expect("a tube cell"),
+        default_elements(n),
+        Component::Axial,
+        Held::NATURAL,
+    );
+    straight
+        .advance_to(eps)
+        .expect("the cell follows its strain");
+    straight
+}
+
 #[test]
 fn a_straight_rod_bent_carries_b_kappa() {
     let length = 0.7;
@@ -171,15 +185,7 @@ fn a_slightly_bent_cell_is_the_straight_cell() {
     for eps in [0.0, 0.5] {
         let mut bent = bending_cell(n, eps);
         let p = path(&mut bent, &[1e-7]).remove(0);
-        let mut straight = start(
-            Assembly::tube_cell(n, A0, B0).expect("a tube cell"),
-            default_elements(n),
-            Component::Axial,
-            Held::NATURAL,
-        );
-        straight
-            .advance_to(eps)
-            .expect("the cell follows its strain");
+        let straight = straight_cell(n, eps);
         let q = straight.load_point(0);
         // the straight cell's energy is reported for one rise of the tube (m cells)
         let (e_bent, e_cell) = (p.energy, 2.0 * q.energy);
@@ -207,15 +213,7 @@ fn a_slightly_bent_cell_is_the_straight_cell() {
 fn the_bending_stiffness_by_curvature() {
     let n = 8;
     for eps in [0.0, 0.5] {
-        let mut straight = start(
-            Assembly::tube_cell(n, A0, B0).expect("a tube cell"),
-            default_elements(n),
-            Component::Axial,
-            Held::NATURAL,
-        );
-        straight
-            .advance_to(eps)
-            .expect("the cell follows its strain");
+        let straight = straight_cell(n, eps);
         let (model, system, x) = (straight.model(), straight.system(), straight.state());
         let clock = std::time::Instant::now();
         let curvature = bending_by_curvature(model, system, x).expect("EI by curvature");
