@@ -391,6 +391,9 @@ impl<P: Problem> Continuation<P> {
         let mut arclength_steps = 0;
         // whether the stability of the state on the target has its lowest eigenvalue
         let mut lowest_done = false;
+        // a step left the problem's domain: the edge lies within the steps tried since,
+        // which are halved until they are the smallest (the path stops on the edge)
+        let mut edge_within: Option<&'static str> = None;
         while (target - self.state.lambda).abs() > 1e-14 * (1.0 + target.abs()) {
             if let Some(why) = self.interrupt.as_ref().and_then(Interrupt::check) {
                 // as when a Newton iteration is interrupted, so that a path stopped here
@@ -420,6 +423,12 @@ impl<P: Problem> Continuation<P> {
                     }
                     if let Some(why) = self.problem.out_of_domain(&t.x) {
                         self.newton.discard_factorisation();
+                        if h > s.min_step * 1.000001 {
+                            self.stats.rejected += 1;
+                            edge_within = Some(why);
+                            self.state.step = (h * 0.5).max(s.min_step);
+                            continue;
+                        }
                         return Err(self.error(target, h, StopReason::LeftDomain { why }));
                     }
                     let iterations = t.report.iterations;
@@ -460,7 +469,12 @@ impl<P: Problem> Continuation<P> {
                     if let Some(reason) = self.stop_at_fold(step_from, dir) {
                         return Err(self.error(target, h, reason));
                     }
-                    self.adapt_step(nominal, h, iterations);
+                    if edge_within.is_some() {
+                        // the edge lies within a step of length h from here
+                        self.state.step = h;
+                    } else {
+                        self.adapt_step(nominal, h, iterations);
+                    }
                 }
                 Err(NewtonError::Interrupted { why, .. }) => {
                     self.newton.discard_factorisation();
@@ -470,6 +484,11 @@ impl<P: Problem> Continuation<P> {
                     self.stats.rejected += 1;
                     self.newton.discard_factorisation();
                     if h <= s.min_step * 1.000001 {
+                        if let Some(why) = edge_within {
+                            // no smaller step to close in on the edge with
+                            self.state.step = s.min_step;
+                            return Err(self.error(target, h, StopReason::LeftDomain { why }));
+                        }
                         if !self.state.arclength && s.arclength_fallback {
                             // change strategy: pseudo-arclength from here
                             self.state.arclength = true;

@@ -126,7 +126,8 @@ pub trait Problem {
 
     /// Why the state `x` is outside the problem's physical domain (for the rods: the tips
     /// at or below the base, two sliding crossings of one rod run into each other), or
-    /// `None` inside it. The continuation stops before a step that leaves it. Every state is
+    /// `None` inside it. A step that leaves it is halved until it is the smallest step, so the
+    /// path stops on the domain's edge (to the smallest step). Every state is
     /// inside by default.
     fn out_of_domain(&self, _x: &[f64]) -> Option<&'static str> {
         None
