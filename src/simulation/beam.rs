@@ -362,8 +362,9 @@ pub const BENDING_STEP: f64 = 0.02;
 /// curvature `κ = θ/H`, `H = 2h` the bending cell's rise) and the cell's held loads gives
 /// the bending moment `M = ∂Π/∂θ` and `EI = dM/dκ = H ∂²Π/∂θ²` at `θ = 0`, exact from the
 /// constrained tangent (one factorisation, one solve):
-/// `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)`. The tube's axis, the mean of the near
-/// crossings, keeps its length `H` (the axial strain held). An untwisted state only
+/// `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)`. The tube's axis, the arc-length mean of
+/// its rods (as the bending wave's amplitude, [`bending_energy`]), keeps its length `H`
+/// (the axial strain held). An untwisted state only
 /// ([`BeamError::Twisted`] otherwise: the carrying of a twisted state is not checked).
 pub fn bending_by_curvature(
     model: &DiscreteModel,
