@@ -86,7 +86,7 @@ fn cell_constraints(
     spin: Option<&SupportPose>,
     out: &mut Vec<LinearConstraint>,
 ) {
-    gauge(model, x, out);
+    gauge(model, x, spin, out);
     for (j, joint) in model.assembly.joints.iter().enumerate() {
         let (ri, rj) = (&model.rods[joint.right], &model.rods[joint.left]);
         let (Some(vi), Some(vj)) = (ri.mesh.vertex_at(joint.s), rj.mesh.vertex_at(joint.s)) else {
@@ -231,10 +231,42 @@ fn periodic_constraints(
     }
 }
 
+/// The weights of a cell's vertices in the mean along its rods: each rod's vertices but
+/// its far one (another cell's near one), weighted by arc length (half of each element
+/// beside the vertex, the near vertex's far element being the rod's last), over the total
+/// length of the cell's rods: `(vertex, weight)` of rod `id`.
+pub fn axis_weights(model: &DiscreteModel, id: usize) -> Vec<(usize, f64)> {
+    let total = model.length() * model.rods.len() as f64;
+    let s = &model.rods[id].mesh.vertices;
+    let count = s.len() - 1;
+    (0..count)
+        .map(|v| {
+            let before = if v == 0 {
+                s[count] - s[count - 1]
+            } else {
+                s[v] - s[v - 1]
+            };
+            (v, 0.5 * (before + s[v + 1] - s[v]) / total)
+        })
+        .collect()
+}
+
 /// The gauge of a cell's rigid motions, on rod 0's near end: its height, and its azimuth
 /// (y, the vertex being at azimuth 0) off the axis; on the axis x, y and the twist of its
-/// frame about the axis; for a bending cell also the mean x and y of its rods' near ends.
-fn gauge(model: &DiscreteModel, x: &[f64], out: &mut Vec<LinearConstraint>) {
+/// frame about the axis (a straight rod is its own axis, held at its near end). A bending
+/// cell of a tube also holds x of its near section's centre (the mean of its n near ends),
+/// a rigid motion, and the tube's axis across the bending plane by one row on the mean of
+/// the rods' lateral offsets from it along their length
+/// ([`axis_weights`]), each vertex against the axis's section at its own height, a fraction
+/// `s/ℓ` of the rise along the bent axis ([`Moving::Axis`], turning with the tilt of `spin`):
+/// the tube's axis is the arc-length mean of its rods, as in the bending wave's amplitude,
+/// and the lateral load a bent tube under an axial force needs falls along the rods.
+fn gauge(
+    model: &DiscreteModel,
+    x: &[f64],
+    spin: Option<&SupportPose>,
+    out: &mut Vec<LinearConstraint>,
+) {
     let rod = &model.rods[0];
     let r = model.vertex(x, 0, 0);
     let base = Role::Support {
@@ -244,18 +276,57 @@ fn gauge(model: &DiscreteModel, x: &[f64], out: &mut Vec<LinearConstraint>) {
     out.push(row(vec![(rod.r_dof(0, 2), 1.0)], r[2], base));
     out.push(row(vec![(rod.r_dof(0, 1), 1.0)], r[1], base));
     if model.rods.len() > 2 {
-        // a bending cell: its near section's centre, the mean of its near ends (the m
-        // crossings at s = 0), held across the axis — a rigid translation of the straight
-        // cell, the centre of the tube's axis under a tilt, whose length it then holds
-        for k in 0..2 {
-            let terms = (0..model.rods.len())
-                .map(|id| (model.rods[id].r_dof(0, k), 1.0))
-                .collect();
-            let sum = (0..model.rods.len())
-                .map(|id| model.vertex(x, id, 0)[k])
-                .sum();
-            out.push(row(terms, sum, base));
-        }
+        let terms = (0..model.rods.len())
+            .map(|id| (model.rods[id].r_dof(0, 0), 1.0))
+            .collect();
+        let sum = (0..model.rods.len())
+            .map(|id| model.vertex(x, id, 0)[0])
+            .sum();
+        out.push(row(terms, sum, base));
+    }
+    if model.rods.len() > 2 {
+        let length = model.length();
+        let vertices: Vec<(usize, usize, f64, f64)> = (0..model.rods.len())
+            .flat_map(|id| {
+                let s = &model.rods[id].mesh.vertices;
+                axis_weights(model, id)
+                    .into_iter()
+                    .map(move |(v, w)| (id, v, s[v] / length, w))
+            })
+            .collect();
+        let sections: std::sync::Arc<[(f64, f64)]> =
+            vertices.iter().map(|&(_, _, f, w)| (f, w)).collect();
+        let moving = Moving::Axis {
+            offset: 0.0,
+            sections: sections.clone(),
+        };
+        let (coeffs, value) = match spin {
+            Some(pose) => moving.coefficients(pose, false),
+            None => (
+                sections.iter().flat_map(|&(_, w)| [0.0, w, 0.0]).collect(),
+                0.0,
+            ),
+        };
+        let terms: Vec<(usize, f64)> = vertices
+            .iter()
+            .flat_map(|&(id, v, _, _)| (0..3).map(move |k| (id, v, k)))
+            .map(|(id, v, k)| model.rods[id].r_dof(v, k))
+            .zip(coeffs)
+            .collect();
+        // the offset at the state the row is built at (the rods centred on the axis)
+        let offset = vertices
+            .iter()
+            .flat_map(|&(id, v, _, _)| (0..3).map(move |k| (id, v, k)))
+            .zip(&terms)
+            .map(|((id, v, k), &(_, a))| a * model.vertex(x, id, v)[k])
+            .sum::<f64>()
+            - value;
+        out.push(LinearConstraint {
+            terms,
+            value: value + offset,
+            role: base,
+            moving: spin.map(|_| Moving::Axis { offset, sections }),
+        });
     }
     if rod.helix.is_straight() {
         out.push(row(vec![(rod.r_dof(0, 0), 1.0)], r[0], base));

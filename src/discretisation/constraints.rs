@@ -253,7 +253,9 @@ fn turning_tip_constraints(
     let positions: Vec<(usize, f64)> = (0..3).map(|k| (rod.r_dof(v, k), 0.0)).collect();
     let mut push = |moving: Moving, role: Role| {
         let dofs: Vec<usize> = match moving {
-            Moving::Position { .. } => positions.iter().map(|t| t.0).collect(),
+            Moving::Position { .. } | Moving::Axis { .. } => {
+                positions.iter().map(|t| t.0).collect()
+            }
             Moving::Orientation { .. } => (0..4)
                 .map(|k| rod.q_dof(rod.end_node(End::Tip), k))
                 .collect(),

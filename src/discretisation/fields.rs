@@ -8,7 +8,7 @@ use super::element;
 use super::joint_fields;
 use super::pressure;
 use super::shape::{self, Order, GAUSS_3, MAX_NODES};
-use super::support::{arc_chord, SupportPose};
+use super::support::{arc_chord, Moving, SupportPose};
 use super::system::System;
 use crate::model::assembly::RodId;
 use crate::model::loading::{AxisLoad, SupportAxis};
@@ -122,7 +122,9 @@ pub fn support_response(
 /// The bending moment (N m) of a cell, the rate `∂Π/∂θ` of its energy with its tilt `θ`:
 /// the far ends' reactions `f`, `m` work on the motion of the map `x ↦ R_s x + t(θ)` with
 /// `θ`, a turn about x and the translation `∂t/∂θ` of the far section's centre `t`:
-/// `e_x·Σ (m + (r − t) × f) + (∂t/∂θ)·Σ f` (docs/theory.md §8).
+/// `e_x·Σ (m + (r − t) × f) + (∂t/∂θ)·Σ f` (docs/theory.md §8), and the lateral load
+/// holding the rods on the bent axis on the motion of the axis's sections, `ν ∂g/∂θ` of
+/// its row `g` ([`Moving::Axis`]).
 fn cell_bending_moment(
     model: &DiscreteModel,
     system: &System,
@@ -139,7 +141,7 @@ fn cell_bending_moment(
     let [_, _, df, dg, _, _] = arc_chord(theta);
     let rate = Vector3::new(0.0, -h * df, h * dg);
     let tips = tip_positions(model, x);
-    reactions
+    let far: f64 = reactions
         .iter()
         .zip(&tips)
         .map(|(r, p)| {
@@ -147,7 +149,39 @@ fn cell_bending_moment(
             let arm = Vector3::from(*p) - centre;
             (Vector3::from(r.tip.moment) + arm.cross(&f))[0] + rate.dot(&f)
         })
-        .sum()
+        .sum();
+    let ex = Vector3::x();
+    let sections: f64 = system
+        .linear
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| match c.moving.as_ref()? {
+            Moving::Axis { sections, .. } => {
+                let nu = x[system.linear_row(i)];
+                let dg: f64 = sections
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &(f, w))| {
+                        let (s, co) = (f * theta).sin_cos();
+                        let a = Vector3::new(0.0, co, s);
+                        let [u, v, du, dv, _, _] = arc_chord(f * theta);
+                        let t = Vector3::new(0.0, -u, v) * (f * h);
+                        let dt = Vector3::new(0.0, -du, dv) * (f * f * h);
+                        let da = ex.cross(&a) * f;
+                        let r = Vector3::new(
+                            x[c.terms[3 * k].0],
+                            x[c.terms[3 * k + 1].0],
+                            x[c.terms[3 * k + 2].0],
+                        );
+                        w * (da.dot(&(r - t)) - a.dot(&dt))
+                    })
+                    .sum();
+                Some(nu * dg)
+            }
+            _ => None,
+        })
+        .sum();
+    far + sections
 }
 
 /// The tip positions of every rod (of the full assembly for a symmetric pair), in the

@@ -22,6 +22,12 @@ pub struct SupportPose {
     /// The tip's centre on the axis (m), and its rate `d/dλ` (m).
     pub centre: Vector3<f64>,
     pub centre_rate: Vector3<f64>,
+    /// A cell's tilt `θ` (rad) about x and its rate, and the cell's rise `h` (m) and its
+    /// rate: the bent axis through the sections inside the cell (zero tilt off a cell).
+    pub tilt: f64,
+    pub tilt_rate: f64,
+    pub rise: f64,
+    pub rise_rate: f64,
 }
 
 impl SupportPose {
@@ -39,6 +45,10 @@ impl SupportPose {
             rotation_rate,
             centre: Vector3::new(0.0, 0.0, h),
             centre_rate: Vector3::new(0.0, 0.0, dh),
+            tilt: 0.0,
+            tilt_rate: 0.0,
+            rise: h,
+            rise_rate: dh,
         }
     }
 
@@ -68,7 +78,34 @@ impl SupportPose {
         let [f, g, df, dg, _, _] = arc_chord(theta);
         pose.centre = Vector3::new(0.0, -h * f, h * g);
         pose.centre_rate = Vector3::new(0.0, -(dh * f + h * df * dtheta), dh * g + h * dg * dtheta);
+        pose.tilt = theta;
+        pose.tilt_rate = dtheta;
         pose
+    }
+
+    /// The section of an untwisted bent cell a fraction `f` of its rise along the bent
+    /// axis: its turn by `fθ` about x and its centre `t_f = f h (0, −(1 − cos fθ)/(fθ),
+    /// sin fθ/(fθ))`, the image of the near section's centre under the rotation by `fθ`
+    /// about the centre of curvature `(0, −h/θ, 0)`; with `rate`, the rates `d/dλ` of the
+    /// turned `d` and of `t_f`.
+    pub fn section(
+        &self,
+        fraction: f64,
+        d: &Vector3<f64>,
+        rate: bool,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let (f, theta, h) = (fraction, self.tilt, self.rise);
+        let (s, c) = (f * theta).sin_cos();
+        let a = Vector3::new(d[0], c * d[1] - s * d[2], s * d[1] + c * d[2]);
+        let [u, v, du, dv, _, _] = arc_chord(f * theta);
+        if rate {
+            let da = Vector3::x().cross(&a) * (f * self.tilt_rate);
+            let dt = Vector3::new(0.0, -u, v) * (f * self.rise_rate)
+                + Vector3::new(0.0, -du, dv) * (f * f * h * self.tilt_rate);
+            (da, dt)
+        } else {
+            (a, Vector3::new(0.0, -u, v) * (f * h))
+        }
     }
 
     /// `R_s v`.
@@ -116,7 +153,7 @@ pub fn arc_chord(theta: f64) -> [f64; 6] {
 }
 
 /// How a tip constraint held by a turning support depends on the load parameter.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Moving {
     /// `(R_s d)·(r − c) = offset` over the tip vertex's three position unknowns (in order).
     Position {
@@ -128,6 +165,15 @@ pub enum Moving {
     Orientation {
         reference: Quat,
         weights: Vector3<f64>,
+    },
+    /// `Σ_v w_v (R_v e_y)·(r_v − t_v) = offset` over the position unknowns of the vertices
+    /// of `sections` (three each, in order, the row's first terms), each with its fraction
+    /// `f_v` of the cell's rise and its weight `w_v`: the lateral offsets of the rods from
+    /// the bent axis of an untwisted bent cell, each vertex against the axis's section at
+    /// its own height (turned by `f_v θ`, centre `t_v`, [`SupportPose::section`]).
+    Axis {
+        offset: f64,
+        sections: std::sync::Arc<[(f64, f64)]>,
     },
 }
 
@@ -162,6 +208,25 @@ impl Moving {
                     })
                     .collect();
                 (coeffs, 0.0)
+            }
+            Moving::Axis {
+                offset,
+                ref sections,
+            } => {
+                let mut coeffs = Vec::with_capacity(3 * sections.len());
+                let mut value = if rate { 0.0 } else { offset };
+                for &(f, w) in sections.iter() {
+                    let (a, t) = pose.section(f, &Vector3::y(), false);
+                    if rate {
+                        let (da, dt) = pose.section(f, &Vector3::y(), true);
+                        coeffs.extend((da * w).iter());
+                        value += w * (da.dot(&t) + a.dot(&dt));
+                    } else {
+                        coeffs.extend((a * w).iter());
+                        value += w * a.dot(&t);
+                    }
+                }
+                (coeffs, value)
             }
         }
     }

@@ -390,7 +390,7 @@ impl System {
         }
         let pose = self.pose(lambda);
         for c in &mut self.linear {
-            if let Some(moving) = c.moving {
+            if let Some(moving) = &c.moving {
                 let (coeffs, value) = moving.coefficients(&pose, false);
                 for (term, a) in c.terms.iter_mut().zip(coeffs) {
                     term.1 = a;
@@ -566,7 +566,7 @@ impl System {
         }
         let pose = self.pose(lambda);
         for (i, c) in self.linear.iter().enumerate() {
-            let Some(moving) = c.moving else { continue };
+            let Some(moving) = &c.moving else { continue };
             let row = self.linear_row + i;
             let nu = x[row];
             let (rates, value_rate) = moving.coefficients(&pose, true);

@@ -10,6 +10,7 @@
 //! stiffness comes from the cell's Bloch block of the translation across the axis
 //! ([`bending_stiffness`]).
 
+use crate::discretisation::cell::axis_weights;
 use crate::discretisation::cell_blocks::CellBlocks;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::pressure;
@@ -106,9 +107,11 @@ fn twist_curvature(system: &System, x: &[f64]) -> f64 {
         .iter()
         .enumerate()
         .filter_map(|(i, c)| {
-            let (count, factor) = match c.moving? {
+            let (count, factor) = match c.moving.as_ref()? {
                 Moving::Position { .. } => (3, 1.0),
                 Moving::Orientation { .. } => (4, 0.25),
+                // a bent cell's axis turns with its tilt only
+                Moving::Axis { .. } => return None,
             };
             let moving: f64 = c.terms[..count].iter().map(|&(d, a)| a * x[d]).sum();
             Some(-factor * x[system.linear_row(i)] * moving)
@@ -293,24 +296,15 @@ fn cell_rise(model: &DiscreteModel, system: &System) -> f64 {
 
 /// The coefficients `a_i` of the axis amplitude `A(u) = Σ conj(a_i) u_i` of a wave of
 /// wavenumber `q` (1/m): the arc-length-weighted mean over the cell's vertices (each rod's
-/// far vertex is another cell's near one) of `e^{−iqz}(u_x − i u_y)/2`.
+/// far vertex is another cell's near one, [`axis_weights`]) of `e^{−iqz}(u_x − i u_y)/2`.
 fn axis_amplitude(model: &DiscreteModel, x: &[f64], wavenumber: f64) -> Vec<(usize, c64)> {
-    let total = model.length() * model.rods.len() as f64;
     let mut out = Vec::new();
-    for rod in &model.rods {
-        let s = &rod.mesh.vertices;
-        let count = s.len() - 1;
-        for v in 0..count {
-            let before = if v == 0 {
-                s[count] - s[count - 1]
-            } else {
-                s[v] - s[v - 1]
-            };
-            let weight = 0.5 * (before + s[v + 1] - s[v]) / total;
+    for (id, rod) in model.rods.iter().enumerate() {
+        for (v, weight) in axis_weights(model, id) {
             let (sin, cos) = (wavenumber * x[rod.r_dof(v, 2)]).sin_cos();
             let phase = c64::new(cos, sin) * (0.5 * weight);
             out.push((rod.r_dof(v, 0), phase));
-            out.push((rod.r_dof(v, 1), phase * c64::new(0.0, 1.0)));
+            out.push((rod.r_dof(v, 1), phase * c64::new(0.0, 1.0)))
         }
     }
     out
@@ -368,8 +362,9 @@ pub const BENDING_STEP: f64 = 0.02;
 /// curvature `κ = θ/H`, `H = 2h` the bending cell's rise) and the cell's held loads gives
 /// the bending moment `M = ∂Π/∂θ` and `EI = dM/dκ = H ∂²Π/∂θ²` at `θ = 0`, exact from the
 /// constrained tangent (one factorisation, one solve):
-/// `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)`. The tube's axis, the mean of the near
-/// crossings, keeps its length `H` (the axial strain held). An untwisted state only
+/// `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)`. The tube's axis, the arc-length mean of
+/// its rods (as the bending wave's amplitude, [`bending_energy`]), keeps its length `H`
+/// (the axial strain held). An untwisted state only
 /// ([`BeamError::Twisted`] otherwise: the carrying of a twisted state is not checked).
 pub fn bending_by_curvature(
     model: &DiscreteModel,
@@ -403,20 +398,48 @@ pub fn bending_by_curvature(
         tilt: 0.0,
         pressure: q,
     };
+    curvature_stiffness(&bent, system.bc, &primal, held)
+}
+
+/// `EI = H ∂²Π/∂θ²` (N m²) of a bending cell `bent` (its tilt at zero, the other loads at
+/// `held`) at the state `x`: its primal unknowns, and optionally after them a guess of its
+/// multipliers in the rows of the tilted system, which the fitted ones correct (a straight
+/// rod's axial force is a multiplier no primal state fixes). Exact from the constrained
+/// tangent, `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)` ([`bending_by_curvature`]).
+pub fn curvature_stiffness(
+    bent: &DiscreteModel,
+    bc: crate::model::boundary::BoundaryConditions,
+    x: &[f64],
+    held: Held,
+) -> Result<CurvatureBending, BeamError> {
+    let cell = bent.assembly.cell.as_ref().ok_or(BeamError::NotACell)?;
+    if !cell.bending {
+        return Err(BeamError::NotACell);
+    }
+    if held.twist != 0.0 {
+        return Err(BeamError::Twisted);
+    }
+    let held = Held { tilt: 0.0, ..held };
+    let eps = match held.axial {
+        AxialHeld::Ratio(e) => e,
+        AxialHeld::Load(_) => 0.0,
+    };
     let loads = Loads::compose(Component::Tilt, Control::Displacement, held);
-    let sys = System::new(&bent, system.bc, &primal, &loads, 0.0);
-    let mut full = primal.clone();
+    let sys = System::new(bent, bc, &x[..bent.n_primal], &loads, 0.0);
+    let mut full = x.to_vec();
     full.resize(sys.n, 0.0);
     let (mut residual, mut kkt) = (vec![0.0; sys.n], sys.new_values());
-    sys.evaluate(&bent, &full, &mut residual, &mut kkt);
+    sys.evaluate(bent, &full, &mut residual, &mut kkt);
     let nu = least_squares_multipliers(sys.pattern(), &kkt, &residual, bent.n_primal)
         .ok_or(BeamError::Multipliers)?;
-    full[bent.n_primal..].copy_from_slice(&nu);
-    sys.evaluate(&bent, &full, &mut residual, &mut kkt);
+    for (value, correction) in full[bent.n_primal..].iter_mut().zip(&nu) {
+        *value += correction;
+    }
+    sys.evaluate(bent, &full, &mut residual, &mut kkt);
     let mut lu = SparseLu::default();
     lu.factorize(sys.matrix(&kkt))?;
     let mut rate = vec![0.0; sys.n];
-    sys.load_derivative(&bent, &full, 0.0, &mut rate);
+    sys.load_derivative(bent, &full, 0.0, &mut rate);
     let mut solved = rate.clone();
     lu.solve(&mut solved);
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(u, v)| u * v).sum::<f64>();
@@ -458,7 +481,7 @@ fn tilt_curvature(system: &System, x: &[f64], theta: f64, h: f64) -> f64 {
         .enumerate()
         .filter_map(|(i, c)| {
             let nu = x[system.linear_row(i)];
-            let g2 = match c.moving? {
+            let g2 = match c.moving.as_ref()? {
                 Moving::Position { .. } => {
                     let a = Vector3::new(c.terms[0].1, c.terms[1].1, c.terms[2].1);
                     let r = Vector3::new(x[c.terms[0].0], x[c.terms[1].0], x[c.terms[2].0]);
@@ -469,6 +492,30 @@ fn tilt_curvature(system: &System, x: &[f64], theta: f64, h: f64) -> f64 {
                 Moving::Orientation { .. } => {
                     let moving: f64 = c.terms[..4].iter().map(|&(d, a)| a * x[d]).sum();
                     -0.25 * moving
+                }
+                Moving::Axis { sections, .. } => {
+                    // per vertex n = R_fθ e_y and t_f = f h (0, −F(fθ), G(fθ)):
+                    // n' = f e_x × n, n'' = −f² n, t_f' = f² h (0, −F', G'), t_f'' = f³ h (…'')
+                    sections
+                        .iter()
+                        .enumerate()
+                        .map(|(k, &(f, w))| {
+                            let (s, co) = (f * theta).sin_cos();
+                            let a = Vector3::new(0.0, co, s);
+                            let [u, v, du, dv, ddu, ddv] = arc_chord(f * theta);
+                            let ts = Vector3::new(0.0, -u, v) * (f * h);
+                            let dts = Vector3::new(0.0, -du, dv) * (f * f * h);
+                            let ddts = Vector3::new(0.0, -ddu, ddv) * (f * f * f * h);
+                            let da = ex.cross(&a) * f;
+                            let dda = -a * (f * f);
+                            let r = Vector3::new(
+                                x[c.terms[3 * k].0],
+                                x[c.terms[3 * k + 1].0],
+                                x[c.terms[3 * k + 2].0],
+                            );
+                            w * (dda.dot(&(r - ts)) - 2.0 * da.dot(&dts) - a.dot(&ddts))
+                        })
+                        .sum()
                 }
             };
             Some(nu * g2)
