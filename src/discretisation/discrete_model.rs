@@ -252,6 +252,27 @@ impl DiscreteModel {
         self.assembly.length
     }
 
+    /// The length `ℓ` (m) that weighs the constraints on positions against those on
+    /// rotations in the regularisation of the eigenvalue searches' KKT matrices (a rotation
+    /// by one radian moves a point `ℓ` away by `ℓ`): the rod length of a finite assembly; for
+    /// a cell, the arc length of one turn of its helices when that is longer, since a cell
+    /// spans a fraction of a turn that shrinks with the number of helices (`π c/m`), and rows
+    /// on positions weighed by its square alone are penalised so strongly that rounding in
+    /// the factorisation blurs the counts (the n = 8 cell's by 2e-3 of its lowest
+    /// eigenvalue, the n = 64 cell's map off a dense solve by up to 9e-4).
+    pub fn stability_length(&self) -> f64 {
+        let own = self.length();
+        if self.assembly.cell.is_none() {
+            return own;
+        }
+        self.assembly
+            .rods
+            .iter()
+            .filter(|h| !h.is_straight())
+            .map(|h| h.length_of_turns(1.0))
+            .fold(own, f64::max)
+    }
+
     /// Initial tip height `h0` (m): that of the natural state (see the field).
     pub fn height0(&self) -> f64 {
         self.height0

@@ -110,6 +110,10 @@ pub struct CellJudge {
     phases: Vec<f64>,
     real: KktStability,
     complex: KktStability<c64>,
+    /// The map's searches: regularised with [`DiscreteModel::stability_length`], a turn of
+    /// the helices, whose counts resolve the map's eigenvalues (the path's solves keep the
+    /// cell's own length).
+    map: KktStability,
     warm_real: Vec<WarmStart>,
     warm_complex: Vec<WarmStart<c64>>,
     residual: Vec<f64>,
@@ -130,11 +134,13 @@ impl CellJudge {
         let count = blocks.cell().m * phases.len();
         let real: KktStability = KktStability::new(metric(model), model.length());
         let complex = real.sharing();
+        let map = KktStability::new(metric(model), model.stability_length());
         Some(CellJudge {
             blocks,
             phases,
             real,
             complex,
+            map,
             warm_real: (0..count).map(|_| WarmStart::default()).collect(),
             warm_complex: (0..count).map(|_| WarmStart::default()).collect(),
             residual: vec![0.0; system.n],
@@ -299,9 +305,9 @@ impl CellJudge {
         system.evaluate(model, x, &mut self.residual, &mut self.kkt);
         let pattern = system.pattern();
         // the symbolic analysis once, before the searches share it
-        let _ = self.real.structure_for(pattern);
+        let _ = self.map.structure_for(pattern);
         let (blocks, phases, kkt) = (&self.blocks, &self.phases, &self.kkt);
-        let real = &self.real;
+        let real = &self.map;
         let lowest = (0..blocks.cell().m)
             .into_par_iter()
             .map(|p| {

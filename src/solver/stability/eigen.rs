@@ -23,7 +23,10 @@ impl<T: Scalar> InertiaCounter<T> {
     /// eigenvalue below `σ` was missed (clustered eigenvalues, or a warm start without a
     /// component along the lowest mode), and the bracket `[lo, σ]` is bisected by counts to
     /// a new `lo` before iterating again. Clustered spectra thus cost a few factorisations
-    /// instead of hundreds of slowly converging iterations.
+    /// instead of hundreds of slowly converging iterations. Shifts keep at least a few times
+    /// the count's rounding band below the eigenvalue they certify, and a bracket narrower
+    /// than that ends the bisection: counts within it scatter (an eigenvalue near zero of a
+    /// stiff spectrum), and the eigenvalue nearest its lower end is the lowest.
     ///
     /// A rough estimate of the same values (by [`InertiaCounter::rough_lowest`]) saves the
     /// search its first steps.
@@ -36,10 +39,11 @@ impl<T: Scalar> InertiaCounter<T> {
         // along a path: one factorisation at a shift just below the extrapolated lowest
         // eigenvalue, which the count confirms to be below the spectrum
         let mut start = None;
-        if let Some(sigma) = self.predicted_shift() {
+        let floor = self.count_resolution(kkt, metric);
+        if let Some(sigma) = self.predicted_shift(floor) {
             if self.count(kkt, sigma, metric)? == 0 {
                 let mu = self.inverse_iteration(kkt, metric, LOWEST)?;
-                if self.converged && mu - sigma <= CERTIFIED * mu.abs().max(1e-12) {
+                if self.converged && mu - sigma <= (CERTIFIED * mu.abs()).max(2.0 * floor) {
                     self.record_lowest(mu);
                     return Some(mu);
                 }
@@ -58,7 +62,7 @@ impl<T: Scalar> InertiaCounter<T> {
         // relative distance below `mu` of the next shift: closer once `mu` is accurate
         let mut gap = 1e-4;
         for _ in 0..64 {
-            let sigma = mu - gap * mu.abs().max(1e-12);
+            let sigma = mu - (gap * mu.abs()).max(floor);
             if sigma > lo && sigma < hi {
                 let below = self.count(kkt, sigma, metric)?;
                 if below == 0 {
@@ -87,9 +91,12 @@ impl<T: Scalar> InertiaCounter<T> {
             // an eigenvalue below `hi` that the iteration has not reached: bisect the
             // bracket by counts to a shift below the spectrum that is closer to it
             let mut factorised_at_lo = false;
+            let mut collapsed = false;
             loop {
                 let mid = 0.5 * (lo + hi);
-                if hi - lo <= 1e-12 * hi.abs().max(1e-12) {
+                // counts closer than their resolution tell nothing
+                if hi - lo <= floor {
+                    collapsed = true;
                     break;
                 }
                 if self.count(kkt, mid, metric)? == 0 {
@@ -103,6 +110,15 @@ impl<T: Scalar> InertiaCounter<T> {
                 self.inertia(kkt, lo, metric).ok()?;
             }
             self.perturb_iterate(metric);
+            if collapsed {
+                // the bracket is within the count's resolution: the eigenvalue nearest
+                // `lo` is the lowest
+                let lowest = self
+                    .inverse_iteration(kkt, metric, LOWEST)
+                    .map_or(mu, |l| l.min(mu));
+                self.record_lowest(lowest);
+                return Some(lowest);
+            }
             mu = self.inverse_iteration(kkt, metric, ROUGH)?.min(mu);
         }
         self.record_lowest(mu);
@@ -124,9 +140,26 @@ impl<T: Scalar> InertiaCounter<T> {
     /// (quadratically from three), by twice the extrapolation's error estimate (the third
     /// difference of the last four, or the difference of the quadratic and the linear
     /// extrapolation) and `CERTIFIED / 4` of the eigenvalue; `None` before two are known.
-    fn predicted_shift(&self) -> Option<f64> {
+    fn predicted_shift(&self, floor: f64) -> Option<f64> {
         let (predicted, margin) = extrapolate(&self.lowest_history)?;
-        Some(predicted - margin)
+        Some(predicted - margin.max(floor))
+    }
+
+    /// The distance (J/m) below an eigenvalue at which a count is certain not to count it:
+    /// `COUNT_MARGIN` times the rounding band `τ = 1e-9 ρ/m̄` of the pivots (`ρ` the mean
+    /// diagonal of the Hessian, `m̄` the mean metric weight; counts within about `1.4 τ` of an
+    /// eigenvalue of the n = 8 cell scatter between 0 and 1).
+    fn count_resolution(&self, kkt: &[T], metric: &[f64]) -> f64 {
+        let (sum, weights) = metric
+            .iter()
+            .filter(|&&m| m > 0.0)
+            .fold((0.0, 0usize), |(s, c), &m| (s + m, c + 1));
+        let mean_metric = if weights > 0 {
+            sum / weights as f64
+        } else {
+            1.0
+        };
+        COUNT_MARGIN * 1e-9 * self.hessian_scale(kkt) / mean_metric
     }
 
     /// Exchanges the warm start (last mode, lowest eigenvalues, mode nearest zero) with
@@ -240,7 +273,6 @@ impl<T: Scalar> InertiaCounter<T> {
     /// eigenvalue nearest `σ`; returns its Rayleigh quotient with the unshifted Hessian.
     fn inverse_iteration(&mut self, kkt: &[T], metric: &[f64], accuracy: Accuracy) -> Option<f64> {
         let n_primal = self.iterate.len();
-        let zero = T::from_real(0.0);
         // start from the last mode: along a path it changes little
         let mut u = std::mem::take(&mut self.iterate);
         if self.last_mode.len() == n_primal {
@@ -256,31 +288,24 @@ impl<T: Scalar> InertiaCounter<T> {
         let mut hv = std::mem::take(&mut self.product);
         let mut found = true;
         for _ in 0..accuracy.iterations {
-            self.rhs.iter_mut().for_each(|b| *b = zero);
-            for i in 0..n_primal {
-                self.rhs[i] = T::from_real(metric[i]) * u[i];
-            }
-            self.solve_refined(n_primal, accuracy.refinements);
-            self.deflate(metric, n_primal);
-            let v = &self.solution;
-            let norm = (0..n_primal)
-                .map(|i| weighted_abs2(metric[i], v[i]))
-                .sum::<f64>()
-                .sqrt();
-            if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
+            let Some(rq) = self.iteration_step(kkt, metric, &mut u, &mut hv, accuracy.refinements)
+            else {
                 found = false;
                 break;
-            }
-            for i in 0..n_primal {
-                u[i] = v[i].div_real(norm);
-            }
-            let rq =
-                lagrangian_rayleigh_quotient(&self.structure.k_entry, kkt, &u, v, norm, &mut hv);
+            };
             let done = (rq - estimate).abs() <= accuracy.tolerance * rq.abs().max(1e-12);
             estimate = rq;
             if done {
                 self.converged = true;
                 break;
+            }
+        }
+        // converged on the regularised solves: one step refined against the unregularised
+        // matrix puts the iterate on the constraints, and its quotient on the eigenvalue
+        if found && self.converged && accuracy.final_refinements > 0 {
+            match self.iteration_step(kkt, metric, &mut u, &mut hv, accuracy.final_refinements) {
+                Some(rq) => estimate = rq,
+                None => found = false,
             }
         }
         if found {
@@ -291,6 +316,47 @@ impl<T: Scalar> InertiaCounter<T> {
         self.iterate = u;
         self.product = hv;
         (found && estimate.is_finite()).then_some(estimate)
+    }
+
+    /// One step of inverse iteration from the iterate `u` (unit norm in the metric, replaced
+    /// by the next): the solve with the last factorisation, refined `refinements` times,
+    /// and the Lagrangian Rayleigh quotient of the next iterate (`None` for a solve without
+    /// a finite non-zero norm); `hv` receives `H u`.
+    fn iteration_step(
+        &mut self,
+        kkt: &[T],
+        metric: &[f64],
+        u: &mut [T],
+        hv: &mut [T],
+        refinements: usize,
+    ) -> Option<f64> {
+        let n_primal = u.len();
+        let zero = T::from_real(0.0);
+        self.rhs.iter_mut().for_each(|b| *b = zero);
+        for i in 0..n_primal {
+            self.rhs[i] = T::from_real(metric[i]) * u[i];
+        }
+        self.solve_refined(n_primal, refinements);
+        self.deflate(metric, n_primal);
+        let v = &self.solution;
+        let norm = (0..n_primal)
+            .map(|i| weighted_abs2(metric[i], v[i]))
+            .sum::<f64>()
+            .sqrt();
+        if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
+            return None;
+        }
+        for i in 0..n_primal {
+            u[i] = v[i].div_real(norm);
+        }
+        Some(lagrangian_rayleigh_quotient(
+            &self.structure.k_entry,
+            kkt,
+            u,
+            v,
+            norm,
+            hv,
+        ))
     }
 
     /// Removes from the primal part of the last solution its component (in the metric)
@@ -434,11 +500,15 @@ impl<T: Scalar> WarmStart<T> {
 /// it stops, and the steps of iterative refinement of each regularised solve against the
 /// unregularised matrix (each divides the constraint residual by about `δ/ρ`; the
 /// Lagrangian Rayleigh quotient is insensitive to it to first order, so the eigenvalue
-/// searches need none, the modes of critical points keep two).
+/// searches iterate without, the modes of critical points keep two), and those of one last
+/// step once converged (the lowest eigenvalue: from 2e-8 to 1e-9 of a dense constrained
+/// solve on the n = 8 cell's blocks).
 #[derive(Clone, Copy, Debug)]
 struct Accuracy {
     tolerance: f64,
     refinements: usize,
+    /// Refinements of one last step once converged (0: none).
+    final_refinements: usize,
     /// At most this many iterations.
     iterations: usize,
 }
@@ -448,10 +518,15 @@ struct Accuracy {
 /// eigenvalue is below it by more).
 const CERTIFIED: f64 = 2e-3;
 
+/// Multiple of the count's rounding band `τ` that a shift keeps below an eigenvalue to be
+/// counted below it with certainty (see `InertiaCounter::count_resolution`).
+const COUNT_MARGIN: f64 = 4.0;
+
 /// A first estimate, an upper bound of the lowest eigenvalue that places the next shift.
 const ROUGH: Accuracy = Accuracy {
     tolerance: 1e-4,
     refinements: 0,
+    final_refinements: 0,
     iterations: 8,
 };
 
@@ -460,6 +535,7 @@ const ROUGH: Accuracy = Accuracy {
 const LOWEST: Accuracy = Accuracy {
     tolerance: 1e-11,
     refinements: 0,
+    final_refinements: 1,
     iterations: 16,
 };
 
@@ -467,5 +543,6 @@ const LOWEST: Accuracy = Accuracy {
 const NEAREST_ZERO: Accuracy = Accuracy {
     tolerance: 1e-9,
     refinements: 2,
+    final_refinements: 0,
     iterations: 80,
 };
