@@ -483,30 +483,6 @@ fn welded_and_elastic_cells_store_the_work_of_their_axial_forces() {
     }
 }
 
-/// Tributary arc length of every primal unknown (m): the metric of the stability's
-/// eigenproblem, `M = diag(m)`, weighting nodal quaternions by their node's share of the
-/// rod and positions by zero.
-fn rotation_metric(model: &DiscreteModel) -> Vec<f64> {
-    let mut m = vec![0.0; model.n_primal];
-    let p = model.order.degree();
-    for rod in &model.rods {
-        for e in 0..rod.mesh.elements() {
-            let h = rod.mesh.vertices[e + 1] - rod.mesh.vertices[e];
-            for a in 0..=p {
-                let w = if a == 0 || a == p {
-                    h / (2.0 * p as f64)
-                } else {
-                    h / p as f64
-                };
-                for k in 0..4 {
-                    m[rod.q_dof(e * p + a, k)] += w;
-                }
-            }
-        }
-    }
-    m
-}
-
 /// The lowest eigenvalue of a Hermitian KKT block `[[H, Jᴴ], [J, 0]]` (values `block` in
 /// the pattern of `system`) on its constraints, by dense linear algebra: the null space `Z`
 /// of `J` from a singular value decomposition (zero rows dropped), then `Zᴴ H Z v = λ Zᴴ M Z v`
@@ -575,7 +551,7 @@ fn the_cell_map_matches_dense_constrained_solves() {
     let mut kkt = system.new_values();
     system.evaluate(model, x, &mut residual, &mut kkt);
     let blocks = CellBlocks::new(model, system).expect("a cell");
-    let metric = rotation_metric(model);
+    let metric = crate::rotation_metric(model);
     let mut block = vec![faer::c64::new(0.0, 0.0); kkt.len()];
     let mut dense = |p: usize, i: usize| {
         blocks.hermitian_block(p, map.phases[i], &kkt, &mut block);
