@@ -29,6 +29,10 @@ pub const PATH_PHASES: usize = 9;
 pub struct Dispersion {
     pub phases: Vec<f64>,
     pub lowest: Vec<Vec<Option<f64>>>,
+    /// The `(p, i)` whose block holds the tube's rigid translation across its axis, its
+    /// value written 0: neither a lowest eigenvalue nor the end of a band (the column's band
+    /// of long waves lies on both sides of it).
+    pub translation: Vec<(usize, usize)>,
 }
 
 /// The dispersion of a cell at one output step of a path.
@@ -53,8 +57,11 @@ impl Dispersion {
     pub fn lowest(&self) -> Option<(f64, usize, f64)> {
         let mut best: Option<(f64, usize, f64)> = None;
         for (p, row) in self.lowest.iter().enumerate() {
-            for (&k, mu) in self.phases.iter().zip(row) {
+            for (i, (&k, mu)) in self.phases.iter().zip(row).enumerate() {
                 let Some(mu) = *mu else { continue };
+                if self.translation.contains(&(p, i)) {
+                    continue;
+                }
                 if best.is_none_or(|b| mu < b.0) {
                     best = Some((mu, p, k));
                 }
@@ -70,6 +77,9 @@ impl Dispersion {
         let mut bands = Vec::new();
         let mut open: Option<f64> = None;
         for i in 0..row.len() {
+            if self.translation.contains(&(p, i)) {
+                continue;
+            }
             let mu = row[i].unwrap_or(f64::INFINITY);
             let k = self.phases[i];
             if mu < 0.0 && open.is_none() {
@@ -323,9 +333,14 @@ impl CellJudge {
                     .collect()
             })
             .collect();
+        let translation = (0..blocks.cell().m)
+            .flat_map(|p| (0..phases.len()).map(move |i| (p, i)))
+            .filter(|&(p, i)| blocks.holds_translation(p, phases[i]))
+            .collect();
         Dispersion {
             phases: self.phases.clone(),
             lowest,
+            translation,
         }
     }
 }
