@@ -111,6 +111,13 @@ impl CellBlocks {
         self.keeps_gauge(p, k, true) && !self.keeps_gauge(p, k, false)
     }
 
+    /// Whether block `(p, k)` holds the cell's rigid rotation about the axis (the block of
+    /// rigid motions, `p = 0`, `k = 0`): a neutral mode of non-zero metric, which its gauge
+    /// row holds at a point ([`super::cell::turning_mode`]).
+    pub fn holds_rotation(&self, p: usize, k: f64) -> bool {
+        self.keeps_gauge(p, k, false)
+    }
+
     /// Whether the gauge rows of kind `translation` are kept in block `(p, k)`.
     fn keeps_gauge(&self, p: usize, k: f64, translation: bool) -> bool {
         let same = |a: f64, b: f64| {

@@ -5,6 +5,7 @@
 //! blocks, the unstable band in `k` of every `p`, and the dispersion table come from it.
 
 use super::judge::{clearly_stable, metric, BlockStability, StabilityJudge};
+use crate::discretisation::cell::turning_mode;
 use crate::discretisation::cell_blocks::CellBlocks;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::system::System;
@@ -124,6 +125,9 @@ pub struct CellJudge {
     /// the helices, whose counts resolve the map's eigenvalues (the path's solves keep the
     /// cell's own length).
     map: KktStability,
+    /// The cell's rigid rotation about the axis at the state last evaluated, held out of the
+    /// metric of the block of rigid motions ([`CellBlocks::holds_rotation`]).
+    rotation: Vec<Vec<f64>>,
     warm_real: Vec<WarmStart>,
     warm_complex: Vec<WarmStart<c64>>,
     residual: Vec<f64>,
@@ -151,6 +155,7 @@ impl CellJudge {
             real,
             complex,
             map,
+            rotation: Vec::new(),
             warm_real: (0..count).map(|_| WarmStart::default()).collect(),
             warm_complex: (0..count).map(|_| WarmStart::default()).collect(),
             residual: vec![0.0; system.n],
@@ -160,6 +165,12 @@ impl CellJudge {
             lowest_block: 0,
             focus: None,
         })
+    }
+
+    /// The cell's KKT values at the state `x`, and its rigid rotation there.
+    fn evaluate(&mut self, model: &DiscreteModel, system: &System, x: &[f64]) {
+        system.evaluate(model, x, &mut self.residual, &mut self.kkt);
+        self.rotation = vec![turning_mode(model, x)];
     }
 
     /// Blocks judged: `m` wavenumbers times the phases.
@@ -187,7 +198,13 @@ impl CellJudge {
             self.blocks
                 .real_block(p, k, &self.kkt, &mut self.real_values);
             self.real.swap_warm_start(&mut self.warm_real[b]);
-            let out = real(&mut self.real, pattern, &self.real_values);
+            let held = self
+                .blocks
+                .holds_rotation(p, k)
+                .then_some(&self.rotation[..]);
+            let out = holding(&mut self.real, pattern, held, |s| {
+                real(s, pattern, &self.real_values)
+            });
             self.real.swap_warm_start(&mut self.warm_real[b]);
             out
         } else {
@@ -261,14 +278,20 @@ impl CellJudge {
         p: usize,
         k: f64,
     ) -> Option<f64> {
-        system.evaluate(model, x, &mut self.residual, &mut self.kkt);
+        self.evaluate(model, system, x);
         let pattern = system.pattern();
         if self.blocks.is_real(p, k) {
             let mut values = vec![0.0; self.kkt.len()];
             self.blocks.real_block(p, k, &self.kkt, &mut values);
             let mut cold = WarmStart::default();
             self.real.swap_warm_start(&mut cold);
-            let mu = self.real.lowest_eigenvalue(pattern, &values);
+            let held = self
+                .blocks
+                .holds_rotation(p, k)
+                .then_some(&self.rotation[..]);
+            let mu = holding(&mut self.real, pattern, held, |s| {
+                s.lowest_eigenvalue(pattern, &values)
+            });
             self.real.swap_warm_start(&mut cold);
             mu
         } else {
@@ -291,12 +314,18 @@ impl CellJudge {
         (p, k): (usize, f64),
         sigma: f64,
     ) -> Result<usize, InertiaError> {
-        system.evaluate(model, x, &mut self.residual, &mut self.kkt);
+        self.evaluate(model, system, x);
         let pattern = system.pattern();
         if self.blocks.is_real(p, k) {
             let mut values = vec![0.0; self.kkt.len()];
             self.blocks.real_block(p, k, &self.kkt, &mut values);
-            self.real.count_below(pattern, &values, sigma)
+            let held = self
+                .blocks
+                .holds_rotation(p, k)
+                .then_some(&self.rotation[..]);
+            holding(&mut self.real, pattern, held, |s| {
+                s.count_below(pattern, &values, sigma)
+            })
         } else {
             let mut values = vec![c64::new(0.0, 0.0); self.kkt.len()];
             self.blocks.hermitian_block(p, k, &self.kkt, &mut values);
@@ -312,11 +341,12 @@ impl CellJudge {
     /// wavenumbers are searched in parallel, each with its own factorisations on the
     /// shared symbolic structure.
     pub fn dispersion(&mut self, model: &DiscreteModel, system: &System, x: &[f64]) -> Dispersion {
-        system.evaluate(model, x, &mut self.residual, &mut self.kkt);
+        self.evaluate(model, system, x);
         let pattern = system.pattern();
         // the symbolic analysis once, before the searches share it
         let _ = self.map.structure_for(pattern);
         let (blocks, phases, kkt) = (&self.blocks, &self.phases, &self.kkt);
+        let rotation = &self.rotation;
         let real = &self.map;
         let lowest = (0..blocks.cell().m)
             .into_par_iter()
@@ -329,7 +359,10 @@ impl CellJudge {
                 };
                 phases
                     .iter()
-                    .map(|&k| chain.lowest(blocks, pattern, kkt, p, k))
+                    .map(|&k| {
+                        let held = blocks.holds_rotation(p, k).then_some(&rotation[..]);
+                        chain.lowest(blocks, pattern, kkt, (p, k), held)
+                    })
                     .collect()
             })
             .collect();
@@ -362,21 +395,42 @@ impl PhaseChain {
         blocks: &CellBlocks,
         pattern: &SymbolicSparseColMat<usize>,
         kkt: &[f64],
-        p: usize,
-        k: f64,
+        (p, k): (usize, f64),
+        held: Option<&[Vec<f64>]>,
     ) -> Option<f64> {
         if blocks.holds_translation(p, k) {
             return Some(0.0);
         }
         if blocks.is_real(p, k) {
             blocks.real_block(p, k, kkt, &mut self.real_values);
-            self.real.lowest_eigenvalue(pattern, &self.real_values)
+            let values = &self.real_values;
+            holding(&mut self.real, pattern, held, |s| {
+                s.lowest_eigenvalue(pattern, values)
+            })
         } else {
             blocks.hermitian_block(p, k, kkt, &mut self.complex_values);
             self.complex
                 .lowest_eigenvalue(pattern, &self.complex_values)
         }
     }
+}
+
+/// `task` on `stability` with the neutral modes `held` (if any) held out of its metric
+/// ([`KktStability::hold_modes`]), restored after.
+fn holding<R>(
+    stability: &mut KktStability,
+    pattern: &SymbolicSparseColMat<usize>,
+    held: Option<&[Vec<f64>]>,
+    task: impl FnOnce(&mut KktStability) -> R,
+) -> R {
+    let Some(modes) = held else {
+        return task(stability);
+    };
+    // a pattern whose counter cannot be built fails the task itself
+    let _ = stability.hold_modes(pattern, modes);
+    let out = task(stability);
+    let _ = stability.hold_modes(pattern, &[]);
+    out
 }
 
 impl StabilityJudge for CellJudge {
@@ -395,7 +449,7 @@ impl StabilityJudge for CellJudge {
         x: &[f64],
         eigenvalue: bool,
     ) -> Result<Vec<BlockStability>, InertiaError> {
-        system.evaluate(model, x, &mut self.residual, &mut self.kkt);
+        self.evaluate(model, system, x);
         let pattern = system.pattern();
         let count = self.count();
         if !eigenvalue {
@@ -452,7 +506,7 @@ impl StabilityJudge for CellJudge {
         system: &System,
         x: &[f64],
     ) -> Option<(f64, usize, Vec<f64>)> {
-        system.evaluate(model, x, &mut self.residual, &mut self.kkt);
+        self.evaluate(model, system, x);
         let pattern = system.pattern();
         let candidates: Vec<usize> = match self.focus {
             Some(b) => vec![b],

@@ -252,10 +252,10 @@ impl<T: Scalar> InertiaCounter<T> {
     ) -> Option<(f64, Vec<T>)> {
         let n_primal = self.iterate.len();
         let first = first.get(..n_primal)?;
-        let norm = (0..n_primal)
+        let plain = (0..n_primal)
             .map(|i| weighted_abs2(metric[i], first[i]))
-            .sum::<f64>()
-            .sqrt();
+            .sum::<f64>();
+        let norm = self.held_norm2(plain, first).sqrt();
         if !(norm > 0.0 && norm.is_finite()) {
             return None;
         }
@@ -332,17 +332,17 @@ impl<T: Scalar> InertiaCounter<T> {
     ) -> Option<f64> {
         let n_primal = u.len();
         let zero = T::from_real(0.0);
-        self.rhs.iter_mut().for_each(|b| *b = zero);
-        for i in 0..n_primal {
-            self.rhs[i] = T::from_real(metric[i]) * u[i];
-        }
+        let mut rhs = std::mem::take(&mut self.rhs);
+        rhs.iter_mut().for_each(|b| *b = zero);
+        self.metric_times(metric, u, &mut rhs[..n_primal]);
+        self.rhs = rhs;
         self.solve_refined(n_primal, refinements);
         self.deflate(metric, n_primal);
         let v = &self.solution;
-        let norm = (0..n_primal)
+        let plain = (0..n_primal)
             .map(|i| weighted_abs2(metric[i], v[i]))
-            .sum::<f64>()
-            .sqrt();
+            .sum::<f64>();
+        let norm = self.held_norm2(plain, &v[..n_primal]).sqrt();
         if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
             return None;
         }
@@ -369,6 +369,7 @@ impl<T: Scalar> InertiaCounter<T> {
             for i in 0..n_primal {
                 c += T::from_real(metric[i]) * self.solution[i] * f[i].conjugate();
             }
+            let c = self.held_inner(c, f, &self.solution[..n_primal]);
             for i in 0..n_primal {
                 self.solution[i] -= c * f[i];
             }

@@ -58,7 +58,45 @@ pub struct InertiaCounter<T: Scalar = f64> {
     pub(super) deflation: Vec<T>,
     pub(super) iterate: Vec<T>,
     pub(super) product: Vec<T>,
+    /// Modes held out of the metric ([`InertiaCounter::hold_modes`]).
+    pub(super) held: HeldModes<T>,
     buffer: MemBuffer,
+}
+
+/// Neutral modes `t_j` of the constrained Hessian (rigid motions) that a gauge row holds at
+/// a point, taken out of the eigenproblem's metric: `M' = M − W Wᵀ`, `W = M T̃` with `T̃`
+/// the modes made orthonormal in `M`.
+///
+/// The eigenproblem of a state with a neutral mode `t` (`Ht` orthogonal to the constraints'
+/// tangent space) is posed on the modes `M`-orthogonal to `t`, the other eigenvectors.
+/// A gauge row `c·u = 0` at a point poses it on another space, `c·u = 0`; the map
+/// `u ↦ u − t (tᵀMu)/(tᵀMt)` carries that space onto the first with the energy unchanged and
+/// the metric `M` becoming `M'`. So the point-held pencil `(H, M')` has the eigenvalues of
+/// the `M`-orthogonal one, where `(H, M)` shifts them (by 1e-4 of the lowest eigenvalue of
+/// a tube cell held against turning about its axis). `M'` is `M` less a matrix of rank
+/// `k`: `K − σM'` is the factorised `B = K_ρδ − σM` plus `σ W Wᵀ`, whose inertia is
+/// `In(B) + In(S) − In(−I/σ)` with `S = −I/σ − Wᵀ B⁻¹ W` (Haynsworth), and whose solves
+/// are `B`'s corrected by Woodbury's identity — `k` more solves per factorisation.
+pub(super) struct HeldModes<T> {
+    /// The columns of `W` (primal unknowns).
+    pub(super) w: Vec<Vec<f64>>,
+    /// The shift of the last factorisation (the correction is off at 0).
+    sigma: f64,
+    /// `B⁻¹ W` (all unknowns) and the `LDLᴴ` of `S` (`k × k`, row-major: `L` below the
+    /// diagonal, `D` on it), at the last factorisation.
+    z: Vec<Vec<T>>,
+    s: Vec<T>,
+}
+
+impl<T> Default for HeldModes<T> {
+    fn default() -> Self {
+        HeldModes {
+            w: Vec::new(),
+            sigma: 0.0,
+            z: Vec::new(),
+            s: Vec::new(),
+        }
+    }
 }
 
 impl<T: Scalar> InertiaCounter<T> {
@@ -101,6 +139,7 @@ impl<T: Scalar> InertiaCounter<T> {
             product: vec![T::from_real(0.0); n_primal],
             l_values: vec![T::from_real(0.0); symbolic.len_val()],
             work: vec![T::from_real(0.0); n],
+            held: HeldModes::default(),
             inverse_pivot: vec![0.0; n],
             structure,
             buffer,
@@ -133,7 +172,172 @@ impl<T: Scalar> InertiaCounter<T> {
         sigma: f64,
         metric: &[f64],
     ) -> Result<Inertia, InertiaError> {
-        self.factorize_shifted(kkt, |i| sigma * metric[i])
+        let inertia = self.factorize_shifted(kkt, |i| sigma * metric[i])?;
+        self.held_inertia(inertia, sigma)
+    }
+
+    /// Takes the neutral modes `modes` (primal unknowns; none to take none) out of the
+    /// metric `metric` of the following factorisations and searches ([`HeldModes`]).
+    pub fn hold_modes(&mut self, metric: &[f64], modes: &[Vec<f64>]) {
+        let mut basis: Vec<Vec<f64>> = Vec::new();
+        for t in modes {
+            // Gram–Schmidt in the metric
+            let mut t = t.clone();
+            for b in &basis {
+                let c: f64 = (0..t.len()).map(|i| metric[i] * t[i] * b[i]).sum();
+                t.iter_mut().zip(b).for_each(|(ti, bi)| *ti -= c * bi);
+            }
+            let norm = (0..t.len())
+                .map(|i| metric[i] * t[i] * t[i])
+                .sum::<f64>()
+                .sqrt();
+            if norm > 0.0 && norm.is_finite() {
+                basis.push(t.iter().map(|ti| ti / norm).collect());
+            }
+        }
+        self.held = HeldModes {
+            w: basis
+                .iter()
+                .map(|t| t.iter().zip(metric).map(|(ti, m)| m * ti).collect())
+                .collect(),
+            ..HeldModes::default()
+        };
+    }
+
+    /// The inertia of `K_ρδ − σM'` from that of the factorised `K_ρδ − σM`, `inertia`
+    /// ([`HeldModes`]), keeping what the corrected solves need.
+    fn held_inertia(&mut self, mut inertia: Inertia, sigma: f64) -> Result<Inertia, InertiaError> {
+        let k = self.held.w.len();
+        self.held.sigma = sigma;
+        if k == 0 || sigma == 0.0 {
+            return Ok(inertia);
+        }
+        let n = self.rhs.len();
+        let mut z = std::mem::take(&mut self.held.z);
+        z.resize_with(k, Vec::new);
+        for (j, zj) in z.iter_mut().enumerate() {
+            zj.clear();
+            zj.extend(self.held.w[j].iter().map(|&w| T::from_real(w)));
+            zj.resize(n, T::from_real(0.0));
+            self.ldlt_solve(zj);
+        }
+        // S = −I/σ − Wᵀ B⁻¹ W, factorised LDLᴴ without pivoting (k is 1 to 3)
+        let mut s = vec![T::from_real(0.0); k * k];
+        for i in 0..k {
+            for j in 0..k {
+                let mut v = T::from_real(if i == j { -1.0 / sigma } else { 0.0 });
+                for (p, &w) in self.held.w[i].iter().enumerate() {
+                    v -= T::from_real(w) * z[j][p];
+                }
+                s[i * k + j] = v;
+            }
+        }
+        for j in 0..k {
+            for p in 0..j {
+                let l = s[j * k + p];
+                let d = s[p * k + p];
+                s[j * k + j] -= l * l.conjugate() * d;
+            }
+            let d = s[j * k + j].real_part();
+            if !d.is_finite() || d == 0.0 {
+                return Err(InertiaError::ZeroPivot);
+            }
+            for i in j + 1..k {
+                let mut v = s[i * k + j];
+                for p in 0..j {
+                    v -= s[i * k + p] * s[j * k + p].conjugate() * s[p * k + p];
+                }
+                s[i * k + j] = v.div_real(d);
+            }
+            s[j * k + j] = T::from_real(d);
+        }
+        let negative = (0..k).filter(|&j| s[j * k + j].real_part() < 0.0).count();
+        // In(−I/σ): k negative for σ > 0, k positive for σ < 0
+        let (neg_ref, pos_ref) = if sigma > 0.0 { (k, 0) } else { (0, k) };
+        inertia.negative = (inertia.negative + negative)
+            .checked_sub(neg_ref)
+            .ok_or(InertiaError::ZeroPivot)?;
+        inertia.positive = (inertia.positive + (k - negative))
+            .checked_sub(pos_ref)
+            .ok_or(InertiaError::ZeroPivot)?;
+        self.held.z = z;
+        self.held.s = s;
+        Ok(inertia)
+    }
+
+    /// `B⁻¹ x` corrected for the held modes by Woodbury's identity:
+    /// `(B + σWWᵀ)⁻¹ x = y + Z S⁻¹ Wᵀy`, `y = B⁻¹x`, `Z = B⁻¹W`.
+    fn held_solve(&mut self, x: &mut [T]) {
+        self.ldlt_solve(x);
+        let held = &self.held;
+        let k = held.w.len();
+        if k == 0 || held.sigma == 0.0 {
+            return;
+        }
+        let mut c: Vec<T> = held
+            .w
+            .iter()
+            .map(|w| {
+                w.iter()
+                    .zip(x.iter())
+                    .fold(T::from_real(0.0), |a, (&wi, &xi)| a + T::from_real(wi) * xi)
+            })
+            .collect();
+        // S c' = c by its LDLᴴ
+        let s = &held.s;
+        for i in 0..k {
+            for p in 0..i {
+                let l = s[i * k + p];
+                let cp = c[p];
+                c[i] -= l * cp;
+            }
+        }
+        for (i, ci) in c.iter_mut().enumerate() {
+            *ci = ci.div_real(s[i * k + i].real_part());
+        }
+        for i in (0..k).rev() {
+            for p in i + 1..k {
+                let l = s[p * k + i].conjugate();
+                let cp = c[p];
+                c[i] -= l * cp;
+            }
+        }
+        for (zj, &cj) in held.z.iter().zip(&c) {
+            for (xi, &zi) in x.iter_mut().zip(zj) {
+                *xi += zi * cj;
+            }
+        }
+    }
+
+    /// `M'u` (`u` primal) into `out` ([`HeldModes`]).
+    pub(super) fn metric_times(&self, metric: &[f64], u: &[T], out: &mut [T]) {
+        for i in 0..u.len() {
+            out[i] = T::from_real(metric[i]) * u[i];
+        }
+        for w in &self.held.w {
+            let c = held_dot(w, u);
+            for (o, &wi) in out.iter_mut().zip(w) {
+                *o -= T::from_real(wi) * c;
+            }
+        }
+    }
+
+    /// `uᴴM'u` from `uᴴMu` = `plain` ([`HeldModes`]).
+    pub(super) fn held_norm2(&self, plain: f64, u: &[T]) -> f64 {
+        plain
+            - self
+                .held
+                .w
+                .iter()
+                .map(|w| held_dot(w, u).abs2())
+                .sum::<f64>()
+    }
+
+    /// `fᴴM'v` from `fᴴMv` = `plain` ([`HeldModes`]).
+    pub(super) fn held_inner(&self, plain: T, f: &[T], v: &[T]) -> T {
+        self.held.w.iter().fold(plain, |a, w| {
+            a - held_dot(w, v) * held_dot(w, f).conjugate()
+        })
     }
 
     /// Factorises `K_ρδ − S` with `S = diag(shift(i))` on the primal unknowns and returns
@@ -313,7 +517,7 @@ impl<T: Scalar> InertiaCounter<T> {
         let mut z = std::mem::take(&mut self.solution);
         let mut r = std::mem::take(&mut self.refinement);
         z.copy_from_slice(&self.rhs);
-        self.ldlt_solve(&mut z);
+        self.held_solve(&mut z);
         for _ in 0..refinements {
             // r = b − K_ρ0 z, K_ρ0 = stored values with the dual diagonal −δ removed
             r.copy_from_slice(&self.rhs);
@@ -333,7 +537,16 @@ impl<T: Scalar> InertiaCounter<T> {
             for i in n_primal..n {
                 r[i] -= T::from_real(self.delta(i - n_primal)) * z[i];
             }
-            self.ldlt_solve(&mut r);
+            if self.held.sigma != 0.0 {
+                // the held modes' part σ W Wᵀ z
+                for w in &self.held.w {
+                    let c = T::from_real(self.held.sigma) * held_dot(w, &z);
+                    for (ri, &wi) in r.iter_mut().zip(w) {
+                        *ri -= T::from_real(wi) * c;
+                    }
+                }
+            }
+            self.held_solve(&mut r);
             let mut correction: f64 = 0.0;
             let mut size: f64 = 0.0;
             for (zi, &ri) in z.iter_mut().zip(&r) {
@@ -372,6 +585,13 @@ impl<T: Scalar> InertiaCounter<T> {
             x[to] = yi;
         }
     }
+}
+
+/// `wᵀv` over `w`'s (primal) unknowns.
+fn held_dot<T: Scalar>(w: &[f64], v: &[T]) -> T {
+    w.iter()
+        .zip(v)
+        .fold(T::from_real(0.0), |a, (&wi, &vi)| a + T::from_real(wi) * vi)
 }
 
 /// `δρ`: the regularisation of the constraint rows relative to the Hessian (rows in their

@@ -158,6 +158,20 @@ impl<T: Scalar> KktStability<T> {
         Ok(counter.unstable_directions(inertia).max(0) as usize)
     }
 
+    /// Takes the neutral modes `modes` (primal unknowns) that the matrices' gauge rows hold
+    /// at a point out of the metric of the following counts and searches, so that they give
+    /// the eigenvalues of the modes orthogonal to them (see [`inertia::HeldModes`]); none
+    /// restores the metric.
+    pub fn hold_modes(
+        &mut self,
+        pattern: &SymbolicSparseColMat<usize>,
+        modes: &[Vec<f64>],
+    ) -> Result<(), InertiaError> {
+        let (counter, metric) = self.counter_and_metric(pattern)?;
+        counter.hold_modes(metric, modes);
+        Ok(())
+    }
+
     fn counter(
         &mut self,
         pattern: &SymbolicSparseColMat<usize>,
