@@ -73,6 +73,24 @@ impl Mirror {
         }
     }
 
+    /// Whether the state `x` is its own mirror image: every vertex mirrored onto its
+    /// partner's to `TOL` of the rod length, every frame onto its partner's to 1e-9.
+    pub fn keeps(&self, model: &DiscreteModel, x: &[f64]) -> bool {
+        let scale = model.length();
+        model.rods.iter().enumerate().all(|(k, rod)| {
+            let to = self.partner[k];
+            (0..=rod.mesh.elements()).all(|v| {
+                let a = model.vertex(x, k, v);
+                let b = model.vertex(x, to, v);
+                (a[0] - b[0]).abs() + (a[1] + b[1]).abs() + (a[2] - b[2]).abs() <= TOL * scale
+            }) && (0..rod.mesh.quaternion_nodes()).all(|node| {
+                let image = self.quaternion(&model.quaternion(x, k, node));
+                let there = model.quaternion(x, to, node);
+                (image - there).norm().min((image + there).norm()) <= 1e-9
+            })
+        })
+    }
+
     /// The mirror image of the primal unknowns of `v` (a state or a mode; multipliers
     /// are not touched and come back zero), in `model`'s layout.
     pub fn apply(&self, model: &DiscreteModel, v: &[f64]) -> Vec<f64> {

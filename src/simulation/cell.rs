@@ -8,6 +8,7 @@ use super::judge::{clearly_stable, metric, BlockStability, StabilityJudge};
 use crate::discretisation::cell::turning_mode;
 use crate::discretisation::cell_blocks::CellBlocks;
 use crate::discretisation::discrete_model::DiscreteModel;
+use crate::discretisation::mirror::Mirror;
 use crate::discretisation::system::System;
 use crate::solver::stability::{InertiaError, KktStability, KktStructure, WarmStart};
 use faer::c64;
@@ -347,6 +348,14 @@ impl CellJudge {
         let _ = self.map.structure_for(pattern);
         let (blocks, phases, kkt) = (&self.blocks, &self.phases, &self.kkt);
         let rotation = &self.rotation;
+        let partners = mirror_partners(model, x, blocks, phases);
+        let count = phases.len();
+        // the blocks searched: one of each mirror pair, every block without the mirror
+        let searched = |p: usize, i: usize| {
+            partners
+                .as_ref()
+                .is_none_or(|partner| partner[p * count + i] >= p * count + i)
+        };
         let real = &self.map;
         let lowest = (0..blocks.cell().m)
             .into_par_iter()
@@ -359,13 +368,25 @@ impl CellJudge {
                 };
                 phases
                     .iter()
-                    .map(|&k| {
+                    .enumerate()
+                    .map(|(i, &k)| {
+                        if !searched(p, i) {
+                            return None;
+                        }
                         let held = blocks.holds_rotation(p, k).then_some(&rotation[..]);
                         chain.lowest(blocks, pattern, kkt, (p, k), held)
                     })
                     .collect()
             })
-            .collect();
+            .collect::<Vec<Vec<Option<f64>>>>();
+        let mut lowest = lowest;
+        if let Some(partner) = &partners {
+            for (b, &other) in partner.iter().enumerate() {
+                if other < b {
+                    lowest[b / count][b % count] = lowest[other / count][other % count];
+                }
+            }
+        }
         let translation = (0..blocks.cell().m)
             .flat_map(|p| (0..phases.len()).map(move |i| (p, i)))
             .filter(|&(p, i)| blocks.holds_translation(p, phases[i]))
@@ -376,6 +397,52 @@ impl CellJudge {
             translation,
         }
     }
+}
+
+/// The block (index `p · phases + i`) of the same spectrum as each block under the mirror
+/// `y ↦ −y` of a cell whose state `x` is its own mirror image; `None` for a state (or a
+/// phase grid) without it.
+///
+/// The mirror maps the right rod onto the left one and sector `j` onto `−j`: a
+/// perturbation `e^{i(2πpj/m + kl)}` in cell `(j, l)`, whose left rod's far end begins cell
+/// `(j_L, 1)`, becomes one of wavenumber `−p` and phase `k + 2πp j_L/m` — the conjugate of
+/// block `(p, −k − 2πp j_L/m)` (`(p, 2πp/m − k)` for `j_L = −1`), a block of the same
+/// spectrum, on the grid when `2πp/m` is a multiple of its step.
+fn mirror_partners(
+    model: &DiscreteModel,
+    x: &[f64],
+    blocks: &CellBlocks,
+    phases: &[f64],
+) -> Option<Vec<usize>> {
+    let cell = blocks.cell();
+    if cell.turns.len() != 2 || phases.len() < 2 {
+        return None;
+    }
+    let mirror = Mirror::of(model)?;
+    if !mirror.keeps(model, x) {
+        return None;
+    }
+    let step = phases[1] - phases[0];
+    let count = phases.len();
+    let grid = |k: f64| {
+        let i = (k / step).round();
+        ((k - i * step).abs() <= 1e-9 * step && i >= 0.0 && (i as usize) < count)
+            .then_some(i as usize)
+    };
+    let m = cell.m;
+    let mut partner = Vec::with_capacity(m * count);
+    for p in 0..m {
+        for &k in phases {
+            let image = (-k - cell.far_phase(1, p, 0.0)).rem_euclid(2.0 * PI);
+            let (q, at) = if image <= PI + 1e-12 {
+                (p, image.min(PI))
+            } else {
+                ((m - p) % m, 2.0 * PI - image)
+            };
+            partner.push(q * count + grid(at)?);
+        }
+    }
+    Some(partner)
 }
 
 /// The searches of one wavenumber's blocks along the phases, each kind of block (real at

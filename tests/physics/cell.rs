@@ -598,3 +598,57 @@ fn the_cell_map_matches_dense_constrained_solves() {
         assert!(rel < 1e-8, "k index {i}: {a} vs {b}");
     }
 }
+
+/// The mirror `y ↦ −y` of a compressed cell (n = 8, m = 4) carries block `(p, k)` onto the
+/// conjugate of `(p, 2πp/m − k)`: the dispersion, which searches one block of each such
+/// pair, gives at the other one the value of that block searched by itself, to 1e-8; a
+/// twisted cell, which the mirror does not keep, has its blocks searched one by one, and
+/// they agree with the dispersion too.
+#[test]
+fn the_dispersion_takes_the_mirror_images_of_its_blocks_only_where_the_mirror_holds() {
+    let n = 8;
+    let compressed = solved_cell(n, 1, Loads::axial(Control::Displacement), 0.25);
+    let twisted = {
+        let assembly = Assembly::tube_cell(n, A0, B0).expect("a tube cell");
+        let model = DiscreteModel::new(assembly, STIFFNESS, default_elements(n), Order::Quadratic);
+        let x = model.natural_state();
+        let mut sim = Simulation::with_loads(
+            model,
+            BoundaryConditions::default(),
+            twist_at(0.1),
+            x,
+            equilibrium_only(),
+        )
+        .expect("the natural state solves");
+        sim.advance_to(0.02).expect("the cell twists");
+        sim
+    };
+    // (p, i) on the 65 phases k = iπ/64: each the mirror image of a block the dispersion
+    // of the compressed cell searches, (2, 64 − i), (1, 32 − i), (1, i + 32) for (3, i)
+    let images = [(2, 40), (2, 64), (1, 30), (3, 10), (3, 60), (1, 20)];
+    for (name, sim) in [("compressed", &compressed), ("twisted", &twisted)] {
+        let mut judge = CellJudge::new(sim.model(), sim.system(), 65).expect("a cell");
+        let map = judge.dispersion(sim.model(), sim.system(), sim.state());
+        for (p, i) in images {
+            let k = map.phases[i];
+            let own = judge
+                .lowest_at(sim.model(), sim.system(), sim.state(), p, k)
+                .expect("converges");
+            let mapped = map.lowest[p][i].expect("found");
+            let rel = (own - mapped).abs() / own.abs();
+            println!("{name}: p = {p}, k = {k:.4}: by itself {own:.10}, in the map {mapped:.10}, rel {rel:.1e}");
+            assert!(rel < 1e-8, "{name} ({p}, {k}): {own} vs {mapped}");
+        }
+        // the twist breaks the mirror: a pair's two blocks part, so copying one onto the
+        // other would have been seen above
+        let (a, b) = (map.lowest[2][40], map.lowest[2][24]);
+        let (a, b) = (a.expect("found"), b.expect("found"));
+        let parted = (a - b).abs() / a.abs();
+        println!("{name}: (2, k) and (2, π − k) at k = 40π/64: {a:.10} and {b:.10}");
+        if name == "twisted" {
+            assert!(parted > 1e-3, "{a} vs {b}");
+        } else {
+            assert!(parted < 1e-9, "{a} vs {b}");
+        }
+    }
+}
