@@ -4,7 +4,6 @@
 use super::error::CaseError;
 use super::limits::{num, JOINT_STIFFNESS_MAX};
 use super::raw::RawBoundary;
-use super::settings::Discretisation;
 use super::tables::{span, Checker};
 use crate::model::boundary::{JointStiffness, Joints};
 use toml::Value;
@@ -103,22 +102,4 @@ fn stiffness(b: &RawBoundary, ck: &Checker) -> Result<JointStiffness, CaseError>
         scissor: one("scissor", &inner.scissor)?,
         out_of_plane: one("out_of_plane", &inner.out_of_plane)?,
     })
-}
-
-/// The model of a case whose joints slide: the whole assembly or the symmetric pair (the
-/// contacts' arc lengths are unknowns of the pair's joints, and of its Bloch blocks); the
-/// cell, whose crossings are not joints of its own, is refused.
-pub(super) fn sliding_model(
-    discretisation: &Discretisation,
-    ck: &Checker,
-) -> Result<(), CaseError> {
-    if discretisation.cell {
-        return Err(CaseError::Invalid {
-            file: ck.file.to_string(),
-            line: ck.line_of_key("model"),
-            key: "discretisation.model".to_string(),
-            message: "expected \"full\", \"pair\" or \"auto\" with boundary.joints = \"sliding\": the cell of the infinite tube does not carry sliding joints (its bulk in closed form: docs/joints.md)".to_string(),
-        });
-    }
-    Ok(())
 }

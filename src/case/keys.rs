@@ -174,7 +174,7 @@ pub const KEYS: &[KeyDoc] = &[
     },
     KeyDoc {
         key: "boundary.joints",
-        meaning: "what a crossing of a right- and a left-handed rod is: \"pin\" (positions shared, rotations free; also `true`), \"welded\" (the relative rotation of the two rods held at its natural value), \"elastic\" (the relative rotation resisted by springs, `joint_stiffness`), \"sliding\" (a shared point free to slide along both rods without friction, rotations free; solved on the symmetric pair or the full model, not the cell), \"none\" (also `false`): see [theory.md](theory.md#2-helices-and-assemblies) and [joints](joints.md#sliding-joints)",
+        meaning: "what a crossing of a right- and a left-handed rod is: \"pin\" (positions shared, rotations free; also `true`), \"welded\" (the relative rotation of the two rods held at its natural value), \"elastic\" (the relative rotation resisted by springs, `joint_stiffness`), \"sliding\" (a shared point free to slide along both rods without friction, rotations free), \"none\" (also `false`): see [theory.md](theory.md#2-helices-and-assemblies) and [joints](joints.md#sliding-joints)",
         unit: "",
         default: DefaultDoc::Value("true"),
         range: RangeDoc::Phrase("`true`, `false`, `\"pin\"`, `\"welded\"`, `\"elastic\"`, `\"sliding\"`, `\"none\"`"),

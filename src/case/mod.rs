@@ -151,6 +151,15 @@ impl Case {
                 message: why.into(),
             });
         }
+        let tilted = loading.parameter == Component::Tilt || loading.hold.tilt != 0.0;
+        if discretisation.cell && tilted && boundary.joints.slides() {
+            return Err(CaseError::Invalid {
+                file: file.to_string(),
+                line: ck.line_of_key("joints"),
+                key: "boundary.joints".into(),
+                message: "expected pin, welded, elastic or none joints on a tilted cell (the bending cell does not carry sliding crossings), found \"sliding\"".into(),
+            });
+        }
         if !loading.parameter.keeps_cyclic_symmetry() || loading.hold.tilt != 0.0 {
             // a tilt is a wavenumber-1 load: the full model
             if discretisation.symmetric && !discretisation.symmetric_auto {
@@ -163,9 +172,6 @@ impl Case {
             }
             discretisation.symmetric = false;
             discretisation.symmetric_auto = false;
-        }
-        if boundary.joints.slides() {
-            joints::sliding_model(&discretisation, &ck)?;
         }
         // a branch switched onto may break the symmetry: the automatic choice is then the
         // full model

@@ -75,7 +75,7 @@ pub(super) fn end_constraints(
 }
 
 /// The constraints of a cell in the state `x`: the gauge of its rigid motions, the pin
-/// joints inside it and the periodic conditions of every rod, its rise held at `height`
+/// joints inside it (a sliding joint's rows are its own) and the periodic conditions of every rod, its rise held at `height`
 /// (m; at its value in `x` when `None`), its screw turned further by the twist of `spin`
 /// (the tube's twist per cell, moving with the load parameter) when there is one.
 fn cell_constraints(
@@ -88,6 +88,10 @@ fn cell_constraints(
 ) {
     gauge(model, x, spin, out);
     for (j, joint) in model.assembly.joints.iter().enumerate() {
+        // a sliding joint's rows are its own (super::slide)
+        if model.slide_of(j).is_some() {
+            continue;
+        }
         let (ri, rj) = (&model.rods[joint.right], &model.rods[joint.left]);
         let (Some(vi), Some(vj)) = (ri.mesh.vertex_at(joint.s), rj.mesh.vertex_at(joint.s)) else {
             continue;
@@ -260,7 +264,9 @@ pub fn axis_weights(model: &DiscreteModel, id: usize) -> Vec<(usize, f64)> {
 /// ([`axis_weights`]), each vertex against the axis's section at its own height, a fraction
 /// `s/ℓ` of the rise along the bent axis ([`Moving::Axis`], turning with the tilt of `spin`):
 /// the tube's axis is the arc-length mean of its rods, as in the bending wave's amplitude,
-/// and the lateral load a bent tube under an axial force needs falls along the rods.
+/// and the lateral load a bent tube under an axial force needs falls along the rods. With
+/// sliding crossings it also holds the sums of the contacts' arc lengths on the right and on
+/// the left rods (see docs/joints.md, "The cell of the infinite tube").
 fn gauge(
     model: &DiscreteModel,
     x: &[f64],
@@ -327,6 +333,20 @@ fn gauge(
             role: base,
             moving: spin.map(|_| Moving::Axis { offset, sections }),
         });
+    }
+    if !model.slides.is_empty() {
+        // sliding crossings between uniform helices: the left rods turn and rise together
+        // against the right ones at no cost, the contacts following; the sums of the
+        // contacts' arc lengths on the right rods and on the left ones held hold them (a
+        // uniform slip of every contact, as the gauge's other rows perturbations of the
+        // block of the rigid motions alone)
+        for side in 0..2 {
+            let dofs: Vec<usize> = (0..model.slides.len())
+                .map(|k| model.slide_dof(k, side))
+                .collect();
+            let sum = dofs.iter().map(|&d| x[d]).sum();
+            out.push(row(dofs.iter().map(|&d| (d, 1.0)).collect(), sum, base));
+        }
     }
     if rod.helix.is_straight() {
         out.push(row(vec![(rod.r_dof(0, 0), 1.0)], r[0], base));

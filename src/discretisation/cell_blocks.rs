@@ -91,6 +91,38 @@ impl CellBlocks {
                 entries[entry(d, r)] = Entry::Phased { rod, sign: -1.0 };
             }
         }
+        // a sliding joint's multipliers and both contacts' arc lengths are unknowns of the
+        // cell: its rows and the left contact's arc length couple to the positions and
+        // quaternions of the left rod's image in the window (`ν · ∂r_L`, `ν · ∂²r_L/∂s∂q`),
+        // which take the image's sector phase; the terms `ν · ∂²r_L/∂q∂q` are of the image
+        // alone and take none
+        let degree = model.order.degree();
+        for (k, slide) in system.slides.iter().enumerate() {
+            let turn = slide.turn;
+            let side = &slide.sides[1];
+            let rod = &model.rods[side.rod];
+            let first = system.slide_row(k);
+            let mut mark = |row: usize, d: usize| {
+                entries[entry(row, d)] = Entry::Sector { turn, sign: 1.0 };
+                entries[entry(d, row)] = Entry::Sector { turn, sign: -1.0 };
+            };
+            for e in side.first..=side.last {
+                for row in first..first + 3 {
+                    for c in 0..3 {
+                        mark(row, rod.r_dof(e, c));
+                    }
+                }
+                for node in e * degree..=(e + 1) * degree {
+                    for c in 0..4 {
+                        let d = rod.q_dof(node, c);
+                        for row in first..first + 3 {
+                            mark(row, d);
+                        }
+                        mark(side.dof, d);
+                    }
+                }
+            }
+        }
         Some(CellBlocks { cell, entries })
     }
 

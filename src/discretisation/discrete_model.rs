@@ -179,11 +179,14 @@ impl DiscreteModel {
 
     /// This model with its crossings sliding (`true`) or not: every joint strictly inside the
     /// rods gets two arc-length unknowns (a joint at a rod end is held by the supports there
-    /// and stays a pin). A cell's crossings are not joints of its assembly and do not slide.
+    /// and stays a pin). In the cell of an infinite tube every joint slides, the one at the
+    /// rods' near ends too: the cell's ends are not supports, and the crossing there is the
+    /// cell's own (the one at its far ends is its screw image).
     pub fn with_sliding_joints(mut self, sliding: bool) -> DiscreteModel {
         let l = self.length();
-        self.slides = if sliding && self.assembly.cell.is_none() {
-            let inside = |s: f64| s > 1e-9 * l && s < l * (1.0 - 1e-9);
+        let cell = self.assembly.cell.is_some();
+        self.slides = if sliding {
+            let inside = |s: f64| cell || (s > 1e-9 * l && s < l * (1.0 - 1e-9));
             (0..self.assembly.joints.len())
                 .filter(|&j| inside(self.assembly.joints[j].s))
                 .collect()

@@ -69,6 +69,8 @@ pub enum BeamError {
     NotABendingTube,
     #[error("the bending stiffness by curvature is computed on an untwisted tube (twist 0)")]
     Twisted,
+    #[error("the bending stiffness by curvature is computed on the bending cell, which does not carry sliding crossings")]
+    Sliding,
     #[error("the beam stiffnesses are those of the straight tube's cell, not of a bending cell")]
     Bending,
     #[error("the cell's reduced energy is flat along its {what}: no stiffness to invert")]
@@ -365,7 +367,8 @@ pub const BENDING_STEP: f64 = 0.02;
 /// `∂²Π/∂θ² = ∂²L/∂θ² − (∂R/∂θ)ᵀ K⁻¹ (∂R/∂θ)`. The tube's axis, the arc-length mean of
 /// its rods (as the bending wave's amplitude, [`bending_energy`]), keeps its length `H`
 /// (the axial strain held). An untwisted state only
-/// ([`BeamError::Twisted`] otherwise: the carrying of a twisted state is not checked).
+/// ([`BeamError::Twisted`] otherwise: the carrying of a twisted state is not checked), and
+/// pinned, welded or elastic crossings ([`BeamError::Sliding`] with sliding ones).
 pub fn bending_by_curvature(
     model: &DiscreteModel,
     system: &System,
@@ -379,6 +382,9 @@ pub fn bending_by_curvature(
     let (eps, phi, q) = load_values(system);
     if phi != 0.0 {
         return Err(BeamError::Twisted);
+    }
+    if !model.slides.is_empty() {
+        return Err(BeamError::Sliding);
     }
     let helix = model.assembly.rods[0];
     let assembly = Assembly::bending_cell(2 * m, helix.radius, helix.pitch)

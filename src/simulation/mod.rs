@@ -179,14 +179,14 @@ impl Simulation {
             threads,
         } = start;
         x.truncate(model.n_primal);
-        if bc.joints.slides() && model.assembly.cell.is_some() {
+        if bc.joints.slides() && model.assembly.cell.as_ref().is_some_and(|c| c.bending) {
             return Err(SolveError {
                 control: loads.control(),
                 reached: 0.0,
                 compression_ratio: 0.0,
                 target: 0.0,
                 step: 0.0,
-                reason: StopReason::SlidingInCell,
+                reason: StopReason::SlidingInBendingCell,
             });
         }
         // the contacts of sliding joints are unknowns of the model
@@ -497,7 +497,7 @@ impl Simulation {
             _ => self.parameter(),
         };
         let old = self.model();
-        if bc.joints.slides() && old.assembly.cell.is_some() {
+        if bc.joints.slides() && old.assembly.cell.as_ref().is_some_and(|c| c.bending) {
             let state = self.path.state();
             return Err(SolveError {
                 control,
@@ -505,7 +505,7 @@ impl Simulation {
                 compression_ratio: self.compression_ratio(),
                 target: state.lambda,
                 step: 0.0,
-                reason: StopReason::SlidingInCell,
+                reason: StopReason::SlidingInBendingCell,
             });
         }
         let model = old.clone().with_sliding_joints(bc.joints.slides());

@@ -81,10 +81,10 @@ pub enum StopReason {
     LeftDomain { why: &'static str },
     #[error("switching branch needs the full model: a symmetric pair cannot follow a mode that breaks the symmetry")]
     SymmetricPair,
-    /// Sliding joints asked of the cell of an infinite tube, whose crossings are not joints
-    /// of its own.
-    #[error("sliding joints need a finite tube: the cell of the infinite tube does not carry them (start over with discretisation.model = \"full\" or \"pair\")")]
-    SlidingInCell,
+    /// Sliding joints asked of a bending cell (all the rods over an axial period, tilted),
+    /// whose gauge holds only the straight cell's neutral motions of sliding crossings.
+    #[error("sliding joints are carried by the straight cell of the infinite tube, not by its bending cell (a tilt): start over without the tilt, or with discretisation.model = \"full\"")]
+    SlidingInBendingCell,
     #[error("there is no critical point {index} to switch branch at")]
     NoCriticalPoint { index: usize },
     /// The critical point's state is of another problem than the path's now (a symmetric

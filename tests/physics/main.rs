@@ -16,6 +16,7 @@ mod precision;
 mod robustness;
 mod rods;
 mod sliding;
+mod sliding_cell;
 mod stability;
 mod symmetry;
 

@@ -121,7 +121,7 @@ const FIXTURES: &[&str] = &[
     "loose-tolerance",
     "number-for-name",
     "sliding-both-ends",
-    "sliding-in-a-cell",
+    "sliding-in-a-tilted-cell",
     "stiffness-ratio",
     "tiny-turns",
     "too-many-joints",
@@ -507,18 +507,29 @@ fn springs_on_joints_that_are_not_elastic_are_refused() {
 }
 
 #[test]
-fn sliding_joints_in_a_cell_are_refused() {
-    let e = rejected("sliding-in-a-cell");
+fn sliding_joints_in_a_tilted_cell_are_refused() {
+    let e = rejected("sliding-in-a-tilted-cell");
     assert!(is_invalid(&e), "{e:?}");
     check(
         &e,
-        8,
-        "discretisation.model",
-        &[
-            "\"full\", \"pair\" or \"auto\"",
-            "cell of the infinite tube does not carry sliding joints",
-        ],
+        6,
+        "boundary.joints",
+        &["bending cell does not carry sliding crossings", "found \"sliding\""],
     );
+}
+
+#[test]
+fn sliding_joints_in_a_straight_cell_are_read() {
+    let case = Case::parse(
+        "[geometry]\nhelices = 8\n[boundary]\njoints = \"sliding\"\n[discretisation]\nmodel = \"cell\"\n",
+        "s.toml",
+        "s",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let m = case.model();
+    assert_eq!(m.rods.len(), 2);
+    // the cell's one crossing, at its rods' near ends, slides
+    assert_eq!(m.slides.len(), 1);
 }
 
 #[test]
