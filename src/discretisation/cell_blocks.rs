@@ -22,6 +22,12 @@ enum Entry {
     /// A gauge row's coupling: kept in the block of the rigid motions (`p = 0`, `k = 0`),
     /// and, for the azimuthal row, in that of the translation across the axis.
     Gauge { translation: bool },
+    /// A row holding the contacts' arc lengths on the rods of one hand: kept in the blocks
+    /// where a rod moves at no cost between uniform helices, turning about the axis and
+    /// rising along it alone, its contacts sliding along it and the rods it crosses (a right
+    /// rod lies in the cells of one sector, `k = 0`; a left rod passes to the next sector
+    /// back in every cell, `k = 2πp/m`): two motions a rod, which the two rows hold.
+    Conveyor,
 }
 
 /// The Bloch blocks `H(p, k)` of a cell's KKT matrix (docs/theory.md §8): a perturbation
@@ -53,8 +59,17 @@ impl CellBlocks {
                 Role::Support { rod, end: End::Tip } | Role::TipHeight { rod } => Some(rod),
                 Role::Support { end: End::Base, .. } => {
                     let azimuth = c.terms.len() == 1 && c.terms[0].0 == model.rods[0].r_dof(0, 1);
-                    let g = Entry::Gauge {
-                        translation: azimuth,
+                    let side_of = |d: usize| {
+                        (0..model.slides.len())
+                            .flat_map(|k| [0, 1].map(|side| (k, side)))
+                            .find(|&(k, side)| model.slide_dof(k, side) == d)
+                            .map(|(_, side)| side)
+                    };
+                    let g = match c.terms.first().and_then(|&(d, _)| side_of(d)) {
+                        Some(_) => Entry::Conveyor,
+                        None => Entry::Gauge {
+                            translation: azimuth,
+                        },
                     };
                     for &(d, _) in &c.terms {
                         entries[entry(r, d)] = g;
@@ -164,6 +179,17 @@ impl CellBlocks {
         rigid || across
     }
 
+    /// Whether the rows holding the contacts are kept in block `(p, k)`: `k = 0` (the
+    /// right rods' motions) or `k = 2πp/m` (the left rods').
+    fn keeps_conveyor(&self, p: usize, k: f64) -> bool {
+        let m = self.cell.m;
+        let same = |target: f64| {
+            let d = (k - target).rem_euclid(2.0 * PI);
+            d.min(2.0 * PI - d) < 1e-9
+        };
+        same(0.0) || same(2.0 * PI * (p % m) as f64 / m as f64)
+    }
+
     /// The complex Hermitian block `(p, k)` from the cell's KKT values `kkt`, in the cell's
     /// pattern.
     pub fn hermitian_block(&self, p: usize, k: f64, kkt: &[f64], out: &mut [c64]) {
@@ -183,6 +209,13 @@ impl CellBlocks {
                 Entry::Sector { turn, sign } => {
                     let (s, c) = self.cell.sector_phase(turn, p).sin_cos();
                     c64::new(v * c, sign * v * s)
+                }
+                Entry::Conveyor => {
+                    if self.keeps_conveyor(p, k) {
+                        c64::new(v, 0.0)
+                    } else {
+                        c64::new(0.0, 0.0)
+                    }
                 }
                 Entry::Gauge { translation } => {
                     if self.keeps_gauge(p, k, translation) {

@@ -514,7 +514,10 @@ fn sliding_joints_in_a_tilted_cell_are_refused() {
         &e,
         6,
         "boundary.joints",
-        &["bending cell does not carry sliding crossings", "found \"sliding\""],
+        &[
+            "bending cell does not carry sliding crossings",
+            "found \"sliding\"",
+        ],
     );
 }
 
