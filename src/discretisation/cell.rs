@@ -366,24 +366,25 @@ fn gauge(
     }
 }
 
-/// The rigid rotation of the state `x` about the tube's axis (z) as a direction of its
-/// primal unknowns: `δr = e_z × r`, `δq = ½ e_z ∘ q` (rad⁻¹). A neutral mode of every cell,
-/// whose Bloch block of rigid motions holds it by a gauge row at a point.
-pub fn turning_mode(model: &DiscreteModel, x: &[f64]) -> Vec<f64> {
+/// Rod `rod` of the state `x` turning about the tube's axis (z) as a direction of the
+/// primal unknowns: `δr = e_z × r`, `δq = ½ e_z ∘ q` (rad⁻¹) on that rod, zero elsewhere. The
+/// cell's rods turning together are its rigid rotation, a neutral mode of every cell; one rod
+/// turning alone is one with sliding crossings (its contacts sliding). A Bloch block holds
+/// them by gauge rows at points ([`super::cell_blocks::CellBlocks::turning_rods`]).
+pub fn turning_mode(model: &DiscreteModel, x: &[f64], rod: usize) -> Vec<f64> {
     let ez = Quat::new(0.0, 0.0, 1.0, 0.0);
     let mut t = vec![0.0; model.n_primal];
-    for (id, rod) in model.rods.iter().enumerate() {
-        for node in 0..rod.mesh.quaternion_nodes() {
-            let dq = 0.5 * quaternion::mul(&ez, &model.quaternion(x, id, node));
-            for k in 0..4 {
-                t[rod.q_dof(node, k)] = dq[k];
-            }
+    let (id, rod) = (rod, &model.rods[rod]);
+    for node in 0..rod.mesh.quaternion_nodes() {
+        let dq = 0.5 * quaternion::mul(&ez, &model.quaternion(x, id, node));
+        for k in 0..4 {
+            t[rod.q_dof(node, k)] = dq[k];
         }
-        for v in 0..=rod.mesh.elements() {
-            let r = model.vertex(x, id, v);
-            t[rod.r_dof(v, 0)] = -r[1];
-            t[rod.r_dof(v, 1)] = r[0];
-        }
+    }
+    for v in 0..=rod.mesh.elements() {
+        let r = model.vertex(x, id, v);
+        t[rod.r_dof(v, 0)] = -r[1];
+        t[rod.r_dof(v, 1)] = r[0];
     }
     t
 }

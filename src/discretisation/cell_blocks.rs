@@ -40,6 +40,8 @@ enum Entry {
 pub struct CellBlocks {
     cell: Cell,
     entries: Vec<Entry>,
+    /// Whether the cell's crossings slide (rows on the contacts among its gauge).
+    sliding: bool,
 }
 
 impl CellBlocks {
@@ -138,7 +140,12 @@ impl CellBlocks {
                 }
             }
         }
-        Some(CellBlocks { cell, entries })
+        let sliding = entries.contains(&Entry::Conveyor);
+        Some(CellBlocks {
+            cell,
+            entries,
+            sliding,
+        })
     }
 
     /// The cell's periodicity.
@@ -158,11 +165,26 @@ impl CellBlocks {
         self.keeps_gauge(p, k, true) && !self.keeps_gauge(p, k, false)
     }
 
-    /// Whether block `(p, k)` holds the cell's rigid rotation about the axis (the block of
-    /// rigid motions, `p = 0`, `k = 0`): a neutral mode of non-zero metric, which its gauge
-    /// row holds at a point ([`super::cell::turning_mode`]).
-    pub fn holds_rotation(&self, p: usize, k: f64) -> bool {
-        self.keeps_gauge(p, k, false)
+    /// The neutral modes of block `(p, k)` that turn frames and that its gauge rows hold at
+    /// points, each as the rods of the cell that turn together about the axis
+    /// ([`super::cell::turning_mode`]): the cell's rigid rotation in the block of rigid
+    /// motions (`p = 0`, `k = 0`); with sliding crossings each rod turning alone instead,
+    /// in the blocks where it moves alone ([`CellBlocks::moves_alone`]) and the rows on the
+    /// contacts are kept. (The rigid rise and a rod rising alone turn no frame: held
+    /// at a point, they shift nothing.)
+    pub fn turning_rods(&self, p: usize, k: f64) -> Vec<Vec<usize>> {
+        let rods = self.cell.turns.len();
+        if !self.sliding {
+            return if self.keeps_gauge(p, k, false) {
+                vec![(0..rods).collect()]
+            } else {
+                Vec::new()
+            };
+        }
+        (0..rods)
+            .filter(|&rod| self.moves_alone(rod, p, k))
+            .map(|rod| vec![rod])
+            .collect()
     }
 
     /// Whether the gauge rows of kind `translation` are kept in block `(p, k)`.
@@ -179,15 +201,19 @@ impl CellBlocks {
         rigid || across
     }
 
-    /// Whether the rows holding the contacts are kept in block `(p, k)`: `k = 0` (the
-    /// right rods' motions) or `k = 2πp/m` (the left rods').
+    /// Whether the rows holding the contacts are kept in block `(p, k)`: where a rod's own
+    /// motions live ([`CellBlocks::moves_alone`]).
     fn keeps_conveyor(&self, p: usize, k: f64) -> bool {
-        let m = self.cell.m;
-        let same = |target: f64| {
-            let d = (k - target).rem_euclid(2.0 * PI);
-            d.min(2.0 * PI - d) < 1e-9
-        };
-        same(0.0) || same(2.0 * PI * (p % m) as f64 / m as f64)
+        (0..self.cell.turns.len()).any(|rod| self.moves_alone(rod, p, k))
+    }
+
+    /// Whether rod `rod` moving alone (turning about the axis and rising, its contacts
+    /// sliding: the same in every cell along it) is a perturbation of block `(p, k)`: its
+    /// far end's phase is 0 (a right rod of the cell at `k = 0`, a left one, whose far end
+    /// begins the sector behind, at `k = 2πp/m`).
+    fn moves_alone(&self, rod: usize, p: usize, k: f64) -> bool {
+        let d = self.cell.far_phase(rod, p, k).rem_euclid(2.0 * PI);
+        d.min(2.0 * PI - d) < 1e-9
     }
 
     /// The complex Hermitian block `(p, k)` from the cell's KKT values `kkt`, in the cell's

@@ -10,7 +10,7 @@ use crate::discretisation::cell_blocks::CellBlocks;
 use crate::discretisation::discrete_model::DiscreteModel;
 use crate::discretisation::mirror::Mirror;
 use crate::discretisation::system::System;
-use crate::solver::stability::{InertiaError, KktStability, KktStructure, WarmStart};
+use crate::solver::stability::{InertiaError, KktStability, KktStructure, Scalar, WarmStart};
 use faer::c64;
 use faer::sparse::SymbolicSparseColMat;
 use rayon::prelude::*;
@@ -126,9 +126,10 @@ pub struct CellJudge {
     /// the helices, whose counts resolve the map's eigenvalues (the path's solves keep the
     /// cell's own length).
     map: KktStability,
-    /// The cell's rigid rotation about the axis at the state last evaluated, held out of the
-    /// metric of the block of rigid motions ([`CellBlocks::holds_rotation`]).
-    rotation: Vec<Vec<f64>>,
+    /// Each rod of the cell turning about the axis at the state last evaluated: the neutral
+    /// modes held out of the metric of the blocks that hold them at points
+    /// ([`CellBlocks::turning_rods`]).
+    rod_turns: Vec<Vec<f64>>,
     warm_real: Vec<WarmStart>,
     warm_complex: Vec<WarmStart<c64>>,
     residual: Vec<f64>,
@@ -156,7 +157,7 @@ impl CellJudge {
             real,
             complex,
             map,
-            rotation: Vec::new(),
+            rod_turns: Vec::new(),
             warm_real: (0..count).map(|_| WarmStart::default()).collect(),
             warm_complex: (0..count).map(|_| WarmStart::default()).collect(),
             residual: vec![0.0; system.n],
@@ -168,10 +169,12 @@ impl CellJudge {
         })
     }
 
-    /// The cell's KKT values at the state `x`, and its rigid rotation there.
+    /// The cell's KKT values at the state `x`, and its rods turning about the axis there.
     fn evaluate(&mut self, model: &DiscreteModel, system: &System, x: &[f64]) {
         system.evaluate(model, x, &mut self.residual, &mut self.kkt);
-        self.rotation = vec![turning_mode(model, x)];
+        self.rod_turns = (0..model.rods.len())
+            .map(|rod| turning_mode(model, x, rod))
+            .collect();
     }
 
     /// Blocks judged: `m` wavenumbers times the phases.
@@ -199,11 +202,8 @@ impl CellJudge {
             self.blocks
                 .real_block(p, k, &self.kkt, &mut self.real_values);
             self.real.swap_warm_start(&mut self.warm_real[b]);
-            let held = self
-                .blocks
-                .holds_rotation(p, k)
-                .then_some(&self.rotation[..]);
-            let out = holding(&mut self.real, pattern, held, |s| {
+            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
+            let out = holding(&mut self.real, pattern, held.as_deref(), |s| {
                 real(s, pattern, &self.real_values)
             });
             self.real.swap_warm_start(&mut self.warm_real[b]);
@@ -214,7 +214,10 @@ impl CellJudge {
             self.blocks
                 .hermitian_block(p, k, &self.kkt, &mut self.complex_values);
             self.complex.swap_warm_start(&mut self.warm_complex[b]);
-            let out = complex(&mut self.complex, pattern, &self.complex_values);
+            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
+            let out = holding(&mut self.complex, pattern, held.as_deref(), |s| {
+                complex(s, pattern, &self.complex_values)
+            });
             self.complex.swap_warm_start(&mut self.warm_complex[b]);
             out
         }
@@ -286,11 +289,8 @@ impl CellJudge {
             self.blocks.real_block(p, k, &self.kkt, &mut values);
             let mut cold = WarmStart::default();
             self.real.swap_warm_start(&mut cold);
-            let held = self
-                .blocks
-                .holds_rotation(p, k)
-                .then_some(&self.rotation[..]);
-            let mu = holding(&mut self.real, pattern, held, |s| {
+            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
+            let mu = holding(&mut self.real, pattern, held.as_deref(), |s| {
                 s.lowest_eigenvalue(pattern, &values)
             });
             self.real.swap_warm_start(&mut cold);
@@ -300,7 +300,10 @@ impl CellJudge {
             self.blocks.hermitian_block(p, k, &self.kkt, &mut values);
             let mut cold = WarmStart::default();
             self.complex.swap_warm_start(&mut cold);
-            let mu = self.complex.lowest_eigenvalue(pattern, &values);
+            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
+            let mu = holding(&mut self.complex, pattern, held.as_deref(), |s| {
+                s.lowest_eigenvalue(pattern, &values)
+            });
             self.complex.swap_warm_start(&mut cold);
             mu
         }
@@ -320,17 +323,17 @@ impl CellJudge {
         if self.blocks.is_real(p, k) {
             let mut values = vec![0.0; self.kkt.len()];
             self.blocks.real_block(p, k, &self.kkt, &mut values);
-            let held = self
-                .blocks
-                .holds_rotation(p, k)
-                .then_some(&self.rotation[..]);
-            holding(&mut self.real, pattern, held, |s| {
+            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
+            holding(&mut self.real, pattern, held.as_deref(), |s| {
                 s.count_below(pattern, &values, sigma)
             })
         } else {
             let mut values = vec![c64::new(0.0, 0.0); self.kkt.len()];
             self.blocks.hermitian_block(p, k, &self.kkt, &mut values);
-            self.complex.count_below(pattern, &values, sigma)
+            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
+            holding(&mut self.complex, pattern, held.as_deref(), |s| {
+                s.count_below(pattern, &values, sigma)
+            })
         }
     }
 
@@ -347,7 +350,7 @@ impl CellJudge {
         // the symbolic analysis once, before the searches share it
         let _ = self.map.structure_for(pattern);
         let (blocks, phases, kkt) = (&self.blocks, &self.phases, &self.kkt);
-        let rotation = &self.rotation;
+        let rod_turns = &self.rod_turns;
         let partners = mirror_partners(model, x, blocks, phases);
         let count = phases.len();
         // the blocks searched: one of each mirror pair, every block without the mirror
@@ -373,8 +376,8 @@ impl CellJudge {
                         if !searched(p, i) {
                             return None;
                         }
-                        let held = blocks.holds_rotation(p, k).then_some(&rotation[..]);
-                        chain.lowest(blocks, pattern, kkt, (p, k), held)
+                        let held = held_modes(blocks, rod_turns, p, k);
+                        chain.lowest(blocks, pattern, kkt, (p, k), held.as_deref())
                     })
                     .collect()
             })
@@ -476,19 +479,43 @@ impl PhaseChain {
             })
         } else {
             blocks.hermitian_block(p, k, kkt, &mut self.complex_values);
-            self.complex
-                .lowest_eigenvalue(pattern, &self.complex_values)
+            let values = &self.complex_values;
+            holding(&mut self.complex, pattern, held, |s| {
+                s.lowest_eigenvalue(pattern, values)
+            })
         }
     }
 }
 
+/// The neutral modes of block `(p, k)` held out of its metric ([`CellBlocks::turning_rods`]),
+/// from each rod turning alone, `rod_turns`; `None` for none.
+fn held_modes(
+    blocks: &CellBlocks,
+    rod_turns: &[Vec<f64>],
+    p: usize,
+    k: f64,
+) -> Option<Vec<Vec<f64>>> {
+    let sets = blocks.turning_rods(p, k);
+    (!sets.is_empty()).then(|| {
+        sets.iter()
+            .map(|rods| {
+                let mut t = vec![0.0; rod_turns.first().map_or(0, Vec::len)];
+                for &r in rods {
+                    t.iter_mut().zip(&rod_turns[r]).for_each(|(a, b)| *a += b);
+                }
+                t
+            })
+            .collect()
+    })
+}
+
 /// `task` on `stability` with the neutral modes `held` (if any) held out of its metric
 /// ([`KktStability::hold_modes`]), restored after.
-fn holding<R>(
-    stability: &mut KktStability,
+fn holding<T: Scalar, R>(
+    stability: &mut KktStability<T>,
     pattern: &SymbolicSparseColMat<usize>,
     held: Option<&[Vec<f64>]>,
-    task: impl FnOnce(&mut KktStability) -> R,
+    task: impl FnOnce(&mut KktStability<T>) -> R,
 ) -> R {
     let Some(modes) = held else {
         return task(stability);

@@ -202,18 +202,24 @@ fn the_cells_spectrum_at_k_2pi_j_over_n_is_that_of_a_ring_of_n_cells() {
     let cell = solved_cell(n, 1, Loads::axial(Control::Displacement), eps);
     let mut on_cell = CellJudge::new(cell.model(), cell.system(), 9).expect("a cell");
     for cells in [4, 8] {
-        ring_against_cell(&cell, &mut on_cell, n, cells, eps);
+        let ring = solved_cell(n, cells, Loads::axial(Control::Displacement), eps);
+        ring_against_cell(&cell, &mut on_cell, &ring, cells);
     }
 }
 
-/// The ring check of `cells` cells against the cell (see above).
-fn ring_against_cell(cell: &Simulation, on_cell: &mut CellJudge, n: usize, cells: usize, eps: f64) {
-    let ring = solved_cell(n, cells, Loads::axial(Control::Displacement), eps);
+/// The ring check of the ring `ring` of `cells` cells against the cell `cell` (see above).
+pub(crate) fn ring_against_cell(
+    cell: &Simulation,
+    on_cell: &mut CellJudge,
+    ring: &Simulation,
+    cells: usize,
+) {
+    let m = cell.model().assembly.cell.as_ref().expect("a cell").m;
     let mut on_ring = CellJudge::new(ring.model(), ring.system(), 9).expect("a cell");
     let phases: Vec<f64> = (0..cells)
         .map(|j| 2.0 * std::f64::consts::PI * j as f64 / cells as f64)
         .collect();
-    for p in 0..n / 2 {
+    for p in 0..m {
         let ring_lowest = on_ring
             .lowest_at(ring.model(), ring.system(), ring.state(), p, 0.0)
             .expect("converges");

@@ -216,3 +216,48 @@ fn the_pressed_and_twisted_sliding_cell_is_the_pinned_cell() {
         }
     }
 }
+
+/// At k = 2πj/N the sliding cell's spectrum is that of N sliding cells closed on
+/// themselves (the check of `cell.rs`, with the rods' own turning held out of the metric
+/// where the contacts' rows hold it at points): n = 8, ε = 0.3, N = 3. (The left rod of a
+/// ring of N ≡ 0 mod m cells ends in its own sector, so that both rods move alone in the
+/// blocks (p, 0), four motions that the contacts' two rows and the rigid gauge's rows,
+/// kept at p = 0 only, do not hold at p ≠ 0.)
+#[test]
+fn the_sliding_cells_spectrum_at_k_2pi_j_over_n_is_that_of_a_ring_of_n_cells() {
+    let (n, eps, cells) = (8, 0.3, 3);
+    let axial = || Loads::axial(Control::Displacement);
+    let cell = solved(
+        n,
+        1,
+        Joints::Sliding,
+        axial(),
+        eps,
+        ContinuationSettings::default(),
+    );
+    let ring = solved(
+        n,
+        cells,
+        Joints::Sliding,
+        axial(),
+        eps,
+        ContinuationSettings::default(),
+    );
+    let mut on_cell = CellJudge::new(cell.model(), cell.system(), 9).expect("a cell");
+    crate::cell::ring_against_cell(&cell, &mut on_cell, &ring, cells);
+    // a left rod moves alone in the blocks (p, 2πp/m), which no ring of cells reaches on
+    // its own: the mirror y ↦ −y, which swaps the rods, gives them the spectrum of the
+    // right rod's blocks (p, 0)
+    let m = n / 2;
+    for p in 1..m {
+        let left = 2.0 * std::f64::consts::PI * p as f64 / m as f64;
+        let [a, b] = [0.0, left].map(|k| {
+            on_cell
+                .lowest_at(cell.model(), cell.system(), cell.state(), p, k)
+                .expect("converges")
+        });
+        let rel = (a - b).abs() / a.abs();
+        println!("p = {p}: (p, 0) {a:.12} (p, 2πp/m) {b:.12} rel {rel:.1e}");
+        assert!(rel < 1e-8, "p = {p}: {a} vs {b}");
+    }
+}
