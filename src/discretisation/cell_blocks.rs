@@ -159,8 +159,9 @@ impl CellBlocks {
         on_axis && (2 * p) % self.cell.m == 0
     }
 
-    /// Whether block `(p, k)` holds the tube's rigid translation across its axis (a zero
-    /// eigenvalue, which its gauge row removes).
+    /// Whether block `(p, k)` holds the tube's rigid translation across its axis, or with
+    /// sliding crossings the rods' translations along the tube's surface (`p = 0`,
+    /// `k = ψ`): motions of no energy and no metric, which its azimuthal gauge row holds.
     pub fn holds_translation(&self, p: usize, k: f64) -> bool {
         self.keeps_gauge(p, k, true) && !self.keeps_gauge(p, k, false)
     }
@@ -198,7 +199,13 @@ impl CellBlocks {
         let (m, psi) = (self.cell.m, self.cell.translation_phase());
         let across =
             translation && ((p == 1 % m && same(k, psi)) || (p == (m - 1) % m && same(k, -psi)));
-        rigid || across
+        // with sliding crossings, the rods translating along the tube's surface: at (0, ±ψ)
+        // every rod translates rigidly (in the cell's frame, one circular polarisation for
+        // the right rods, the other for the left), the two rods' difference at every
+        // crossing azimuthal, in the tube's tangent plane, so that the contacts slide: no
+        // energy, no frame turned (its value written 0, as the translation's)
+        let along = translation && self.sliding && p == 0 && (same(k, psi) || same(k, -psi));
+        rigid || across || along
     }
 
     /// Whether the rows holding the contacts are kept in block `(p, k)`: where a rod's own

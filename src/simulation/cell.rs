@@ -31,9 +31,10 @@ pub const PATH_PHASES: usize = 9;
 pub struct Dispersion {
     pub phases: Vec<f64>,
     pub lowest: Vec<Vec<Option<f64>>>,
-    /// The `(p, i)` whose block holds the tube's rigid translation across its axis, its
-    /// value written 0: neither a lowest eigenvalue nor the end of a band (the column's band
-    /// of long waves lies on both sides of it).
+    /// The `(p, i)` whose block holds the tube's rigid translation across its axis (or,
+    /// with sliding crossings, the rods' translations along its surface), its value written
+    /// 0: neither a lowest eigenvalue nor the end of a band (the column's band of long
+    /// waves lies on both sides of it).
     pub translation: Vec<(usize, usize)>,
 }
 

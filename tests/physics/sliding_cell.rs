@@ -261,3 +261,28 @@ fn the_sliding_cells_spectrum_at_k_2pi_j_over_n_is_that_of_a_ring_of_n_cells() {
         assert!(rel < 1e-8, "p = {p}: {a} vs {b}");
     }
 }
+
+/// With sliding crossings the block (0, ψ) holds, besides the path's states, a motion of no
+/// energy and no metric: every rod translating rigidly, the right and the left rods with
+/// opposite circular polarisations in the cell's frame, their difference at each crossing
+/// along the tube's surface (the contacts slide). Its gauge row holds it, as the rigid
+/// translation's in (1, ψ): the shipped case runs to ε = 0.3 with no critical point on its
+/// sampled phases (without the row the count there flickered between 0 and 2 from step to
+/// step), and the map's bands of p = 0 and p = 1 are each one band about ψ = π/4.
+#[test]
+fn the_sliding_cells_translations_along_the_surface_are_held() {
+    let case = spira::case::Case::from_file(std::path::Path::new("cases/cell-n8-sliding.toml"))
+        .expect("the shipped case reads");
+    let targets = case.output_parameters(case.loading.target, 30);
+    let outcome = spira::run::run_path(&case, &targets, |_, _| {}).expect("the path runs");
+    assert!(outcome.error.is_none());
+    assert!(outcome.critical.is_empty(), "{:?}", outcome.critical.len());
+    let last = &outcome.dispersion.last().expect("points").dispersion;
+    let quarter = std::f64::consts::FRAC_PI_4;
+    for p in [0, 1] {
+        let bands = last.unstable_bands(p);
+        println!("p = {p}: {bands:?}");
+        assert_eq!(bands.len(), 1, "p = {p}: {bands:?}");
+        assert!(bands[0].0 < quarter && quarter < bands[0].1, "{bands:?}");
+    }
+}
