@@ -113,31 +113,11 @@ impl CellBlocks {
         // quaternions of the left rod's image in the window (`ν · ∂r_L`, `ν · ∂²r_L/∂s∂q`),
         // which take the image's sector phase; the terms `ν · ∂²r_L/∂q∂q` are of the image
         // alone and take none
-        let degree = model.order.degree();
         for (k, slide) in system.slides.iter().enumerate() {
             let turn = slide.turn;
-            let side = &slide.sides[1];
-            let rod = &model.rods[side.rod];
-            let first = system.slide_row(k);
-            let mut mark = |row: usize, d: usize| {
+            for (row, d) in slide.image_entries(model, system.slide_row(k)) {
                 entries[entry(row, d)] = Entry::Sector { turn, sign: 1.0 };
                 entries[entry(d, row)] = Entry::Sector { turn, sign: -1.0 };
-            };
-            for e in side.first..=side.last {
-                for row in first..first + 3 {
-                    for c in 0..3 {
-                        mark(row, rod.r_dof(e, c));
-                    }
-                }
-                for node in e * degree..=(e + 1) * degree {
-                    for c in 0..4 {
-                        let d = rod.q_dof(node, c);
-                        for row in first..first + 3 {
-                            mark(row, d);
-                        }
-                        mark(side.dof, d);
-                    }
-                }
             }
         }
         let sliding = entries.contains(&Entry::Conveyor);

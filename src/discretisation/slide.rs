@@ -76,6 +76,32 @@ impl SlideWindow {
             .collect()
     }
 
+    /// The KKT entries `(row, unknown)` by which the joint couples to its left rod's image:
+    /// its three rows (from `first_row`) against the positions and quaternions of the left
+    /// side's window (`ν · ∂r_L`, `ν · ∂²r_L/∂s∂q`), and the left contact's arc length
+    /// against those quaternions. (The terms `ν · ∂²r_L/∂q∂q` are of the image alone.) The
+    /// Bloch blocks give these entries the image's phase.
+    pub fn image_entries(&self, model: &DiscreteModel, first_row: usize) -> Vec<(usize, usize)> {
+        let side = &self.sides[1];
+        let rod = &model.rods[side.rod];
+        let degree = model.order.degree();
+        let rows = first_row..first_row + 3;
+        let mut out = Vec::new();
+        for e in side.first..=side.last {
+            for row in rows.clone() {
+                out.extend((0..3).map(|c| (row, rod.r_dof(e, c))));
+            }
+            for node in e * degree..=(e + 1) * degree {
+                for c in 0..4 {
+                    let d = rod.q_dof(node, c);
+                    out.extend(rows.clone().map(|row| (row, d)));
+                    out.push((side.dof, d));
+                }
+            }
+        }
+        out
+    }
+
     /// Whether the contact of a side of this joint in the state `x` is in its window's edge
     /// element or beyond (away from the rod's ends), so that the window should be re-centred.
     pub fn stale(&self, model: &DiscreteModel, x: &[f64]) -> bool {

@@ -174,7 +174,6 @@ impl BlochBlocks {
         // right rod's sector: its rows and the left contact's arc length couple to the
         // image's positions and quaternions in the window (`ν · ∂r_L`, `ν · ∂²r_L/∂s∂q`);
         // the terms `ν · ∂²r_L/∂q∂q` are of the image alone and take no phase
-        let degree = pair.order.degree();
         for (k, slide) in system.slides.iter().enumerate() {
             let r = (slide.turn * m as f64 / (2.0 * PI))
                 .round()
@@ -182,28 +181,9 @@ impl BlochBlocks {
             if r == 0 {
                 continue;
             }
-            let side = &slide.sides[1];
-            let rod = &pair.rods[side.rod];
-            let first = system.slide_row(k);
-            let mut mark = |row: usize, d: usize| {
+            for (row, d) in slide.image_entries(pair, system.slide_row(k)) {
                 phase[entry(row, d)] = Some((1.0, r));
                 phase[entry(d, row)] = Some((-1.0, r));
-            };
-            for e in side.first..=side.last {
-                for row in first..first + 3 {
-                    for c in 0..3 {
-                        mark(row, rod.r_dof(e, c));
-                    }
-                }
-                for node in e * degree..=(e + 1) * degree {
-                    for c in 0..4 {
-                        let d = rod.q_dof(node, c);
-                        for row in first..first + 3 {
-                            mark(row, d);
-                        }
-                        mark(side.dof, d);
-                    }
-                }
             }
         }
         Some(BlochBlocks { m, phase })
