@@ -8,7 +8,7 @@ use spira::discretisation::discrete_model::{DiscreteModel, End};
 use spira::discretisation::shape::Order;
 use spira::discretisation::system::System;
 use spira::model::assembly::Assembly;
-use spira::model::boundary::BoundaryConditions;
+use spira::model::boundary::{BoundaryConditions, Joints};
 use spira::model::elasticity::Reference;
 use spira::model::loading::{AxialHeld, Component, Control, Held, Loads};
 use spira::model::love::LoveHelix;
@@ -23,18 +23,44 @@ use crate::{A0, B0, STIFFNESS};
 /// The cell of the thesis tube of `n` helices at its default mesh, solved under `loads`
 /// from the natural state up to `target`.
 fn solved_cell(n: usize, cells: usize, loads: Loads, target: f64) -> Simulation {
+    let joints = BoundaryConditions::default().joints;
+    solved_cells(
+        n,
+        cells,
+        joints,
+        loads,
+        target,
+        ContinuationSettings::default(),
+    )
+}
+
+/// The cell (`cells` cells closed on themselves) of the thesis tube of `n` helices at its
+/// default mesh, its crossings `joints`, solved under `loads` from the natural state up to
+/// `target`.
+pub(crate) fn solved_cells(
+    n: usize,
+    cells: usize,
+    joints: Joints,
+    loads: Loads,
+    target: f64,
+    settings: ContinuationSettings,
+) -> Simulation {
     let assembly = Assembly::tube_cells(n, A0, B0, cells).expect("a tube cell");
     let elements = cells * default_elements(n);
     let model = DiscreteModel::new(assembly, STIFFNESS, elements, Order::Quadratic);
     let x = model.natural_state();
-    let bc = BoundaryConditions::default();
-    let mut sim = Simulation::with_loads(model, bc, loads, x, ContinuationSettings::default())
-        .expect("the natural state solves");
+    let bc = BoundaryConditions {
+        joints,
+        ..BoundaryConditions::default()
+    };
+    let mut sim =
+        Simulation::with_loads(model, bc, loads, x, settings).expect("the natural state solves");
     sim.advance_to(target).expect("the cell follows the load");
     sim
 }
 
-fn love(length: f64, eps: f64) -> LoveHelix {
+/// Love's helix of the thesis tube's rods of length `length` (m) compressed by `eps`.
+pub(crate) fn love(length: f64, eps: f64) -> LoveHelix {
     LoveHelix {
         radius0: A0,
         pitch0: B0,

@@ -4,57 +4,15 @@
 //! states is a pin whose force is normal to both rods), and the interlacing of a constraint
 //! released.
 
-use spira::discretisation::cell::default_elements;
 use spira::discretisation::constraints::Role;
-use spira::discretisation::discrete_model::{DiscreteModel, End};
-use spira::discretisation::shape::Order;
-use spira::model::assembly::Assembly;
-use spira::model::boundary::{BoundaryConditions, Joints};
-use spira::model::elasticity::Reference;
+use spira::discretisation::discrete_model::End;
+use spira::model::boundary::Joints;
 use spira::model::loading::{AxialHeld, Component, Control, Held, Loads};
-use spira::model::love::LoveHelix;
 use spira::simulation::cell::CellJudge;
 use spira::simulation::Simulation;
 use spira::solver::continuation::ContinuationSettings;
 
-use crate::{A0, B0, STIFFNESS};
-
-/// The cell (`cells` cells closed on themselves) of the thesis tube of `n` helices at its
-/// default mesh, its crossings `joints`, solved under `loads` from the natural state up to
-/// `target`.
-fn solved(
-    n: usize,
-    cells: usize,
-    joints: Joints,
-    loads: Loads,
-    target: f64,
-    settings: ContinuationSettings,
-) -> Simulation {
-    let assembly = Assembly::tube_cells(n, A0, B0, cells).expect("a tube cell");
-    let elements = cells * default_elements(n);
-    let model = DiscreteModel::new(assembly, STIFFNESS, elements, Order::Quadratic);
-    let x = model.natural_state();
-    let bc = BoundaryConditions {
-        joints,
-        ..BoundaryConditions::default()
-    };
-    let mut sim =
-        Simulation::with_loads(model, bc, loads, x, settings).expect("the natural state solves");
-    sim.advance_to(target).expect("the cell follows the load");
-    sim
-}
-
-fn love(length: f64, eps: f64) -> LoveHelix {
-    LoveHelix {
-        radius0: A0,
-        pitch0: B0,
-        length,
-        stiffness: STIFFNESS,
-        pitch: B0 * (1.0 - eps),
-        elasticity: Default::default(),
-        reference: Reference::Discrete,
-    }
-}
+use crate::cell::{love, solved_cells as solved};
 
 /// The largest force (N) carried by a sliding cell's joints and their largest slip (m).
 fn joint_force_and_slip(sim: &Simulation) -> (f64, f64) {
