@@ -213,13 +213,13 @@ fn advance_switching(
 fn step_beam(sim: &Simulation, p: &LoadPoint) -> Option<StepBeam> {
     let (model, system, x) = (sim.model(), sim.system(), sim.state());
     let stiffness = beam::beam_stiffness(model, system, x).ok()?;
+    let curvature = beam::bending_by_curvature(model, system, x);
     Some(StepBeam {
         step: p.step,
         stiffness,
         bending: beam::bending_of(model, system, x),
-        bending_curvature: beam::bending_by_curvature(model, system, x)
-            .ok()
-            .map(|b| b.stiffness),
+        bending_curvature: curvature.as_ref().ok().map(|b| b.stiffness),
+        bending_curvature_refused: curvature.err().map(|e| e.to_string()),
     })
 }
 

@@ -72,11 +72,11 @@ pub fn beam_summary(steps: &[StepBeam]) -> Option<String> {
         let bending = s
             .bending
             .map_or("EI not found".to_string(), |ei| format!("EI {ei:.4} N m2"));
-        let curvature = s
-            .bending_curvature
-            .map_or("EI by curvature not found".to_string(), |ei| {
-                format!("EI by curvature {ei:.4} N m2")
-            });
+        let curvature = match (s.bending_curvature, &s.bending_curvature_refused) {
+            (Some(ei), _) => format!("EI by curvature {ei:.4} N m2"),
+            (None, Some(why)) => format!("no EI by curvature ({why})"),
+            (None, None) => "EI by curvature not found".to_string(),
+        };
         format!(
             "eps = {:.4}: EA {:.6e} N, GJ {:.6e} N m2, {bending}, {curvature}, F {:.6e} N",
             b.eps, b.axial, b.torsional, b.force

@@ -582,7 +582,7 @@ fn bending_state(model: &DiscreteModel, bent: &DiscreteModel, x: &[f64], phi: f6
 }
 
 /// The beam of a cell's state at one output step.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct StepBeam {
     pub step: usize,
     pub stiffness: BeamStiffness,
@@ -590,6 +590,8 @@ pub struct StepBeam {
     pub bending: Option<f64>,
     /// `EI` (N m²) by imposed curvature ([`bending_by_curvature`]).
     pub bending_curvature: Option<f64>,
+    /// Why there is no `EI` by imposed curvature, where there is none.
+    pub bending_curvature_refused: Option<String>,
 }
 
 /// `EI` (N m²) of the cell's state from [`bending_stiffness`]: the fit at `δ/2` once the

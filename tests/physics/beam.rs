@@ -327,6 +327,7 @@ fn predicted_column_strain(turns: f64) -> f64 {
             stiffness,
             bending: bending_of(tube.model(), tube.system(), tube.state()),
             bending_curvature: None,
+            bending_curvature_refused: None,
         };
         column_turns(&beam, 0.5).expect("a compressed column") - turns
     };
