@@ -202,6 +202,18 @@ impl Table {
 }
 
 /// The first `#` line's words after `case ` up to a comma: the case name a table names.
+/// The helices of the infinitely long tube whose cell the tables are of, from the header's
+/// model line (`# model: the cell of an infinitely long tube of 8 helices …`).
+fn infinite_tube(text: &str) -> Option<usize> {
+    text.lines()
+        .take_while(|l| l.starts_with('#'))
+        .filter_map(|l| l.strip_prefix("# model: "))
+        .find_map(|m| {
+            let (_, rest) = m.split_once("cell of an infinitely long tube of ")?;
+            rest.split_whitespace().next()?.parse().ok()
+        })
+}
+
 fn case_name(text: &str) -> Option<String> {
     let first = text.lines().next()?.strip_prefix('#')?;
     let (_, rest) = first.split_once(", case ")?;
@@ -422,6 +434,9 @@ pub struct RunTables {
     pub states: Vec<StateTable>,
     /// Joints' `s/L` per rod (empty when the folder has no `joints.csv`).
     pub joints: BTreeMap<usize, Vec<f64>>,
+    /// The helices of the infinitely long tube, when the run solved its cell (whose states
+    /// hold the cell's rods only).
+    pub infinite_tube: Option<usize>,
 }
 
 impl RunTables {
@@ -464,6 +479,7 @@ impl RunTables {
         Ok(RunTables {
             label: label.to_string(),
             case: case_name(load).unwrap_or_default(),
+            infinite_tube: infinite_tube(load),
             path,
             critical,
             states,

@@ -242,6 +242,34 @@ fn synthetic() -> RunTables {
 // ------------------------------------------------------------------ the tables
 
 #[test]
+fn a_cells_run_is_named_by_the_helices_of_its_infinite_tube() {
+    // a cell's states hold its own two rods; the legend gives the tube's n from the model line
+    let dir = scratch("cell-legend");
+    write_run(&dir);
+    let load = load_csv().replacen(
+        "# units\n",
+        "# model: the cell of an infinitely long tube of 8 helices (one right and one left rod from a crossing to the next)\n# units\n",
+        1,
+    );
+    std::fs::write(dir.join("load.csv"), load).unwrap();
+    let cell = RunTables::read(&dir).expect("the cell's run reads");
+    assert_eq!(cell.infinite_tube, Some(8));
+    assert_eq!(cell.rods(), 2);
+    let finite = synthetic();
+    assert_eq!(finite.infinite_tube, None);
+    let caption = ["command: spira plot cell finite".to_string()];
+    let t = texts(&parse_xml(
+        &load_figure(&[&cell, &finite], &caption).expect("drawn"),
+    ));
+    let legend = |run: &RunTables, rods: &str| {
+        let line = format!("{} (synthetic), {rods}", run.label);
+        t.iter().any(|s| s.trim() == line)
+    };
+    assert!(legend(&cell, "infinite tube, n = 8"), "{t:?}");
+    assert!(legend(&finite, "n = 2"), "{t:?}");
+}
+
+#[test]
 fn a_run_folder_reads_by_column_name_with_extra_columns() {
     let run = synthetic();
     assert_eq!(run.case, "synthetic");

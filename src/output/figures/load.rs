@@ -76,15 +76,17 @@ pub fn stretches(path: &[PathPoint], critical: &[CriticalMark]) -> Vec<Stretch> 
     out
 }
 
-/// Legend text of a run: its label, the case when another, and the number of rods.
+/// Legend text of a run: its label, the case when another, and the number of rods (of the
+/// infinitely long tube, for a cell).
 fn run_legend(run: &RunTables) -> String {
-    let n = run.rods();
     let mut s = run.label.clone();
     if !run.case.is_empty() && run.case != run.label {
         s = format!("{s} ({})", run.case);
     }
-    if n > 0 {
-        s = format!("{s}, n = {n}");
+    match (run.infinite_tube, run.rods()) {
+        (Some(n), _) => s = format!("{s}, infinite tube, n = {n}"),
+        (None, n) if n > 0 => s = format!("{s}, n = {n}"),
+        _ => {}
     }
     s
 }
@@ -134,6 +136,7 @@ fn against_load(run: &RunTables) -> RunTables {
         case: run.case.clone(),
         states: Vec::new(),
         joints: Default::default(),
+        infinite_tube: run.infinite_tube,
     }
 }
 

@@ -110,6 +110,7 @@ fn as_pair(run: &RunTables, pair: &Pair) -> RunTables {
         critical,
         states: Vec::new(),
         joints: Default::default(),
+        infinite_tube: run.infinite_tube,
     }
 }
 
