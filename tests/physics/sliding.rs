@@ -233,6 +233,52 @@ fn the_bulk_of_a_clamped_sliding_tube_keeps_its_arc_length_per_turn() {
 }
 
 #[test]
+fn a_tube_whose_crossings_slide_is_n_lone_helices_on_its_symmetric_path() {
+    // A helix and its mirror images meet on the mirror planes with no force: on the tube's
+    // symmetric path every rod of the sliding tube is the lone clamped helix (n = 1, no
+    // joints), rotated. The rods do not stay on a cylinder: each bows as the lone helix
+    // does, towards the axis over part of a turn. With 56 elements per rod the crossings,
+    // L/28 apart, are on element vertices, so both meshes are the same.
+    let tube = sliding_tube(8, 3.5, 56, 0.3, 6);
+    let text = "[geometry]\nhelices = 1\nturns = 3.5\n[boundary]\njoints = \"none\"\n[loading]\ntarget = 0.3\nsteps = 6\n[discretisation]\nelements = 56\n";
+    let lone = Case::parse(text, "lone.toml", "lone").unwrap_or_else(|e| panic!("{e}"));
+    let (tube_points, _, tube_sim) = path(&tube);
+    let (lone_points, _, lone_sim) = path(&lone);
+    for (t, l) in tube_points.iter().zip(&lone_points).skip(1) {
+        // Σ Fz/(n Pcrit) is the load per rod; the energy is n times the lone rod's
+        assert!(
+            (t.load[2] - l.load[2]).abs() < 1e-8 * l.load[2].abs(),
+            "ε = {}: {} vs {}",
+            t.compression_ratio,
+            t.load[2],
+            l.load[2]
+        );
+        assert!(
+            (t.energy - 8.0 * l.energy).abs() < 1e-8 * t.energy,
+            "ε = {}: {} J vs 8 × {} J",
+            t.compression_ratio,
+            t.energy,
+            l.energy
+        );
+    }
+    let (tube_rod, lone_rod) = (&tube_sim.snapshot().rods[0], &lone_sim.snapshot().rods[0]);
+    assert_eq!(tube_rod.nodes.len(), lone_rod.nodes.len(), "the same mesh");
+    let length = tube.geometry.length;
+    let mut radii = (f64::INFINITY, 0.0f64);
+    for (a, b) in tube_rod.nodes.iter().zip(&lone_rod.nodes) {
+        let gap = Vector3::from(a.position) - Vector3::from(b.position);
+        assert!(gap.norm() < 1e-8 * length, "s = {}: {gap:?}", a.s);
+        let r = a.position[0].hypot(a.position[1]);
+        radii = (radii.0.min(r), radii.1.max(r));
+    }
+    // at ε = 0.3 the rods pass within 0.014 m of the axis and 0.118 m from it (a0 = 0.06 m)
+    assert!(
+        radii.0 < 0.5 * 0.06 && radii.1 > 1.5 * 0.06,
+        "radii {radii:?}"
+    );
+}
+
+#[test]
 fn a_compressed_sliding_tube_is_stable_with_the_same_path_at_two_meshes() {
     // n = 8 to ε = 0.3 (short of where two crossings meet, near 0.336) on 24 and 48 elements per rod: stable
     // at every step, no critical point at either mesh, and the load converging
