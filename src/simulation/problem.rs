@@ -146,7 +146,7 @@ impl Problem for LoadedAssembly {
             return Some("the tip at or below the base");
         }
         if crossings_pass(&self.model, x) {
-            return Some("two sliding crossings of one rod meet: the rods of one hand that make them would pass through each other, and the model has no contact between them");
+            return Some("two sliding crossings of one rod meet: the two rods of one hand that make them touch there, and the model has no contact between them (past it they would pass through each other)");
         }
         None
     }
