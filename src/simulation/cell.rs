@@ -274,7 +274,8 @@ impl CellJudge {
     }
 
     /// The lowest eigenvalue of block `(p, k)` at the state `x`, at any phase `k` (rad per
-    /// cell), searched cold.
+    /// cell), searched cold as the dispersion searches its blocks (regularised on one turn
+    /// of the helices, [`DiscreteModel::stability_length`]).
     pub fn lowest_at(
         &mut self,
         model: &DiscreteModel,
@@ -285,32 +286,26 @@ impl CellJudge {
     ) -> Option<f64> {
         self.evaluate(model, system, x);
         let pattern = system.pattern();
+        let held = held_modes(&self.blocks, &self.rod_turns, p, k);
         if self.blocks.is_real(p, k) {
             let mut values = vec![0.0; self.kkt.len()];
             self.blocks.real_block(p, k, &self.kkt, &mut values);
-            let mut cold = WarmStart::default();
-            self.real.swap_warm_start(&mut cold);
-            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
-            let mu = holding(&mut self.real, pattern, held.as_deref(), |s| {
+            let mut search: KktStability = self.map.sharing();
+            holding(&mut search, pattern, held.as_deref(), |s| {
                 s.lowest_eigenvalue(pattern, &values)
-            });
-            self.real.swap_warm_start(&mut cold);
-            mu
+            })
         } else {
             let mut values = vec![c64::new(0.0, 0.0); self.kkt.len()];
             self.blocks.hermitian_block(p, k, &self.kkt, &mut values);
-            let mut cold = WarmStart::default();
-            self.complex.swap_warm_start(&mut cold);
-            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
-            let mu = holding(&mut self.complex, pattern, held.as_deref(), |s| {
+            let mut search: KktStability<c64> = self.map.sharing();
+            holding(&mut search, pattern, held.as_deref(), |s| {
                 s.lowest_eigenvalue(pattern, &values)
-            });
-            self.complex.swap_warm_start(&mut cold);
-            mu
+            })
         }
     }
 
-    /// The number of eigenvalues of block `(p, k)` below `sigma` at the state `x`.
+    /// The number of eigenvalues of block `(p, k)` below `sigma` at the state `x`, counted
+    /// as [`CellJudge::lowest_at`] searches.
     pub fn count_below_at(
         &mut self,
         model: &DiscreteModel,
@@ -321,18 +316,19 @@ impl CellJudge {
     ) -> Result<usize, InertiaError> {
         self.evaluate(model, system, x);
         let pattern = system.pattern();
+        let held = held_modes(&self.blocks, &self.rod_turns, p, k);
         if self.blocks.is_real(p, k) {
             let mut values = vec![0.0; self.kkt.len()];
             self.blocks.real_block(p, k, &self.kkt, &mut values);
-            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
-            holding(&mut self.real, pattern, held.as_deref(), |s| {
+            let mut count: KktStability = self.map.sharing();
+            holding(&mut count, pattern, held.as_deref(), |s| {
                 s.count_below(pattern, &values, sigma)
             })
         } else {
             let mut values = vec![c64::new(0.0, 0.0); self.kkt.len()];
             self.blocks.hermitian_block(p, k, &self.kkt, &mut values);
-            let held = held_modes(&self.blocks, &self.rod_turns, p, k);
-            holding(&mut self.complex, pattern, held.as_deref(), |s| {
+            let mut count: KktStability<c64> = self.map.sharing();
+            holding(&mut count, pattern, held.as_deref(), |s| {
                 s.count_below(pattern, &values, sigma)
             })
         }
