@@ -578,6 +578,23 @@ fn dense_lowest(system: &System, block: &[faer::c64], metric: &[f64]) -> f64 {
     c.symmetric_eigen().eigenvalues.min()
 }
 
+/// The lowest eigenvalue of the Hermitian block `(p, k)` of the cell `sim` at its state, by
+/// [`dense_lowest`].
+fn dense_blocks(sim: &Simulation) -> impl FnMut(usize, f64) -> f64 + '_ {
+    use spira::discretisation::cell_blocks::CellBlocks;
+    let (model, system, x) = (sim.model(), sim.system(), sim.state());
+    let mut residual = vec![0.0; system.n];
+    let mut kkt = system.new_values();
+    system.evaluate(model, x, &mut residual, &mut kkt);
+    let blocks = CellBlocks::new(model, system).expect("a cell");
+    let metric = crate::rotation_metric(model);
+    let mut block = vec![faer::c64::new(0.0, 0.0); kkt.len()];
+    move |p, k| {
+        blocks.hermitian_block(p, k, &kkt, &mut block);
+        dense_lowest(system, &block, &metric)
+    }
+}
+
 /// The n = 8 cell compressed to ε = 0.25: the map's lowest eigenvalue of the blocks where
 /// the count and the iteration disagreed when the regularisation weighed the constraints on
 /// positions by the cell's own length (p = 1 about k = π/4, the map's minimum; p = 0 at
@@ -586,21 +603,11 @@ fn dense_lowest(system: &System, block: &[faer::c64], metric: &[f64]) -> f64 {
 /// the dense solves show to 1e-10) to 1e-8.
 #[test]
 fn the_cell_map_matches_dense_constrained_solves() {
-    use spira::discretisation::cell_blocks::CellBlocks;
     use std::f64::consts::PI;
     let sim = solved_cell(8, 1, Loads::axial(Control::Displacement), 0.25);
-    let (model, system, x) = (sim.model(), sim.system(), sim.state());
     let map = sim.dispersion(65).expect("a cell");
-    let mut residual = vec![0.0; system.n];
-    let mut kkt = system.new_values();
-    system.evaluate(model, x, &mut residual, &mut kkt);
-    let blocks = CellBlocks::new(model, system).expect("a cell");
-    let metric = crate::rotation_metric(model);
-    let mut block = vec![faer::c64::new(0.0, 0.0); kkt.len()];
-    let mut dense = |p: usize, i: usize| {
-        blocks.hermitian_block(p, map.phases[i], &kkt, &mut block);
-        dense_lowest(system, &block, &metric)
-    };
+    let mut dense_at = dense_blocks(&sim);
+    let mut dense = |p: usize, i: usize| dense_at(p, map.phases[i]);
     for (p, i) in [(1, 14), (1, 15), (1, 17), (1, 18), (0, 1), (0, 3), (0, 6)] {
         let reference = dense(p, i);
         let found = map.lowest[p][i].expect("a lowest eigenvalue");
@@ -694,7 +701,6 @@ fn the_dispersion_takes_the_mirror_images_of_its_blocks_only_where_the_mirror_ho
 /// count loses the wave to the regularisation: docs/joints.md).
 #[test]
 fn the_block_search_follows_the_bending_wave_close_to_the_held_translation() {
-    use spira::discretisation::cell_blocks::CellBlocks;
     use spira::simulation::cell::CellJudge;
     use std::f64::consts::PI;
     for (joints, p, closest) in [(Joints::Pin, 1, 3e-3), (Joints::Sliding, 0, 1e-2)] {
@@ -707,20 +713,14 @@ fn the_block_search_follows_the_bending_wave_close_to_the_held_translation() {
             ContinuationSettings::default(),
         );
         let (model, system, x) = (sim.model(), sim.system(), sim.state());
-        let mut residual = vec![0.0; system.n];
-        let mut kkt = system.new_values();
-        system.evaluate(model, x, &mut residual, &mut kkt);
-        let blocks = CellBlocks::new(model, system).expect("a cell");
-        let metric = crate::rotation_metric(model);
-        let mut block = vec![faer::c64::new(0.0, 0.0); kkt.len()];
+        let mut dense_at = dense_blocks(&sim);
         let mut judge = CellJudge::new(model, system, 2).expect("a cell");
         for d in [1e-1, 3e-2, 1e-2, 3e-3]
             .into_iter()
             .filter(|&d| d >= closest)
         {
             let k = PI / 4.0 - d;
-            blocks.hermitian_block(p, k, &kkt, &mut block);
-            let dense = dense_lowest(system, &block, &metric);
+            let dense = dense_at(p, k);
             let sparse = judge
                 .lowest_at(model, system, x, p, k)
                 .expect("the search converges");
