@@ -201,7 +201,6 @@ impl Table {
     }
 }
 
-/// The first `#` line's words after `case ` up to a comma: the case name a table names.
 /// The helices of the infinitely long tube whose cell the tables are of, from the header's
 /// model line (`# model: the cell of an infinitely long tube of 8 helices …`).
 fn infinite_tube(text: &str) -> Option<usize> {
@@ -214,6 +213,7 @@ fn infinite_tube(text: &str) -> Option<usize> {
         })
 }
 
+/// The first `#` line's words after `case ` up to a comma: the case name a table names.
 fn case_name(text: &str) -> Option<String> {
     let first = text.lines().next()?.strip_prefix('#')?;
     let (_, rest) = first.split_once(", case ")?;
