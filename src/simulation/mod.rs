@@ -530,10 +530,74 @@ impl Simulation {
         let keep = system.linear_row(0).min(x.len());
         let x = x[..keep].to_vec();
         let eps = self.compression_ratio();
+        // a path that cannot start from its rest as it stands: a branch held by a phase
+        // condition, the whole assembly the path has switched onto, a flawed or preloaded
+        // start
+        let from_rest = self.system().phase().is_none()
+            && self.reduced.is_none()
+            && self.flaw.is_none()
+            && loads.preload().is_none();
+        let problem = LoadedAssembly::new(model.clone(), system).with_threads(self.threads);
+        match self.path.restart_with(problem, x, lambda) {
+            Ok(()) => Ok(()),
+            Err(e) if matches!(e.reason, StopReason::Interrupted(_)) || !from_rest => {
+                Err(solve_error(e, control, eps))
+            }
+            Err(_) => self.retrace(model, bc, &loads, lambda),
+        }
+    }
+
+    /// Follows the path of `model` under `bc` and `loads` from its rest to the load
+    /// parameter `lambda`, in place of the path so far: the state of the new conditions'
+    /// own path, where the old state is too far from their equilibrium for Newton's method
+    /// to correct it in place (welded crossings loosened to springs at large compression).
+    /// Taken in steps of the largest internal step, the sliding contacts' windows
+    /// re-centred between; if it falls short, the old path is kept and the error says
+    /// where the new one stopped (`reached`) and why.
+    fn retrace(
+        &mut self,
+        model: DiscreteModel,
+        bc: BoundaryConditions,
+        loads: &Loads,
+        lambda: f64,
+    ) -> Result<(), SolveError> {
+        let control = loads.control();
+        let eps = self.compression_ratio();
+        let plain = model.clone().with_sliding_joints(false);
+        let rest = plain.carry_state(&plain.natural_state(), &model);
+        let start = parameter_of_state(
+            loads,
+            1.0 - mean_tip_height(&model, &rest) / model.height0(),
+        );
+        let system = System::new(&model, bc, &rest, loads, start);
         let problem = LoadedAssembly::new(model, system).with_threads(self.threads);
-        self.path
-            .restart_with(problem, x, lambda)
-            .map_err(|e| solve_error(e, control, eps))
+        let known = self.critical.len();
+        let aside = self
+            .path
+            .start_over_with(problem, rest, start)
+            .map_err(|e| solve_error(e, control, eps))?;
+        let mut outcome = self
+            .recentre_slides()
+            .map_err(|e| solve_error(e, control, eps));
+        let steps = ((lambda - start).abs() / self.path.settings().max_step)
+            .ceil()
+            .max(1.0);
+        for k in 1..=steps as usize {
+            if outcome.is_err() {
+                break;
+            }
+            outcome = self.advance_to(start + (lambda - start) * k as f64 / steps);
+        }
+        outcome
+            .inspect_err(|_| {
+                self.path.put_back(aside);
+                self.critical.truncate(known);
+            })
+            .map_err(|e| SolveError {
+                compression_ratio: eps,
+                target: lambda,
+                ..e
+            })
     }
 
     /// Number of rods of the whole assembly each modelled rod stands for.

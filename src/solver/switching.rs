@@ -1,12 +1,23 @@
 //! Leaving a path: onto another branch at a critical point, along its mode (within the
 //! problem, or onto another problem: the whole assembly behind a reduced model), and
-//! restarting with another problem (other boundary conditions). The statistics and the
-//! critical points found go on.
+//! restarting with another problem (other boundary conditions), where the path stands or
+//! from the new problem's rest. The statistics and the critical points found go on.
 
 use super::continuation::{Continuation, ContinuationError, StopReason};
 use super::linear::least_squares_multipliers;
 use super::newton::{Newton, NewtonSettings, StepEquation};
+use super::path_state::PathState;
 use super::problem::Problem;
+
+/// A problem and its path's state, put aside by [`Continuation::start_over_with`] while a
+/// new problem's path is followed, to be put back if that path falls short.
+pub struct PutAside<P> {
+    problem: P,
+    newton: Newton,
+    state: PathState,
+    /// Critical points located before.
+    critical: usize,
+}
 
 /// How many times the first step off a critical point is halved before the switch fails
 /// (a step of 0.05 becomes 0.003125 at the last try).
@@ -129,6 +140,55 @@ impl<P: Problem> Continuation<P> {
             this.update_stability(true);
             Ok(())
         })
+    }
+
+    /// Replaces the problem by `problem` and starts its path afresh at `(x, λ)` (solved
+    /// there, its stability judged, no step taken yet), e.g. other boundary conditions
+    /// from their rest when the path's state is too far from their equilibrium to be
+    /// corrected where it stands. The old problem and state are handed back for
+    /// [`Continuation::put_back`]; on failure they are put back at once.
+    pub fn start_over_with(
+        &mut self,
+        problem: P,
+        mut x: Vec<f64>,
+        lambda: f64,
+    ) -> Result<PutAside<P>, ContinuationError> {
+        x.resize(problem.unknowns(), 0.0);
+        let mut newton = Newton::new(&problem);
+        newton.carry_count(self.newton.factorisations());
+        let start = PathState::start(x, lambda, self.settings.initial_step);
+        let aside = PutAside {
+            problem: std::mem::replace(&mut self.problem, problem),
+            newton: std::mem::replace(&mut self.newton, newton),
+            state: std::mem::replace(&mut self.state, start),
+            critical: self.critical.len(),
+        };
+        match self.correct_in_place() {
+            Ok(()) => {
+                self.update_stability(true);
+                Ok(aside)
+            }
+            Err(e) => {
+                self.put_back(aside);
+                Err(e)
+            }
+        }
+    }
+
+    /// Puts back the problem and state put aside by [`Continuation::start_over_with`],
+    /// forgetting the critical points located since.
+    pub fn put_back(&mut self, aside: PutAside<P>) {
+        let PutAside {
+            problem,
+            mut newton,
+            state,
+            critical,
+        } = aside;
+        newton.carry_count(self.newton.factorisations());
+        self.problem = problem;
+        self.newton = newton;
+        self.state = state;
+        self.critical.truncate(critical);
     }
 
     /// Replaces the problem by `problem`, the same one with the same unknowns (another

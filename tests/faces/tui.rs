@@ -509,6 +509,36 @@ fn a_refused_condition_change_shows_the_conditions_in_force() {
 }
 
 #[test]
+fn the_joints_cycle_passes_a_kind_the_solver_refused() {
+    // pin → welded asked and refused: the conditions stay pins, and the next `p` asks for
+    // the kind after the refused one (elastic), not welded again; an answer ends that
+    let (mut app, sim) = started(small_case(2));
+    let r = only_request(&app.handle_key(ch('p')));
+    app.on_worker_event(WorkerEvent::Failed {
+        generation: r.generation,
+        seq: r.seq,
+        reason: "their own path from rest stops short".into(),
+        boundary: Some(BoundaryConditions::default()),
+        interrupted: None,
+    });
+    assert_eq!(app.screen.boundary.joints, Joints::Pin);
+    let r = only_request(&app.handle_key(ch('p')));
+    assert!(
+        matches!(app.screen.boundary.joints, Joints::Elastic(_)),
+        "{:?}",
+        app.screen.boundary.joints
+    );
+    app.on_worker_event(answer(&r, solved(&sim, 0)));
+    let on_screen = app.screen.boundary.joints;
+    let _ = only_request(&app.handle_key(ch('p')));
+    assert_eq!(
+        app.screen.boundary.joints,
+        on_screen.next(app.case().joint_springs()),
+        "after an answer the cycle goes on from the conditions on screen"
+    );
+}
+
+#[test]
 fn quit_keys_and_help_overlay() {
     let (mut app, _sim) = started(small_case(1));
     assert_eq!(app.handle_key(ch('q')), vec![Effect::Quit]);

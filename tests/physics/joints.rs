@@ -354,3 +354,66 @@ fn bloch_blocks_of_welded_and_elastic_pairs_count_the_full_models_unstable_direc
         }
     }
 }
+
+/// The thesis n = 8 tube (48 elements per rod) compressed to ε = 0.5 in 10 steps with
+/// joints `joints`: its simulation there.
+fn compressed(joints: Joints) -> Simulation {
+    let case = tube(8, 48, 0.5, 10, joints);
+    let mut sim = Simulation::from_case_on(&case, 1).unwrap_or_else(|e| panic!("{e}"));
+    for k in 1..=10 {
+        sim.advance_to(0.05 * k as f64)
+            .unwrap_or_else(|e| panic!("{e}"));
+    }
+    sim
+}
+
+#[test]
+fn crossings_changed_at_half_height_take_the_state_of_the_new_kinds_own_path() {
+    // welded at ε = 0.5, loosened to springs of B1/L: Newton's method from the welded state
+    // does not find the elastic equilibrium, so the simulation follows the elastic tube's
+    // path from rest; its state is that of the elastic tube compressed from rest
+    let length = tube(8, 48, 0.5, 10, Joints::Pin).geometry.length;
+    let elastic = springs(1.0 / length);
+    let mut changed = compressed(Joints::Welded);
+    let welded = changed.load_point(0);
+    changed
+        .set_boundary_conditions(spira::model::boundary::BoundaryConditions {
+            joints: elastic,
+            ..changed.boundary_conditions()
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (got, want) = (changed.load_point(0), compressed(elastic).load_point(0));
+    assert!((got.compression_ratio - 0.5).abs() < 1e-12);
+    assert!(
+        (got.load[2] - want.load[2]).abs() < 1e-9 * want.load[2].abs(),
+        "fz {} vs {}",
+        got.load[2],
+        want.load[2]
+    );
+    assert!(
+        (got.energy - want.energy).abs() < 1e-9 * want.energy,
+        "energy {} vs {}",
+        got.energy,
+        want.energy
+    );
+    assert!(got.load[2].abs() < 0.2 * welded.load[2].abs());
+    // sliding crossings' own path stops where two crossings of one rod meet, short of
+    // ε = 0.5: the change is refused, the error says where, and the state stays the
+    // elastic one
+    let error = changed
+        .set_boundary_conditions(spira::model::boundary::BoundaryConditions {
+            joints: Joints::Sliding,
+            ..changed.boundary_conditions()
+        })
+        .expect_err("the sliding tube does not reach ε = 0.5");
+    assert!(
+        (error.reached - 0.335824).abs() < 1e-5,
+        "stopped at {}",
+        error.reached
+    );
+    assert!((error.compression_ratio - 0.5).abs() < 1e-12);
+    assert_eq!(changed.boundary_conditions().joints, elastic);
+    let kept = changed.load_point(0);
+    assert_eq!(kept.load, got.load);
+    assert_eq!(kept.energy, got.energy);
+}

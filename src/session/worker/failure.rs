@@ -62,6 +62,12 @@ pub(super) fn describe_failure(
             "{what} stopped: its time budget of {:.0} s ran out; {kept}",
             elapsed.as_secs_f64().round()
         ),
+        // no equilibrium near the state, and the new conditions' own path from rest
+        // stopped short of its load parameter
+        (None, Asked::Boundary) if e.reached != e.target => format!(
+            "the new boundary conditions were refused and undone: their own path from rest stops at {symbol} = {:.5}, short of {:.5} ({}); {kept}",
+            e.reached, e.target, e.reason
+        ),
         (None, Asked::Boundary) => {
             format!(
                 "the new boundary conditions were refused and undone ({}); {kept}",

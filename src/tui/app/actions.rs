@@ -406,7 +406,8 @@ impl App {
 
     fn toggle_joints(&mut self) -> Vec<Effect> {
         let mut bc = self.screen.boundary;
-        bc.joints = bc.joints.next(self.case.joint_springs());
+        let from = self.refused_joints.take().unwrap_or(bc.joints);
+        bc.joints = from.next(self.case.joint_springs());
         let what = format!("joints {}", bc.joints.name());
         self.set_boundary(bc, what)
     }

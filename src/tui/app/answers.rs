@@ -156,6 +156,7 @@ impl App {
 
     /// A converged state of request `seq` (`done`: the job's last).
     fn on_solved(&mut self, seq: u64, done: bool, state: Solved) -> Vec<Effect> {
+        self.refused_joints = None;
         if self.requests.start_seq == Some(seq) {
             self.requests.start_seq = None;
             self.previous = None;
@@ -248,6 +249,8 @@ impl App {
             }
         }
         if let Some(bc) = boundary {
+            let asked = self.screen.boundary.joints;
+            self.refused_joints = (asked != bc.joints).then_some(asked);
             self.boundary_settled(bc, seq);
         }
         self.finish_failed(seq);

@@ -3,6 +3,7 @@
 
 use super::state::{Replay, Requests, Screen, View};
 use crate::case::Case;
+use crate::model::boundary::Joints;
 use crate::model::loading::{Control, LoadParameter};
 use crate::session::worker::{CurveDone, CurveJob, Job, Request};
 use crate::simulation::curve::CurveRow;
@@ -132,6 +133,9 @@ pub struct App {
     /// The screen before a new simulation was asked for, until the new one's natural state
     /// arrives: a cancelled natural state brings it back.
     pub(super) previous: Option<Box<Kept>>,
+    /// The kind of crossing the solver refused last (the conditions stayed as they were):
+    /// `p` goes on from it, so that the cycle passes a kind the state cannot take.
+    pub(super) refused_joints: Option<Joints>,
 }
 
 impl App {
@@ -155,6 +159,7 @@ impl App {
             confirm: None,
             confirmed: false,
             previous: None,
+            refused_joints: None,
         }
     }
 
